@@ -1,0 +1,60 @@
+//! Numbers in and out (contract.md, "Numbers").
+
+use dalembert::{Error, FlowStats};
+use inari::Interval;
+use serde_json::{json, Value};
+
+/// A decimal literal read as the nearest f64; non-finite values are input errors.
+pub fn parse_num(name: &str, s: &str) -> Result<f64, Error> {
+    let t = s.trim();
+    let ok_chars = !t.is_empty()
+        && t
+            .chars()
+            .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-'));
+    let x: f64 = if ok_chars { t.parse().ok() } else { None }
+        .ok_or_else(|| Error::input(format!("--{name}: `{s}` is not a decimal number")))?;
+    if !x.is_finite() {
+        return Err(Error::input(format!("--{name}: `{s}` is not a finite number")));
+    }
+    Ok(x)
+}
+
+/// A comma-separated vector without spaces.
+pub fn parse_vec(name: &str, s: &str) -> Result<Vec<f64>, Error> {
+    s.split(',').map(|x| parse_num(name, x)).collect()
+}
+
+/// `name=value`.
+pub fn parse_param(s: &str) -> Result<(String, f64), Error> {
+    let (k, v) = s
+        .split_once('=')
+        .ok_or_else(|| Error::input(format!("--param: expected name=value, got `{s}`")))?;
+    Ok((k.to_string(), parse_num("param", v)?))
+}
+
+pub fn parse_order(s: &str) -> Result<usize, Error> {
+    match s.parse::<usize>() {
+        Ok(p) if (2..=60).contains(&p) => Ok(p),
+        _ => Err(Error::input(format!("--order: expected an integer in 2..=60, got `{s}`"))),
+    }
+}
+
+/// `[lo, hi]` pairs; f64 printed in shortest round-trip form by serde_json.
+pub fn intervals(x: &[Interval]) -> Value {
+    Value::Array(x.iter().map(|v| json!([v.inf(), v.sup()])).collect())
+}
+
+pub fn stats(s: &FlowStats) -> Value {
+    json!({"order": s.order, "steps": s.steps, "h_min": s.h_min, "h_max": s.h_max})
+}
+
+/// Plain-text rendering of an answer object for people.
+pub fn human(v: &Value) -> String {
+    let mut out = String::new();
+    if let Value::Object(m) = v {
+        for (k, val) in m {
+            out.push_str(&format!("{k:>8}: {val}\n"));
+        }
+    }
+    out.trim_end().to_string()
+}

@@ -1,0 +1,140 @@
+//! The command line: parsing, JSON, exit codes (contract.md). No mathematics here.
+
+pub mod demo;
+pub mod json;
+
+use clap::{Parser, Subcommand};
+use dalembert::{AnyScene, Error, FlowOptions, Model};
+use serde_json::{json, Value};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "dalembert",
+    version,
+    about = "Certified enclosures of exact discrete nonholonomic mechanics",
+    long_about = "Certified enclosures of exact discrete nonholonomic mechanics.\n\
+                  With no command: a demonstration on the paper's nonholonomic particle."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub cmd: Option<Cmd>,
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct SceneArgs {
+    /// Scene: particle, knife, knife-eps
+    #[arg(long, allow_hyphen_values = true)]
+    pub scene: String,
+    /// Scene parameter name=value (may repeat)
+    #[arg(long = "param", allow_hyphen_values = true)]
+    pub params: Vec<String>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Cmd {
+    /// Enclose the exact nonholonomic state at time T
+    Flow {
+        #[command(flatten)]
+        scene: SceneArgs,
+        /// Initial configuration, comma-separated
+        #[arg(long, allow_hyphen_values = true)]
+        q: String,
+        /// Initial quasi-velocities in the scene's basis of D
+        #[arg(long, allow_hyphen_values = true)]
+        u: String,
+        /// Time T >= 0
+        #[arg(long, allow_hyphen_values = true)]
+        t: String,
+        /// Taylor order (default: automatic)
+        #[arg(long, allow_hyphen_values = true)]
+        order: Option<String>,
+        /// Print one JSON object
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Run the command line; returns the exit status.
+pub fn run(args: Vec<String>) -> i32 {
+    let cli = match Cli::try_parse_from(&args) {
+        Ok(c) => c,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+                print!("{e}");
+                return 0;
+            }
+            let text = e.to_string();
+            let first = text
+                .lines()
+                .next()
+                .unwrap_or("invalid arguments")
+                .trim_start_matches("error: ");
+            eprintln!("error: {first}");
+            return 2;
+        }
+    };
+    let result = match cli.cmd {
+        None => demo::run(),
+        Some(cmd) => execute(cmd),
+    };
+    match result {
+        Ok(out) => {
+            if let Some(v) = out {
+                println!("{v}");
+            }
+            0
+        }
+        Err(e) => {
+            eprintln!("error: {}", one_line(&e.to_string()));
+            e.code()
+        }
+    }
+}
+
+fn one_line(s: &str) -> String {
+    s.replace('\n', " ")
+}
+
+fn execute(cmd: Cmd) -> Result<Option<Value>, Error> {
+    match cmd {
+        Cmd::Flow {
+            scene,
+            q,
+            u,
+            t,
+            order,
+            json: as_json,
+        } => {
+            let model = model_of(&scene)?;
+            let q = json::parse_vec("q", &q)?;
+            let u = json::parse_vec("u", &u)?;
+            let t = json::parse_num("t", &t)?;
+            let mut opts = FlowOptions::default();
+            if let Some(o) = order {
+                opts.order = json::parse_order(&o)?;
+            }
+            let e = dalembert::flow(&model, &q, &u, t, &opts)?;
+            let out = json!({
+                "q": json::intervals(&e.q),
+                "v": json::intervals(&e.v),
+                "u": json::intervals(&e.u),
+                "stats": json::stats(&e.stats),
+            });
+            if as_json {
+                Ok(Some(out))
+            } else {
+                Ok(Some(Value::String(json::human(&out))))
+            }
+        }
+    }
+}
+
+pub fn model_of(s: &SceneArgs) -> Result<Model, Error> {
+    let params = s
+        .params
+        .iter()
+        .map(|p| json::parse_param(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Model::new(AnyScene::new(&s.scene, &params)?))
+}

@@ -1,0 +1,248 @@
+//! The continuous nonholonomic dynamics derived from scene data, generic over the scalar
+//! (spec/04-dynamics.md, eqs. (4.1)-(4.9)).
+//!
+//! Derivatives of the scene data with respect to q are taken by forward-mode [`Dual`]
+//! numbers in n directions, so scenes provide no derivative by hand.
+
+use crate::scalar::{Dual, Scalar};
+use crate::scene::{Mat, Scene};
+
+/// Scene data at one configuration, with first derivatives in q (spec eq. (4.1)).
+pub struct Geometry<S> {
+    pub n: usize,
+    pub k: usize,
+    /// M(q) and dM/dq_j.
+    pub mass: Mat<S>,
+    pub dmass: Vec<Mat<S>>,
+    /// dV/dq_j.
+    pub dpot: Vec<S>,
+    /// mu(q) (k x n) and dmu/dq_j.
+    pub mu: Mat<S>,
+    pub dmu: Vec<Mat<S>>,
+    /// E(q) as rows e_a ((n-k) x n) and dE/dq_j.
+    pub basis: Mat<S>,
+    pub dbasis: Vec<Mat<S>>,
+}
+
+fn split<S: Scalar>(m: Mat<Dual<S>>, n: usize) -> (Mat<S>, Vec<Mat<S>>) {
+    let val = m.iter().map(|r| r.iter().map(|x| x.v.clone()).collect()).collect();
+    let ders = (0..n)
+        .map(|j| m.iter().map(|r| r.iter().map(|x| x.der(j)).collect()).collect())
+        .collect();
+    (val, ders)
+}
+
+impl<S: Scalar> Geometry<S> {
+    pub fn at<Sc: Scene>(sc: &Sc, q: &[S]) -> Self {
+        let n = sc.dim();
+        let qd: Vec<Dual<S>> = (0..n).map(|j| Dual::var(q[j].clone(), j, n)).collect();
+        let (mass, dmass) = split(sc.mass(&qd), n);
+        let (mu, dmu) = split(sc.constraints(&qd), n);
+        let (basis, dbasis) = split(sc.basis(&qd), n);
+        let pot = sc.potential(&qd);
+        let dpot = (0..n).map(|j| pot.der(j)).collect();
+        Geometry {
+            n,
+            k: sc.n_constraints(),
+            mass,
+            dmass,
+            dpot,
+            mu,
+            dmu,
+            basis,
+            dbasis,
+        }
+    }
+
+    /// v = E(q)^T u = sum_a u_a e_a(q) (spec eq. (4.2)).
+    pub fn velocity(&self, u: &[S]) -> Vec<S> {
+        (0..self.n)
+            .map(|i| sum((0..u.len()).map(|a| u[a].clone() * self.basis[a][i].clone())))
+            .collect()
+    }
+
+    /// w(q, v) = Mdot v - 1/2 d/dq (v^T M v) + grad V: the Lagrange-d'Alembert equations
+    /// read M a + w = mu^T lambda (spec eq. (4.3)).
+    pub fn bias(&self, v: &[S]) -> Vec<S> {
+        let n = self.n;
+        (0..n)
+            .map(|i| {
+                let mdot_v = sum((0..n).flat_map(|j| {
+                    (0..n).map(move |l| (j, l))
+                }).map(|(j, l)| self.dmass[j][i][l].clone() * v[j].clone() * v[l].clone()));
+                let half_grad = sum((0..n).flat_map(|l| (0..n).map(move |r| (l, r))).map(
+                    |(l, r)| self.dmass[i][l][r].clone() * v[l].clone() * v[r].clone(),
+                )) * S::cst(0.5);
+                mdot_v - half_grad + self.dpot[i].clone()
+            })
+            .collect()
+    }
+
+    /// Derivative along v of a q-dependent matrix given its partials: sum_j v_j dX/dq_j.
+    fn along(d: &[Mat<S>], v: &[S]) -> Mat<S> {
+        let (r, c) = (d[0].len(), d[0].first().map_or(0, |x| x.len()));
+        (0..r)
+            .map(|a| {
+                (0..c)
+                    .map(|i| sum((0..v.len()).map(|j| v[j].clone() * d[j][a][i].clone())))
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The reduced (quasi-velocity) equations on D (spec eq. (4.4)):
+    /// `E M E^T ud = -E (M Edot^T u + w(q, v))`, v = E^T u; returns (qd, ud).
+    pub fn reduced_field(&self, u: &[S]) -> (Vec<S>, Vec<S>) {
+        let n = self.n;
+        let m = u.len();
+        let v = self.velocity(u);
+        let edot = Self::along(&self.dbasis, &v);
+        let edot_u: Vec<S> = (0..n)
+            .map(|i| sum((0..m).map(|a| u[a].clone() * edot[a][i].clone())))
+            .collect();
+        let m_edot_u = mat_vec(&self.mass, &edot_u);
+        let w = self.bias(&v);
+        let rhs: Vec<S> = (0..m)
+            .map(|a| {
+                -sum((0..n).map(|i| {
+                    self.basis[a][i].clone() * (m_edot_u[i].clone() + w[i].clone())
+                }))
+            })
+            .collect();
+        let me: Vec<Vec<S>> = self.basis.iter().map(|e| mat_vec(&self.mass, e)).collect();
+        let g: Mat<S> = (0..m)
+            .map(|a| (0..m).map(|b| dot(&self.basis[a], &me[b])).collect())
+            .collect();
+        (v, solve_spd(g, rhs))
+    }
+
+    /// The Lagrange multipliers lambda = -C^{-1} Gamma_L(Phi) with C = mu M^{-1} mu^T
+    /// (paper eq. (lambda-def); spec eq. (4.5)), for v in D_q.
+    pub fn multiplier(&self, v: &[S]) -> Vec<S> {
+        let w = self.bias(v);
+        // unconstrained acceleration a_L = -M^{-1} w
+        let a_l: Vec<S> = solve_spd(self.mass.clone(), w).into_iter().map(|x| -x).collect();
+        let mudot = Self::along(&self.dmu, v);
+        // Gamma_L(Phi^b) = mudot^b v + mu^b a_L
+        let gamma: Vec<S> = (0..self.k)
+            .map(|b| dot(&mudot[b], v) + dot(&self.mu[b], &a_l))
+            .collect();
+        let minv_mut: Vec<Vec<S>> = self
+            .mu
+            .iter()
+            .map(|row| solve_spd(self.mass.clone(), row.clone()))
+            .collect();
+        let c: Mat<S> = (0..self.k)
+            .map(|a| (0..self.k).map(|b| dot(&self.mu[a], &minv_mut[b])).collect())
+            .collect();
+        solve_spd(c, gamma).into_iter().map(|x| -x).collect()
+    }
+
+    /// The nonholonomic force F_nh = lambda_a mu^a (paper Remark 2.2; spec eq. (4.6)).
+    pub fn nh_force(&self, v: &[S]) -> Vec<S> {
+        let lam = self.multiplier(v);
+        (0..self.n)
+            .map(|i| sum((0..self.k).map(|a| lam[a].clone() * self.mu[a][i].clone())))
+            .collect()
+    }
+
+    /// The acceleration of the multiplier form: M a = F_nh - w (spec eq. (4.7)).
+    pub fn acceleration(&self, v: &[S]) -> Vec<S> {
+        let f = self.nh_force(v);
+        let w = self.bias(v);
+        let r: Vec<S> = f.into_iter().zip(w).map(|(a, b)| a - b).collect();
+        solve_spd(self.mass.clone(), r)
+    }
+
+    /// Legendre map p = M v (spec eq. (4.8)).
+    pub fn momentum(&self, v: &[S]) -> Vec<S> {
+        mat_vec(&self.mass, v)
+    }
+
+    /// The restricted Legendre map in D* coordinates: p_a = <M v, e_a(q)> (spec eq. (4.8)).
+    pub fn momentum_d(&self, v: &[S]) -> Vec<S> {
+        let p = self.momentum(v);
+        self.basis.iter().map(|e| dot(&p, e)).collect()
+    }
+}
+
+/// Energy E_L = 1/2 v^T M v + V(q) (spec eq. (4.9)).
+pub fn energy<Sc: Scene, S: Scalar>(sc: &Sc, q: &[S], v: &[S]) -> S {
+    let m = sc.mass(q);
+    dot(v, &mat_vec(&m, v)) * S::cst(0.5) + sc.potential(q)
+}
+
+pub fn sum<S: Scalar>(it: impl Iterator<Item = S>) -> S {
+    it.fold(S::zero(), |a, b| a + b)
+}
+
+pub fn dot<S: Scalar>(a: &[S], b: &[S]) -> S {
+    sum(a.iter().zip(b).map(|(x, y)| x.clone() * y.clone()))
+}
+
+pub fn mat_vec<S: Scalar>(m: &Mat<S>, v: &[S]) -> Vec<S> {
+    m.iter().map(|r| dot(r, v)).collect()
+}
+
+/// Solve A x = b for symmetric positive definite A by Gaussian elimination without
+/// pivoting (no comparisons, so it works over every scalar; SPD makes every pivot > 0).
+/// Over intervals a pivot enclosure containing 0 gives an unbounded result, which the
+/// caller detects as a failure (spec eq. (4.10)).
+pub fn solve_spd<S: Scalar>(mut a: Mat<S>, mut b: Vec<S>) -> Vec<S> {
+    let n = b.len();
+    for p in 0..n {
+        for r in p + 1..n {
+            let f = a[r][p].clone() / a[p][p].clone();
+            for c in p + 1..n {
+                let t = f.clone() * a[p][c].clone();
+                a[r][c] = a[r][c].clone() - t;
+            }
+            let t = f * b[p].clone();
+            b[r] = b[r].clone() - t;
+        }
+    }
+    let mut x: Vec<S> = vec![S::zero(); n];
+    for p in (0..n).rev() {
+        let s = sum((p + 1..n).map(|c| a[p][c].clone() * x[c].clone()));
+        x[p] = (b[p].clone() - s) / a[p][p].clone();
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Knife, Particle};
+
+    #[test]
+    fn particle_reduced_field_is_the_papers() {
+        // paper Example 2.1: xdd = -y xd yd/(1+y^2), ydd = 0, with u = (xd, yd)
+        let (q, u) = ([0.3, -1.7, 2.0], [0.8, -0.4]);
+        let g = Geometry::at(&Particle, &q);
+        let (qd, ud) = g.reduced_field(&u);
+        assert_eq!(qd, vec![0.8, -0.4, -1.7 * 0.8]);
+        let xdd = -(-1.7) * 0.8 * -0.4 / (1.0 + 1.7 * 1.7);
+        assert!((ud[0] - xdd).abs() < 1e-15);
+        assert_eq!(ud[1], 0.0);
+    }
+
+    #[test]
+    fn multiplier_form_agrees_with_reduced_form() {
+        let (q, u) = ([0.3, -1.2, 0.9], [1.1, -0.6]);
+        let g = Geometry::at(&Knife, &q);
+        let (v, ud) = g.reduced_field(&u);
+        let a = g.acceleration(&v);
+        // a = d/dt (E^T u) = Edot^T u + E^T ud
+        let h = 1e-6;
+        let qp: Vec<f64> = (0..3).map(|i| q[i] + h * v[i]).collect();
+        let up: Vec<f64> = (0..2).map(|i| u[i] + h * ud[i]).collect();
+        let vp = Geometry::at(&Knife, &qp).velocity(&up);
+        for i in 0..3 {
+            assert!((a[i] - (vp[i] - v[i]) / h).abs() < 1e-5, "{i}: {a:?}");
+        }
+        // the acceleration keeps the constraint: d/dt mu(q) v = 0
+        let c0 = dot(&g.mu[0], &v);
+        let c1 = dot(&Geometry::at(&Knife, &qp).mu[0], &vp);
+        assert!(c0.abs() < 1e-15 && c1.abs() < 1e-11);
+    }
+}

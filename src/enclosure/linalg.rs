@@ -1,0 +1,120 @@
+//! Small dense linear algebra over intervals, and the one rigorous inverse the method needs
+//! (spec/05-enclosure.md, eq. (5.9)). Float matrices (nalgebra) are only ever *chosen*
+//! objects (a basis, an approximate inverse): every set they act on is computed in intervals.
+
+use crate::scalar::point;
+use crate::tape::finite;
+use inari::Interval;
+use nalgebra::DMatrix;
+
+/// Interval matrix, rows.
+pub type IMat = Vec<Vec<Interval>>;
+
+pub fn imat(m: &DMatrix<f64>) -> IMat {
+    (0..m.nrows())
+        .map(|i| (0..m.ncols()).map(|j| point(m[(i, j)])).collect())
+        .collect()
+}
+
+pub fn identity(n: usize) -> IMat {
+    (0..n)
+        .map(|i| (0..n).map(|j| point(if i == j { 1.0 } else { 0.0 })).collect())
+        .collect()
+}
+
+pub fn mul(a: &IMat, b: &IMat) -> IMat {
+    let (n, k, m) = (a.len(), b.len(), b.first().map_or(0, |r| r.len()));
+    (0..n)
+        .map(|i| {
+            (0..m)
+                .map(|j| {
+                    let mut s = point(0.0);
+                    for (l, bl) in b.iter().enumerate().take(k) {
+                        s = a[i][l].mul_add(bl[j], s);
+                    }
+                    s
+                })
+                .collect()
+        })
+        .collect()
+}
+
+pub fn mul_vec(a: &IMat, x: &[Interval]) -> Vec<Interval> {
+    a.iter()
+        .map(|r| r.iter().zip(x).fold(point(0.0), |s, (a, b)| a.mul_add(*b, s)))
+        .collect()
+}
+
+pub fn mid(a: &IMat) -> DMatrix<f64> {
+    let (n, m) = (a.len(), a.first().map_or(0, |r| r.len()));
+    DMatrix::from_fn(n, m, |i, j| a[i][j].mid())
+}
+
+/// Upper bound of the infinity norm of an interval matrix.
+pub fn norm_inf_sup(a: &IMat) -> f64 {
+    a.iter()
+        .map(|r| r.iter().fold(point(0.0), |s, x| s + point(x.mag())).sup())
+        .fold(0.0, f64::max)
+}
+
+pub fn all_finite(a: &IMat) -> bool {
+    a.iter().all(|r| r.iter().all(|x| finite(*x)))
+}
+
+/// An interval matrix containing `B^{-1}` for the float matrix `b`, given any float
+/// approximate inverse `x` (spec eq. (5.9)): with `E = I - X B` and `d >= ||E||_inf < 1`,
+/// `B^{-1} = (I - E)^{-1} X in (I + E + [-eps, eps]) X`, `eps = d^2 / (1 - d)`.
+/// `None` when `d >= 1/2` (the approximate inverse is too poor to prove anything useful).
+pub fn enclose_inverse(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IMat> {
+    let n = b.nrows();
+    let (bi, xi) = (imat(b), imat(x));
+    let xb = mul(&xi, &bi);
+    let e: IMat = (0..n)
+        .map(|i| {
+            (0..n)
+                .map(|j| point(if i == j { 1.0 } else { 0.0 }) - xb[i][j])
+                .collect()
+        })
+        .collect();
+    if !all_finite(&e) {
+        return None;
+    }
+    let d = norm_inf_sup(&e);
+    if !(d < 0.5) {
+        return None;
+    }
+    let di = point(d);
+    let eps = (di * di / (point(1.0) - di)).sup();
+    let tail = Interval::try_from((-eps, eps)).ok()?;
+    let mut s = e;
+    for (i, row) in s.iter_mut().enumerate() {
+        for (j, x) in row.iter_mut().enumerate() {
+            *x = *x + tail + point(if i == j { 1.0 } else { 0.0 });
+        }
+    }
+    let r = mul(&s, &xi);
+    all_finite(&r).then_some(r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inverse_enclosure_contains_the_exact_inverse_of_a_rotation() {
+        let (c, s) = (0.6f64, 0.8f64);
+        let b = DMatrix::from_row_slice(2, 2, &[c, -s, s, c]);
+        let inv = enclose_inverse(&b, &b.transpose()).unwrap();
+        // exact inverse of [[0.6,-0.8],[0.8,0.6]] (in binary, not exactly orthogonal):
+        // check B * inv contains I
+        let prod = mul(&imat(&b), &inv);
+        for i in 0..2 {
+            for j in 0..2 {
+                assert!(prod[i][j].contains(if i == j { 1.0 } else { 0.0 }));
+                assert!(prod[i][j].wid() < 1e-14);
+            }
+        }
+        let singular = DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 1.0, 1.0]);
+        assert!(enclose_inverse(&singular, &DMatrix::identity(2, 2)).is_none());
+    }
+}

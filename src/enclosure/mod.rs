@@ -1,0 +1,411 @@
+//! The validated integrator: interval Taylor series + a priori enclosure (Picard-Lindelof
+//! in the high-order form of Corliss and Rihm) + Lohner's QR control of the wrapping effect
+//! (spec/05-enclosure.md, eqs. (5.1)-(5.10)).
+
+pub mod linalg;
+
+use crate::model::Model;
+use crate::scalar::{iv, point};
+use crate::tape::finite;
+use crate::Error;
+use inari::Interval;
+use linalg::IMat;
+use nalgebra::DMatrix;
+
+/// A set `{ m + B r : r in [r] }` (Lohner's parallelepiped; spec eq. (5.1)): `m` and `B` are
+/// exact f64 data, `[r]` an interval vector that contains 0.
+#[derive(Clone, Debug)]
+pub struct LohnerSet {
+    pub m: Vec<f64>,
+    pub b: DMatrix<f64>,
+    pub r: Vec<Interval>,
+}
+
+impl LohnerSet {
+    /// The single point `x` (exact f64 values).
+    pub fn point(x: &[f64]) -> Self {
+        LohnerSet {
+            m: x.to_vec(),
+            b: DMatrix::identity(x.len(), x.len()),
+            r: vec![point(0.0); x.len()],
+        }
+    }
+    /// A box, as centre plus radius.
+    pub fn from_box(x: &[Interval]) -> Self {
+        let m: Vec<f64> = x.iter().map(|v| v.mid()).collect();
+        let r = x.iter().zip(&m).map(|(v, c)| *v - point(*c)).collect();
+        LohnerSet {
+            m,
+            b: DMatrix::identity(x.len(), x.len()),
+            r,
+        }
+    }
+    /// An interval box containing the set (spec eq. (5.2)).
+    pub fn hull(&self) -> Vec<Interval> {
+        let br = linalg::mul_vec(&linalg::imat(&self.b), &self.r);
+        self.m.iter().zip(br).map(|(c, x)| point(*c) + x).collect()
+    }
+}
+
+/// Settings of the validated integrator. `order = 0` chooses automatically.
+#[derive(Clone, Debug)]
+pub struct FlowOptions {
+    pub order: usize,
+    /// Refuse (exit 3) rather than take more steps than this.
+    pub max_steps: usize,
+}
+
+impl Default for FlowOptions {
+    fn default() -> Self {
+        FlowOptions {
+            order: 0,
+            max_steps: 200_000,
+        }
+    }
+}
+
+/// What the integrator did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FlowStats {
+    pub order: usize,
+    pub steps: usize,
+    pub h_min: f64,
+    pub h_max: f64,
+}
+
+/// The certified state at time t.
+#[derive(Clone, Debug)]
+pub struct FlowEnclosure {
+    pub q: Vec<Interval>,
+    pub u: Vec<Interval>,
+    pub v: Vec<Interval>,
+    pub stats: FlowStats,
+}
+
+/// The order used when none is given: about -ln(2^-53)/2, where the work per unit time of
+/// a Taylor method of order p at double precision is smallest (spec eq. (5.8)).
+pub const DEFAULT_ORDER: usize = 20;
+
+/// Enclosure of the exact nonholonomic state at time `t` from `q(0) = q`,
+/// `qd(0) = sum_a u_a e_a(q)`.
+///
+/// # Containment
+/// For the exact f64 inputs, the returned `q`, `u`, `v` contain the exact `q(t)`, the
+/// quasi-velocities `u(t)` and `qd(t) = E(q(t))^T u(t)` of the trajectory (spec Theorem 5.1);
+/// the trajectory is proved to exist on `[0, t]`. Fails with `Error::Input` for malformed
+/// input and `Error::Uncertified` when a step cannot be proved (singular data, blow-up,
+/// too many steps): never with a box that was not proved.
+pub fn flow(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    t: f64,
+    opts: &FlowOptions,
+) -> Result<FlowEnclosure, Error> {
+    check_state(model, q, u)?;
+    if !t.is_finite() || t < 0.0 {
+        return Err(Error::input(format!(
+            "time must be finite and >= 0 (got {t})"
+        )));
+    }
+    let x: Vec<f64> = q.iter().chain(u).copied().collect();
+    let (set, stats) = flow_set(model, LohnerSet::point(&x), t, opts)?;
+    finish(model, &set.hull(), stats)
+}
+
+/// Validate dimensions and finiteness of a state.
+pub fn check_state(model: &Model, q: &[f64], u: &[f64]) -> Result<(), Error> {
+    let (n, m) = (model.n, model.n - model.k);
+    if q.len() != n {
+        return Err(Error::input(format!(
+            "q has {} components, scene `{}` needs {n}",
+            q.len(),
+            model.scene.name()
+        )));
+    }
+    if u.len() != m {
+        return Err(Error::input(format!(
+            "u has {} components, scene `{}` needs {m}",
+            u.len(),
+            model.scene.name()
+        )));
+    }
+    if let Some(x) = q.iter().chain(u).find(|x| !x.is_finite()) {
+        return Err(Error::input(format!("non-finite number {x} in the state")));
+    }
+    Ok(())
+}
+
+fn finish(model: &Model, x: &[Interval], stats: FlowStats) -> Result<FlowEnclosure, Error> {
+    let v = model
+        .velocity
+        .eval_checked(x)
+        .ok_or_else(|| Error::uncertified("velocity enclosure is not finite"))?;
+    Ok(FlowEnclosure {
+        q: x[..model.n].to_vec(),
+        u: x[model.n..].to_vec(),
+        v,
+        stats,
+    })
+}
+
+enum StepFail {
+    /// The a priori enclosure was not proved for this h: try a smaller one.
+    Shrink,
+    /// Nothing more can be proved from here.
+    Fatal(String),
+}
+
+/// Carry a set through time `t` (spec Theorem 5.1): the returned set contains the exact
+/// state at time t of every solution starting in `set`.
+pub fn flow_set(
+    model: &Model,
+    mut set: LohnerSet,
+    t: f64,
+    opts: &FlowOptions,
+) -> Result<(LohnerSet, FlowStats), Error> {
+    let p = if opts.order == 0 {
+        DEFAULT_ORDER
+    } else {
+        opts.order
+    };
+    let mut stats = FlowStats {
+        order: p,
+        steps: 0,
+        h_min: f64::INFINITY,
+        h_max: 0.0,
+    };
+    let total = point(t);
+    // Time done so far, exactly enclosed (spec eq. (5.7)).
+    let mut done = point(0.0);
+    // Memory of rejected steps: the estimate (5.8) is scaled by this factor.
+    let mut factor = 1.0f64;
+    while done.sup() < t {
+        if stats.steps >= opts.max_steps {
+            return Err(Error::uncertified(format!(
+                "more than {} steps needed to reach t = {t}",
+                opts.max_steps
+            )));
+        }
+        let rem = (total - done).intersection(iv(0.0, f64::MAX));
+        let mut h = round_step(suggest_step(model, &set, p)? * factor).min(rem.inf());
+        let mut last = h >= rem.inf();
+        let mut tries = 0;
+        loop {
+            let hi = if last { rem } else { point(h) };
+            match lohner_step(model, &set, hi, p, tries < 12) {
+                Ok(next) => {
+                    set = next;
+                    factor = (factor * 1.5).min(1.0);
+                    done = if last { total } else { done + hi };
+                    stats.steps += 1;
+                    stats.h_min = stats.h_min.min(hi.inf());
+                    stats.h_max = stats.h_max.max(hi.sup());
+                    break;
+                }
+                Err(StepFail::Fatal(why)) => return Err(Error::uncertified(why)),
+                Err(StepFail::Shrink) => {
+                    tries += 1;
+                    factor *= 0.5;
+                    h = round_step(h * 0.5);
+                    last = false;
+                    if tries > 60 || !(h > 0.0) || h < t * 1e-14 {
+                        return Err(Error::uncertified(format!(
+                            "no a priori enclosure could be proved near t = {} (step size underflow)",
+                            done.inf()
+                        )));
+                    }
+                }
+            }
+        }
+    }
+    if stats.steps == 0 {
+        stats.h_min = 0.0;
+    }
+    Ok((set, stats))
+}
+
+/// Largest accepted width of the Lagrange remainder, relative to the state's size.
+const REMAINDER_TOL: f64 = f64::EPSILON;
+
+/// Round a positive step down to two significant bits (`{1, 1.5} * 2^e`), so that sums of
+/// steps stay exact in f64 for long (spec eq. (5.7)).
+fn round_step(h: f64) -> f64 {
+    if !(h > 0.0) || !h.is_finite() {
+        return h;
+    }
+    let e = h.log2().floor();
+    let base = 2f64.powf(e);
+    if h >= 1.5 * base {
+        1.5 * base
+    } else {
+        base
+    }
+}
+
+/// Step size from the Taylor coefficients at the centre (spec eq. (5.8)): the last two
+/// terms of the series should be below the rounding level of the state.
+fn suggest_step(model: &Model, set: &LohnerSet, p: usize) -> Result<f64, Error> {
+    let c = model
+        .field
+        .ode_taylor(&set.m.iter().map(|x| point(*x)).collect::<Vec<_>>(), p)
+        .ok_or_else(|| Error::uncertified("vector field not defined at the state"))?;
+    let scale = set.m.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+    let tol = scale * f64::EPSILON * 0.25;
+    let mut h = f64::INFINITY;
+    for (i, ci) in c.iter().enumerate().skip(1) {
+        let norm = ci.iter().map(|x| x.mag()).fold(0.0, f64::max);
+        if norm > 0.0 {
+            // no term larger than the state (no cancellation in the sum) ...
+            h = h.min((scale / norm).powf(1.0 / i as f64));
+            // ... and the last two terms below the rounding level
+            if i + 1 >= p {
+                h = h.min((tol / norm).powf(1.0 / i as f64));
+            }
+        }
+    }
+    Ok(round_step(h.min(f64::MAX)))
+}
+
+/// Horner's scheme in intervals: encloses `sum_i c_i t^i` for every `t` in `h` and every
+/// choice of coefficients in the enclosures `c_i`.
+fn horner(c: &[Interval], h: Interval) -> Interval {
+    c.iter().rev().fold(point(0.0), |acc, ci| acc * h + *ci)
+}
+
+/// One step of the method (spec eqs. (5.3)-(5.6), (5.9)-(5.10)).
+fn lohner_step(
+    model: &Model,
+    set: &LohnerSet,
+    h: Interval,
+    p: usize,
+    strict: bool,
+) -> Result<LohnerSet, StepFail> {
+    let d = set.m.len();
+    let fatal = |s: &str| StepFail::Fatal(s.to_string());
+    if !set.r.iter().all(|r| r.contains(0.0)) {
+        return Err(fatal("internal invariant broken: 0 not in r"));
+    }
+    let xbox = set.hull();
+    // (5.3) Taylor coefficients at the centre.
+    let centre: Vec<Interval> = set.m.iter().map(|x| point(*x)).collect();
+    let c = model
+        .field
+        .ode_taylor(&centre, p)
+        .ok_or_else(|| fatal("vector field not defined at the state"))?;
+    // (5.6) coefficients of the solution and of the variational equation over the box.
+    let mut xv = xbox.clone();
+    for i in 0..d {
+        xv.extend((0..d).map(|j| point(if i == j { 1.0 } else { 0.0 })));
+    }
+    let cv = model
+        .field_var
+        .ode_taylor(&xv, p)
+        .ok_or(StepFail::Shrink)?;
+    // (5.4) a priori enclosure on [0, h]: Z = sum_{i<p} Tb_i [0,h]^i + T_p(Y) [0,h]^p in Y.
+    let h0 = iv(0.0, h.sup());
+    let coef = |k: usize, i: usize| cv[k][i];
+    let guess: Vec<Interval> = (0..d)
+        .map(|i| horner(&(0..=p).map(|k| coef(k, i)).collect::<Vec<_>>(), h0))
+        .collect();
+    let mut y = inflate(&guess);
+    let mut remainder = None;
+    for _ in 0..4 {
+        let ty = match model.field.ode_taylor(&y, p + 1) {
+            Some(ty) => ty,
+            None => return Err(StepFail::Shrink),
+        };
+        let z: Vec<Interval> = (0..d)
+            .map(|i| {
+                let mut cs: Vec<Interval> = (0..p).map(|k| coef(k, i)).collect();
+                cs.push(ty[p][i]);
+                horner(&cs, h0)
+            })
+            .collect();
+        if z.iter().zip(&y).all(|(a, b)| a.subset(*b)) {
+            // (5.5) Lagrange remainder T_{p+1}(Y) h^{p+1}
+            let hp = (0..=p).fold(point(1.0), |a, _| a * h);
+            remainder = Some(ty[p + 1].iter().map(|t| *t * hp).collect::<Vec<_>>());
+            break;
+        }
+        y = inflate(&z.iter().zip(&y).map(|(a, b)| a.convex_hull(*b)).collect::<Vec<_>>());
+    }
+    let remainder = remainder.ok_or(StepFail::Shrink)?;
+    // (5.8) step-size control on the proved remainder, not only on the estimate.
+    // (5.3) z = phi(m) + R
+    let phi: Vec<Interval> = (0..d)
+        .map(|i| horner(&c.iter().map(|ck| ck[i]).collect::<Vec<_>>(), h))
+        .collect();
+    if strict {
+        let scale = set.m.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+        let too_wide = |x: &Interval, tol: f64| x.wid() > scale * tol;
+        if remainder.iter().any(|x| too_wide(x, REMAINDER_TOL))
+            || phi.iter().any(|x| too_wide(x, 16.0 * f64::EPSILON))
+        {
+            return Err(StepFail::Shrink);
+        }
+    }
+    let z: Vec<Interval> = phi.iter().zip(&remainder).map(|(a, b)| *a + *b).collect();
+    // (5.6) J = sum_k V_k h^k, A = J B
+    let jac: IMat = (0..d)
+        .map(|i| {
+            (0..d)
+                .map(|j| horner(&cv.iter().map(|ck| ck[d + i * d + j]).collect::<Vec<_>>(), h))
+                .collect()
+        })
+        .collect();
+    let a = linalg::mul(&jac, &linalg::imat(&set.b));
+    if !z.iter().all(|x| finite(*x)) || !linalg::all_finite(&a) {
+        return Err(StepFail::Shrink);
+    }
+    // (5.9)-(5.10) new basis from the QR factorisation of mid(A). Lohner's column sorting
+    // (by ||A_j|| wid(r_j)) was measured to be worse here: on the particle at t = 600 it
+    // gave widths 1.7e-7 against 5.2e-11 unsorted (spec section 5.5).
+    let m_new: Vec<f64> = z.iter().map(|x| x.mid()).collect();
+    let zc: Vec<Interval> = z.iter().zip(&m_new).map(|(x, c)| *x - point(*c)).collect();
+    let q = linalg::mid(&a).qr().q();
+    let (b_new, b_inv) = match linalg::enclose_inverse(&q, &q.transpose()) {
+        Some(inv) => (q, inv),
+        None => (DMatrix::identity(d, d), linalg::identity(d)),
+    };
+    let r_new: Vec<Interval> = {
+        let ba = linalg::mul(&b_inv, &a);
+        let part = linalg::mul_vec(&ba, &set.r);
+        let shift = linalg::mul_vec(&b_inv, &zc);
+        part.iter().zip(shift).map(|(x, y)| *x + y).collect()
+    };
+    if !r_new.iter().all(|x| finite(*x)) {
+        return Err(fatal("enclosure became unbounded"));
+    }
+    Ok(LohnerSet {
+        m: m_new,
+        b: b_new,
+        r: r_new,
+    })
+}
+
+/// A trial box for the a priori enclosure: widened by 10% of its width and a little more.
+/// Any box is admissible here (the inclusion test decides), so plain floats are fine.
+fn inflate(x: &[Interval]) -> Vec<Interval> {
+    x.iter()
+        .map(|v| {
+            let w = v.wid() * 0.1 + v.mag() * 1e-15 + 1e-300;
+            iv(v.inf() - w, v.sup() + w)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::AnyScene;
+
+    #[test]
+    fn particle_with_zero_y_speed_moves_on_a_line() {
+        let model = Model::new(AnyScene::new("particle", &[]).unwrap());
+        let e = flow(&model, &[0.5, 2.0, -1.0], &[0.25, 0.0], 3.0, &FlowOptions::default()).unwrap();
+        // nhsolution0: x = x0 + xd t, y = y0, z = z0 + y0 xd t
+        assert!(e.q[0].contains(1.25) && e.q[1].contains(2.0) && e.q[2].contains(0.5));
+        assert!(e.q.iter().all(|x| x.wid() < 1e-14));
+    }
+}

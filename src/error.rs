@@ -1,0 +1,45 @@
+//! The typed failures of the library (spec/00-overview.md, "Failure").
+
+use std::fmt;
+
+/// Why a request was not answered. `Input` maps to exit status 2, `Uncertified` to 3.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Error {
+    /// The request is malformed: unknown scene or parameter, wrong dimension, non-finite
+    /// number, negative time, ...
+    Input(String),
+    /// The request is well formed but no enclosure could be proved; nothing is returned.
+    Uncertified(String),
+}
+
+impl Error {
+    pub fn input(msg: impl Into<String>) -> Self {
+        Error::Input(msg.into())
+    }
+    pub fn uncertified(msg: impl Into<String>) -> Self {
+        Error::Uncertified(msg.into())
+    }
+    /// The command line's exit status for this error.
+    pub fn code(&self) -> i32 {
+        match self {
+            Error::Input(_) => 2,
+            Error::Uncertified(_) => 3,
+        }
+    }
+    pub fn message(&self) -> &str {
+        match self {
+            Error::Input(m) | Error::Uncertified(m) => m,
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::Input(m) => write!(f, "invalid input: {m}"),
+            Error::Uncertified(m) => write!(f, "could not certify: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}

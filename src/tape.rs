@@ -1,0 +1,390 @@
+//! Recording a computation once and replaying it: over any [`Scalar`] (one value per node)
+//! and over truncated Taylor series of intervals (spec/02-taylor.md, eqs. (2.1)-(2.7)).
+//!
+//! A scene's vector field is written once over `S: Scalar`. Instantiated with [`Tracer`],
+//! it records a straight-line program (a tape); the validated integrator replays the tape
+//! with the recurrences of automatic Taylor differentiation, O(p^2) per node for p
+//! coefficients. Replaying over `f64` gives the float field, over `Interval` the rigorous one:
+//! they cannot drift apart because they are the same tape.
+//!
+//! The only simplifications made while recording are exact identities of real arithmetic
+//! (`x + 0 = x`, `x * 0 = 0`, `x * 1 = x`, `x / 1 = x`), so replaying is sound.
+
+use crate::scalar::{point, Scalar};
+use inari::Interval;
+use std::cell::RefCell;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Op {
+    Input(usize),
+    Const(f64),
+    Add(u32, u32),
+    Sub(u32, u32),
+    Mul(u32, u32),
+    Div(u32, u32),
+    Neg(u32),
+    Sin(u32),
+    Cos(u32),
+    Sqrt(u32),
+}
+
+thread_local! {
+    static RECORDING: RefCell<Vec<Op>> = const { RefCell::new(Vec::new()) };
+}
+
+/// A node of the tape being recorded (valid only inside [`Tape::record`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Tracer(u32);
+
+fn push(op: Op) -> Tracer {
+    RECORDING.with(|t| {
+        let mut t = t.borrow_mut();
+        t.push(op);
+        Tracer((t.len() - 1) as u32)
+    })
+}
+
+fn constant_of(x: Tracer) -> Option<f64> {
+    RECORDING.with(|t| match t.borrow()[x.0 as usize] {
+        Op::Const(c) => Some(c),
+        _ => None,
+    })
+}
+
+impl Add for Tracer {
+    type Output = Tracer;
+    fn add(self, o: Tracer) -> Tracer {
+        match (constant_of(self), constant_of(o)) {
+            (Some(c), _) if c == 0.0 => o,
+            (_, Some(c)) if c == 0.0 => self,
+            _ => push(Op::Add(self.0, o.0)),
+        }
+    }
+}
+impl Sub for Tracer {
+    type Output = Tracer;
+    fn sub(self, o: Tracer) -> Tracer {
+        match (constant_of(self), constant_of(o)) {
+            (_, Some(c)) if c == 0.0 => self,
+            (Some(c), _) if c == 0.0 => -o,
+            _ => push(Op::Sub(self.0, o.0)),
+        }
+    }
+}
+impl Mul for Tracer {
+    type Output = Tracer;
+    fn mul(self, o: Tracer) -> Tracer {
+        match (constant_of(self), constant_of(o)) {
+            (Some(c), _) | (_, Some(c)) if c == 0.0 => Tracer::cst(0.0),
+            (Some(c), _) if c == 1.0 => o,
+            (_, Some(c)) if c == 1.0 => self,
+            _ => push(Op::Mul(self.0, o.0)),
+        }
+    }
+}
+impl Div for Tracer {
+    type Output = Tracer;
+    fn div(self, o: Tracer) -> Tracer {
+        match (constant_of(self), constant_of(o)) {
+            (_, Some(c)) if c == 1.0 => self,
+            _ => push(Op::Div(self.0, o.0)),
+        }
+    }
+}
+impl Neg for Tracer {
+    type Output = Tracer;
+    fn neg(self) -> Tracer {
+        match constant_of(self) {
+            Some(c) if c == 0.0 => self,
+            _ => push(Op::Neg(self.0)),
+        }
+    }
+}
+impl Scalar for Tracer {
+    fn cst(c: f64) -> Self {
+        push(Op::Const(c))
+    }
+    fn sin(&self) -> Self {
+        push(Op::Sin(self.0))
+    }
+    fn cos(&self) -> Self {
+        push(Op::Cos(self.0))
+    }
+    fn sqrt(&self) -> Self {
+        push(Op::Sqrt(self.0))
+    }
+}
+
+/// A recorded straight-line program from `inputs` values to `outputs` values.
+#[derive(Clone, Debug)]
+pub struct Tape {
+    ops: Vec<Op>,
+    n_inputs: usize,
+    outputs: Vec<u32>,
+}
+
+impl Tape {
+    /// Record `f` on `n_inputs` symbolic inputs.
+    pub fn record(n_inputs: usize, f: impl FnOnce(&[Tracer]) -> Vec<Tracer>) -> Tape {
+        RECORDING.with(|t| t.borrow_mut().clear());
+        let inputs: Vec<Tracer> = (0..n_inputs).map(|i| push(Op::Input(i))).collect();
+        let outs = f(&inputs);
+        let ops = RECORDING.with(|t| std::mem::take(&mut *t.borrow_mut()));
+        Tape {
+            ops,
+            n_inputs,
+            outputs: outs.iter().map(|t| t.0).collect(),
+        }
+    }
+
+    pub fn n_inputs(&self) -> usize {
+        self.n_inputs
+    }
+    pub fn n_outputs(&self) -> usize {
+        self.outputs.len()
+    }
+    pub fn len(&self) -> usize {
+        self.ops.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.ops.is_empty()
+    }
+
+    /// Replay over any scalar: the outputs at `x` (spec eq. (2.1)).
+    pub fn eval<S: Scalar>(&self, x: &[S]) -> Vec<S> {
+        let mut v: Vec<S> = Vec::with_capacity(self.ops.len());
+        for op in &self.ops {
+            let g = |i: &u32| v[*i as usize].clone();
+            let r = match op {
+                Op::Input(i) => x[*i].clone(),
+                Op::Const(c) => S::cst(*c),
+                Op::Add(a, b) => g(a) + g(b),
+                Op::Sub(a, b) => g(a) - g(b),
+                Op::Mul(a, b) => g(a) * g(b),
+                Op::Div(a, b) => g(a) / g(b),
+                Op::Neg(a) => -g(a),
+                Op::Sin(a) => g(a).sin(),
+                Op::Cos(a) => g(a).cos(),
+                Op::Sqrt(a) => g(a).sqrt(),
+            };
+            v.push(r);
+        }
+        self.outputs.iter().map(|o| v[*o as usize].clone()).collect()
+    }
+
+    /// Taylor coefficients `x_0 .. x_order` at t = 0 of every solution of `x' = F(x)` with
+    /// `x(0)` in the box `x0`, where F is this tape (inputs and outputs of equal number):
+    /// for every such solution, its k-th coefficient `x^(k)(0)/k!` lies in `result[k]`
+    /// (spec eqs. (2.2)-(2.7)). Division by an interval containing 0 yields a non-finite or
+    /// empty coefficient, which the caller must treat as failure.
+    ///
+    /// Returns `None` when the tape is not proved smooth on the box: a divisor enclosure
+    /// containing 0, a square root of an enclosure not in (0, inf), or a non-finite
+    /// coefficient (spec eq. (2.8)).
+    pub fn ode_taylor(&self, x0: &[Interval], order: usize) -> Option<Vec<Vec<Interval>>> {
+        let d = self.n_inputs;
+        let mut s = Series::new(self.ops.len(), order + 1);
+        let mut xs: Vec<Vec<Interval>> = vec![x0.to_vec()];
+        for k in 0..=order {
+            s.step(&self.ops, k, &xs[k]);
+            if !s.ok {
+                return None;
+            }
+            if k == order {
+                break;
+            }
+            let kk = point((k + 1) as f64);
+            let next: Vec<Interval> = (0..d)
+                .map(|i| s.get(self.outputs[i], k) / kk)
+                .collect();
+            if !next.iter().all(|x| finite(*x)) {
+                return None;
+            }
+            xs.push(next);
+        }
+        Some(xs)
+    }
+
+    /// Rigorous evaluation over intervals, with the same smoothness checks as
+    /// [`Tape::ode_taylor`]: `None` unless every output is a finite enclosure of the exact
+    /// value at every point of the box (spec eq. (2.8)).
+    pub fn eval_checked(&self, x: &[Interval]) -> Option<Vec<Interval>> {
+        let mut s = Series::new(self.ops.len(), 1);
+        s.step(&self.ops, 0, x);
+        let out: Vec<Interval> = self.outputs.iter().map(|o| s.get(*o, 0)).collect();
+        (s.ok && out.iter().all(|x| finite(*x))).then_some(out)
+    }
+}
+
+/// Storage of the Taylor coefficients of every node, node-major.
+struct Series {
+    n: usize,
+    /// False once a singular operation (divisor or sqrt argument not proved safe) was met.
+    ok: bool,
+    c: Vec<Interval>,
+    /// Companion series: cos for a Sin node, sin for a Cos node.
+    aux: Vec<Interval>,
+}
+
+impl Series {
+    fn new(nodes: usize, n: usize) -> Self {
+        let z = point(0.0);
+        Series {
+            n,
+            ok: true,
+            c: vec![z; nodes * n],
+            aux: vec![z; nodes * n],
+        }
+    }
+    fn get(&self, node: u32, k: usize) -> Interval {
+        self.c[node as usize * self.n + k]
+    }
+    fn aux(&self, node: u32, k: usize) -> Interval {
+        self.aux[node as usize * self.n + k]
+    }
+
+    /// Coefficient k of every node, given all coefficients below k (spec eq. (2.3)-(2.7)).
+    fn step(&mut self, ops: &[Op], k: usize, input_k: &[Interval]) {
+        let zero = point(0.0);
+        let kf = point(k as f64);
+        for (idx, op) in ops.iter().enumerate() {
+            let (val, aux) = match *op {
+                Op::Input(i) => (input_k[i], zero),
+                Op::Const(c) => (if k == 0 { point(c) } else { zero }, zero),
+                Op::Add(a, b) => (self.get(a, k) + self.get(b, k), zero),
+                Op::Sub(a, b) => (self.get(a, k) - self.get(b, k), zero),
+                Op::Neg(a) => (-self.get(a, k), zero),
+                Op::Mul(a, b) => {
+                    // (2.3) w_k = sum_{j=0..k} a_j b_{k-j}
+                    let mut acc = zero;
+                    for j in 0..=k {
+                        acc += self.get(a, j) * self.get(b, k - j);
+                    }
+                    (acc, zero)
+                }
+                Op::Div(a, b) => {
+                    // (2.4) w_k = (a_k - sum_{j=1..k} b_j w_{k-j}) / b_0
+                    let mut acc = self.get(a, k);
+                    for j in 1..=k {
+                        acc -= self.get(b, j) * self.get(idx as u32, k - j);
+                    }
+                    let b0 = self.get(b, 0);
+                    if b0.contains(0.0) || b0.is_empty() {
+                        self.ok = false;
+                    }
+                    (acc / b0, zero)
+                }
+                Op::Sqrt(a) => {
+                    // (2.5) w_0 = sqrt(a_0); w_k = (a_k - sum_{j=1..k-1} w_j w_{k-j}) / (2 w_0)
+                    if k == 0 {
+                        let a0 = self.get(a, 0);
+                        if a0.is_empty() || a0.inf() <= 0.0 {
+                            self.ok = false;
+                        }
+                        (a0.sqrt(), zero)
+                    } else {
+                        let me = idx as u32;
+                        let mut acc = self.get(a, k);
+                        for j in 1..k {
+                            acc -= self.get(me, j) * self.get(me, k - j);
+                        }
+                        let w0 = self.get(me, 0);
+                        (acc / (w0 + w0), zero)
+                    }
+                }
+                Op::Sin(a) | Op::Cos(a) => {
+                    // (2.6)-(2.7) s_k = (1/k) sum j u_j c_{k-j}, c_k = -(1/k) sum j u_j s_{k-j}
+                    let me = idx as u32;
+                    let is_sin = matches!(op, Op::Sin(_));
+                    let (s, c) = if k == 0 {
+                        let u0 = self.get(a, 0);
+                        (u0.sin(), u0.cos())
+                    } else {
+                        let (mut s, mut c) = (zero, zero);
+                        for j in 1..=k {
+                            let ju = point(j as f64) * self.get(a, j);
+                            let (sp, cp) = if is_sin {
+                                (self.get(me, k - j), self.aux(me, k - j))
+                            } else {
+                                (self.aux(me, k - j), self.get(me, k - j))
+                            };
+                            s += ju * cp;
+                            c -= ju * sp;
+                        }
+                        (s / kf, c / kf)
+                    };
+                    if is_sin {
+                        (s, c)
+                    } else {
+                        (c, s)
+                    }
+                }
+            };
+            self.c[idx * self.n + k] = val;
+            self.aux[idx * self.n + k] = aux;
+        }
+    }
+}
+
+/// A non-empty interval with finite endpoints.
+pub fn finite(x: Interval) -> bool {
+    !x.is_empty() && x.inf().is_finite() && x.sup().is_finite()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn replay_matches_direct_evaluation() {
+        let tape = Tape::record(2, |x| {
+            let (a, b) = (x[0], x[1]);
+            vec![a * b + a.sin() / (Tracer::one() + b.sqr()), (a * a).sqrt()]
+        });
+        let v = tape.eval(&[0.7f64, -1.3]);
+        let direct = 0.7 * -1.3 + 0.7f64.sin() / (1.0 + 1.69);
+        assert_eq!(v[0], direct);
+        assert_eq!(v[1], 0.7);
+    }
+
+    #[test]
+    fn identities_are_folded_exactly() {
+        let tape = Tape::record(1, |x| vec![x[0] * Tracer::one() + Tracer::zero() * x[0]]);
+        // input, const 1, const 0, const 0 (from the fold): no arithmetic node at all
+        assert!(tape.ops.iter().all(|o| matches!(o, Op::Input(_) | Op::Const(_))));
+        assert_eq!(tape.eval(&[3.5f64])[0], 3.5);
+    }
+
+    #[test]
+    fn singular_operations_are_failures_not_numbers() {
+        let tape = Tape::record(1, |x| vec![Tracer::zero() * (Tracer::one() / x[0])]);
+        assert!(tape.eval_checked(&[crate::scalar::iv(-1.0, 1.0)]).is_none());
+        assert!(tape.eval_checked(&[point(2.0)]).is_some());
+        let tape = Tape::record(1, |x| vec![x[0].sqrt()]);
+        assert!(tape.eval_checked(&[crate::scalar::iv(-1.0, 4.0)]).is_none());
+        assert!(tape.ode_taylor(&[point(0.0)], 3).is_none());
+    }
+
+    #[test]
+    fn taylor_coefficients_of_exp_and_rotation() {
+        // x' = x from x(0) = 1: coefficients 1/k!
+        let tape = Tape::record(1, |x| vec![x[0]]);
+        let c = tape.ode_taylor(&[point(1.0)], 10).unwrap();
+        let mut f = 1.0f64;
+        for (k, ck) in c.iter().enumerate() {
+            if k > 0 {
+                f *= k as f64;
+            }
+            assert!(ck[0].contains(1.0 / f) || (ck[0].inf() - 1.0 / f).abs() < 1e-16);
+            assert!(ck[0].wid() < 1e-15);
+        }
+        // phi' = 1, s' = cos(phi): s(t) = sin(t), coefficients of sin
+        let tape = Tape::record(2, |x| vec![Tracer::one(), x[0].cos()]);
+        let c = tape.ode_taylor(&[point(0.0), point(0.0)], 7).unwrap();
+        assert!(c[1][1].contains(1.0));
+        assert!(c[3][1].contains(-1.0 / 6.0) || (c[3][1].mid() + 1.0 / 6.0).abs() < 1e-16);
+        assert!(c[2][1].contains(0.0) && c[2][1].wid() < 1e-16);
+        assert!((c[5][1].mid() - 1.0 / 120.0).abs() < 1e-16);
+    }
+}
