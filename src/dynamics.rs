@@ -25,9 +25,16 @@ pub struct Geometry<S> {
 }
 
 fn split<S: Scalar>(m: Mat<Dual<S>>, n: usize) -> (Mat<S>, Vec<Mat<S>>) {
-    let val = m.iter().map(|r| r.iter().map(|x| x.v.clone()).collect()).collect();
+    let val = m
+        .iter()
+        .map(|r| r.iter().map(|x| x.v.clone()).collect())
+        .collect();
     let ders = (0..n)
-        .map(|j| m.iter().map(|r| r.iter().map(|x| x.der(j)).collect()).collect())
+        .map(|j| {
+            m.iter()
+                .map(|r| r.iter().map(|x| x.der(j)).collect())
+                .collect()
+        })
         .collect();
     (val, ders)
 }
@@ -67,12 +74,13 @@ impl<S: Scalar> Geometry<S> {
         let n = self.n;
         (0..n)
             .map(|i| {
-                let mdot_v = sum((0..n).flat_map(|j| {
-                    (0..n).map(move |l| (j, l))
-                }).map(|(j, l)| self.dmass[j][i][l].clone() * v[j].clone() * v[l].clone()));
-                let half_grad = sum((0..n).flat_map(|l| (0..n).map(move |r| (l, r))).map(
-                    |(l, r)| self.dmass[i][l][r].clone() * v[l].clone() * v[r].clone(),
-                )) * S::cst(0.5);
+                let mdot_v = sum((0..n)
+                    .flat_map(|j| (0..n).map(move |l| (j, l)))
+                    .map(|(j, l)| self.dmass[j][i][l].clone() * v[j].clone() * v[l].clone()));
+                let half_grad = sum((0..n)
+                    .flat_map(|l| (0..n).map(move |r| (l, r)))
+                    .map(|(l, r)| self.dmass[i][l][r].clone() * v[l].clone() * v[r].clone()))
+                    * S::cst(0.5);
                 mdot_v - half_grad + self.dpot[i].clone()
             })
             .collect()
@@ -102,13 +110,13 @@ impl<S: Scalar> Geometry<S> {
             .collect();
         let m_edot_u = mat_vec(&self.mass, &edot_u);
         let w = self.bias(&v);
-        let rhs: Vec<S> = (0..m)
-            .map(|a| {
-                -sum((0..n).map(|i| {
-                    self.basis[a][i].clone() * (m_edot_u[i].clone() + w[i].clone())
-                }))
-            })
-            .collect();
+        let rhs: Vec<S> =
+            (0..m)
+                .map(|a| {
+                    -sum((0..n)
+                        .map(|i| self.basis[a][i].clone() * (m_edot_u[i].clone() + w[i].clone())))
+                })
+                .collect();
         let me: Vec<Vec<S>> = self.basis.iter().map(|e| mat_vec(&self.mass, e)).collect();
         let g: Mat<S> = (0..m)
             .map(|a| (0..m).map(|b| dot(&self.basis[a], &me[b])).collect())
@@ -121,7 +129,10 @@ impl<S: Scalar> Geometry<S> {
     pub fn multiplier(&self, v: &[S]) -> Vec<S> {
         let w = self.bias(v);
         // unconstrained acceleration a_L = -M^{-1} w
-        let a_l: Vec<S> = solve_spd(self.mass.clone(), w).into_iter().map(|x| -x).collect();
+        let a_l: Vec<S> = solve_spd(self.mass.clone(), w)
+            .into_iter()
+            .map(|x| -x)
+            .collect();
         let mudot = Self::along(&self.dmu, v);
         // Gamma_L(Phi^b) = mudot^b v + mu^b a_L
         let gamma: Vec<S> = (0..self.k)
@@ -133,7 +144,11 @@ impl<S: Scalar> Geometry<S> {
             .map(|row| solve_spd(self.mass.clone(), row.clone()))
             .collect();
         let c: Mat<S> = (0..self.k)
-            .map(|a| (0..self.k).map(|b| dot(&self.mu[a], &minv_mut[b])).collect())
+            .map(|a| {
+                (0..self.k)
+                    .map(|b| dot(&self.mu[a], &minv_mut[b]))
+                    .collect()
+            })
             .collect();
         solve_spd(c, gamma).into_iter().map(|x| -x).collect()
     }
@@ -193,9 +208,9 @@ pub fn solve_spd<S: Scalar>(mut a: Mat<S>, mut b: Vec<S>) -> Vec<S> {
     for p in 0..n {
         for r in p + 1..n {
             let f = a[r][p].clone() / a[p][p].clone();
-            for c in p + 1..n {
-                let t = f.clone() * a[p][c].clone();
-                a[r][c] = a[r][c].clone() - t;
+            let pivot_row = a[p].clone();
+            for (x, y) in a[r].iter_mut().zip(pivot_row).skip(p + 1) {
+                *x = x.clone() - f.clone() * y;
             }
             let t = f * b[p].clone();
             b[r] = b[r].clone() - t;

@@ -49,7 +49,14 @@ impl Model {
         let velocity = with_scene!(&scene, s => Tape::record(d, |x| {
             Geometry::at(s, &x[..n]).velocity(&x[n..])
         }));
-        Model { scene, n, k, field, field_var, velocity }
+        Model {
+            scene,
+            n,
+            k,
+            field,
+            field_var,
+            velocity,
+        }
     }
 
     /// Dimension of the reduced state, 2n - k.

@@ -10,9 +10,13 @@
 //! The only simplifications made while recording are exact identities of real arithmetic
 //! (`x + 0 = x`, `x * 0 = 0`, `x * 1 = x`, `x / 1 = x`), so replaying is sound.
 
+// Float comparisons are written as guards on purpose: `c == 0.0` also matches -0.0.
+#![allow(clippy::redundant_guards)]
+
 use crate::scalar::{point, Scalar};
 use inari::Interval;
 use std::cell::RefCell;
+use std::collections::HashMap;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -27,10 +31,44 @@ enum Op {
     Sin(u32),
     Cos(u32),
     Sqrt(u32),
+    /// Product with the exact constant c.
+    Scale(u32, f64),
+}
+
+/// The tape being recorded, with a table of the operations already on it so that an
+/// operation recorded twice on the same arguments is stored once (hash-consing).
+#[derive(Default)]
+struct Recording {
+    ops: Vec<Op>,
+    seen: HashMap<(u8, u64, u64), u32>,
 }
 
 thread_local! {
-    static RECORDING: RefCell<Vec<Op>> = const { RefCell::new(Vec::new()) };
+    static RECORDING: RefCell<Recording> = RefCell::new(Recording::default());
+}
+
+/// A hashable key of an operation; commutative operations are ordered.
+fn key(op: &Op) -> (u8, u64, u64) {
+    let ord = |a: u32, b: u32| (a.min(b) as u64, a.max(b) as u64);
+    match *op {
+        Op::Input(i) => (0, i as u64, 0),
+        Op::Const(c) => (1, c.to_bits(), 0),
+        Op::Add(a, b) => {
+            let (x, y) = ord(a, b);
+            (2, x, y)
+        }
+        Op::Sub(a, b) => (3, a as u64, b as u64),
+        Op::Mul(a, b) => {
+            let (x, y) = ord(a, b);
+            (4, x, y)
+        }
+        Op::Div(a, b) => (5, a as u64, b as u64),
+        Op::Neg(a) => (6, a as u64, 0),
+        Op::Sin(a) => (7, a as u64, 0),
+        Op::Cos(a) => (8, a as u64, 0),
+        Op::Sqrt(a) => (9, a as u64, 0),
+        Op::Scale(a, c) => (10, a as u64, c.to_bits()),
+    }
 }
 
 /// A node of the tape being recorded (valid only inside [`Tape::record`]).
@@ -38,18 +76,58 @@ thread_local! {
 pub struct Tracer(u32);
 
 fn push(op: Op) -> Tracer {
+    let op = fold(op);
     RECORDING.with(|t| {
         let mut t = t.borrow_mut();
-        t.push(op);
-        Tracer((t.len() - 1) as u32)
+        let k = key(&op);
+        if let Some(i) = t.seen.get(&k) {
+            return Tracer(*i);
+        }
+        t.ops.push(op);
+        let i = (t.ops.len() - 1) as u32;
+        t.seen.insert(k, i);
+        Tracer(i)
     })
 }
 
 fn constant_of(x: Tracer) -> Option<f64> {
-    RECORDING.with(|t| match t.borrow()[x.0 as usize] {
+    RECORDING.with(|t| match t.borrow().ops[x.0 as usize] {
         Op::Const(c) => Some(c),
         _ => None,
     })
+}
+
+/// Exact constant folding: an operation on constants whose interval result is a single
+/// f64 (so the real result is that f64) becomes a constant; a product with one constant
+/// operand becomes a scaling, whose Taylor recurrence costs O(1) instead of O(k).
+fn fold(op: Op) -> Op {
+    let c = |i: u32| constant_of(Tracer(i));
+    let exact = |x: Interval| (x.inf() == x.sup() && x.inf().is_finite()).then(|| x.inf());
+    let folded = match op {
+        Op::Add(a, b) => c(a).zip(c(b)).and_then(|(x, y)| exact(point(x) + point(y))),
+        Op::Sub(a, b) => c(a).zip(c(b)).and_then(|(x, y)| exact(point(x) - point(y))),
+        Op::Mul(a, b) => c(a).zip(c(b)).and_then(|(x, y)| exact(point(x) * point(y))),
+        Op::Div(a, b) => c(a).zip(c(b)).and_then(|(x, y)| {
+            if y == 0.0 {
+                None
+            } else {
+                exact(point(x) / point(y))
+            }
+        }),
+        Op::Neg(a) => c(a).map(|x| -x),
+        _ => None,
+    };
+    if let Some(v) = folded {
+        return Op::Const(v);
+    }
+    match op {
+        Op::Mul(a, b) => match (c(a), c(b)) {
+            (Some(x), None) => Op::Scale(b, x),
+            (None, Some(y)) => Op::Scale(a, y),
+            _ => op,
+        },
+        _ => op,
+    }
 }
 
 impl Add for Tracer {
@@ -127,14 +205,50 @@ pub struct Tape {
 impl Tape {
     /// Record `f` on `n_inputs` symbolic inputs.
     pub fn record(n_inputs: usize, f: impl FnOnce(&[Tracer]) -> Vec<Tracer>) -> Tape {
-        RECORDING.with(|t| t.borrow_mut().clear());
+        RECORDING.with(|t| *t.borrow_mut() = Recording::default());
         let inputs: Vec<Tracer> = (0..n_inputs).map(|i| push(Op::Input(i))).collect();
         let outs = f(&inputs);
-        let ops = RECORDING.with(|t| std::mem::take(&mut *t.borrow_mut()));
+        let rec = RECORDING.with(|t| std::mem::take(&mut *t.borrow_mut()));
         Tape {
-            ops,
+            ops: rec.ops,
             n_inputs,
             outputs: outs.iter().map(|t| t.0).collect(),
+        }
+        .without_dead_code()
+    }
+
+    /// Drop the operations no output depends on (inputs are kept, in order).
+    fn without_dead_code(self) -> Tape {
+        let n = self.ops.len();
+        let mut live = vec![false; n];
+        for o in &self.outputs {
+            live[*o as usize] = true;
+        }
+        for i in (0..n).rev() {
+            if !live[i] && !matches!(self.ops[i], Op::Input(_)) {
+                continue;
+            }
+            live[i] = true;
+            for a in args(&self.ops[i]) {
+                live[a as usize] = true;
+            }
+        }
+        let mut new_index = vec![0u32; n];
+        let mut ops = Vec::new();
+        for i in 0..n {
+            if live[i] {
+                new_index[i] = ops.len() as u32;
+                ops.push(remap(&self.ops[i], &new_index));
+            }
+        }
+        Tape {
+            ops,
+            n_inputs: self.n_inputs,
+            outputs: self
+                .outputs
+                .iter()
+                .map(|o| new_index[*o as usize])
+                .collect(),
         }
     }
 
@@ -164,13 +278,17 @@ impl Tape {
                 Op::Mul(a, b) => g(a) * g(b),
                 Op::Div(a, b) => g(a) / g(b),
                 Op::Neg(a) => -g(a),
+                Op::Scale(a, c) => g(a) * S::cst(*c),
                 Op::Sin(a) => g(a).sin(),
                 Op::Cos(a) => g(a).cos(),
                 Op::Sqrt(a) => g(a).sqrt(),
             };
             v.push(r);
         }
-        self.outputs.iter().map(|o| v[*o as usize].clone()).collect()
+        self.outputs
+            .iter()
+            .map(|o| v[*o as usize].clone())
+            .collect()
     }
 
     /// Taylor coefficients `x_0 .. x_order` at t = 0 of every solution of `x' = F(x)` with
@@ -195,9 +313,7 @@ impl Tape {
                 break;
             }
             let kk = point((k + 1) as f64);
-            let next: Vec<Interval> = (0..d)
-                .map(|i| s.get(self.outputs[i], k) / kk)
-                .collect();
+            let next: Vec<Interval> = (0..d).map(|i| s.get(self.outputs[i], k) / kk).collect();
             if !next.iter().all(|x| finite(*x)) {
                 return None;
             }
@@ -217,6 +333,31 @@ impl Tape {
     }
 }
 
+fn args(op: &Op) -> Vec<u32> {
+    match *op {
+        Op::Input(_) | Op::Const(_) => vec![],
+        Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => vec![a, b],
+        Op::Neg(a) | Op::Sin(a) | Op::Cos(a) | Op::Sqrt(a) | Op::Scale(a, _) => vec![a],
+    }
+}
+
+fn remap(op: &Op, m: &[u32]) -> Op {
+    let r = |a: u32| m[a as usize];
+    match *op {
+        Op::Input(i) => Op::Input(i),
+        Op::Const(c) => Op::Const(c),
+        Op::Add(a, b) => Op::Add(r(a), r(b)),
+        Op::Sub(a, b) => Op::Sub(r(a), r(b)),
+        Op::Mul(a, b) => Op::Mul(r(a), r(b)),
+        Op::Div(a, b) => Op::Div(r(a), r(b)),
+        Op::Neg(a) => Op::Neg(r(a)),
+        Op::Sin(a) => Op::Sin(r(a)),
+        Op::Cos(a) => Op::Cos(r(a)),
+        Op::Sqrt(a) => Op::Sqrt(r(a)),
+        Op::Scale(a, c) => Op::Scale(r(a), c),
+    }
+}
+
 /// Storage of the Taylor coefficients of every node, node-major.
 struct Series {
     n: usize,
@@ -225,6 +366,9 @@ struct Series {
     c: Vec<Interval>,
     /// Companion series: cos for a Sin node, sin for a Cos node.
     aux: Vec<Interval>,
+    /// Per node, the first and last index of a coefficient (or companion) not exactly 0
+    /// so far; `(usize::MAX, 0)` while all are 0.
+    nz: Vec<(usize, usize)>,
 }
 
 impl Series {
@@ -235,6 +379,7 @@ impl Series {
             ok: true,
             c: vec![z; nodes * n],
             aux: vec![z; nodes * n],
+            nz: vec![(usize::MAX, 0); nodes],
         }
     }
     fn get(&self, node: u32, k: usize) -> Interval {
@@ -255,10 +400,11 @@ impl Series {
                 Op::Add(a, b) => (self.get(a, k) + self.get(b, k), zero),
                 Op::Sub(a, b) => (self.get(a, k) - self.get(b, k), zero),
                 Op::Neg(a) => (-self.get(a, k), zero),
+                Op::Scale(a, c) => (self.get(a, k) * point(c), zero),
                 Op::Mul(a, b) => {
                     // (2.3) w_k = sum_{j=0..k} a_j b_{k-j}
                     let mut acc = zero;
-                    for j in 0..=k {
+                    for j in self.terms(a, b, k, 0, k) {
                         acc += self.get(a, j) * self.get(b, k - j);
                     }
                     (acc, zero)
@@ -266,7 +412,7 @@ impl Series {
                 Op::Div(a, b) => {
                     // (2.4) w_k = (a_k - sum_{j=1..k} b_j w_{k-j}) / b_0
                     let mut acc = self.get(a, k);
-                    for j in 1..=k {
+                    for j in self.terms(b, idx as u32, k, 1, k) {
                         acc -= self.get(b, j) * self.get(idx as u32, k - j);
                     }
                     let b0 = self.get(b, 0);
@@ -286,7 +432,7 @@ impl Series {
                     } else {
                         let me = idx as u32;
                         let mut acc = self.get(a, k);
-                        for j in 1..k {
+                        for j in self.terms(me, me, k, 1, k - 1) {
                             acc -= self.get(me, j) * self.get(me, k - j);
                         }
                         let w0 = self.get(me, 0);
@@ -302,7 +448,8 @@ impl Series {
                         (u0.sin(), u0.cos())
                     } else {
                         let (mut s, mut c) = (zero, zero);
-                        for j in 1..=k {
+                        let (lo, hi) = self.nz[a as usize];
+                        for j in lo.max(1)..=hi.min(k) {
                             let ju = point(j as f64) * self.get(a, j);
                             let (sp, cp) = if is_sin {
                                 (self.get(me, k - j), self.aux(me, k - j))
@@ -323,8 +470,37 @@ impl Series {
             };
             self.c[idx * self.n + k] = val;
             self.aux[idx * self.n + k] = aux;
+            if !(is_zero(val) && is_zero(aux)) {
+                let e = &mut self.nz[idx];
+                e.0 = e.0.min(k);
+                e.1 = k;
+            }
         }
     }
+
+    /// The indices j in [from, to] for which both a_j and b_{k-j} may be non-zero: terms
+    /// with an exactly zero factor are zero and are skipped (spec eq. (2.3)).
+    fn terms(
+        &self,
+        a: u32,
+        b: u32,
+        k: usize,
+        from: usize,
+        to: usize,
+    ) -> std::ops::RangeInclusive<usize> {
+        let (la, ha) = self.nz[a as usize];
+        let (lb, hb) = self.nz[b as usize];
+        if la > ha || lb > hb || k < lb {
+            #[allow(clippy::reversed_empty_ranges)]
+            return 1..=0;
+        }
+        from.max(la).max(k.saturating_sub(hb))..=to.min(ha).min(k - lb)
+    }
+}
+
+/// The exact point 0.
+fn is_zero(x: Interval) -> bool {
+    x.inf() == 0.0 && x.sup() == 0.0
 }
 
 /// A non-empty interval with finite endpoints.
@@ -351,14 +527,23 @@ mod tests {
     #[test]
     fn identities_are_folded_exactly() {
         let tape = Tape::record(1, |x| vec![x[0] * Tracer::one() + Tracer::zero() * x[0]]);
-        // input, const 1, const 0, const 0 (from the fold): no arithmetic node at all
-        assert!(tape.ops.iter().all(|o| matches!(o, Op::Input(_) | Op::Const(_))));
+        // no arithmetic node at all
+        assert!(tape
+            .ops
+            .iter()
+            .all(|o| matches!(o, Op::Input(_) | Op::Const(_))));
         assert_eq!(tape.eval(&[3.5f64])[0], 3.5);
+        // common subexpressions are stored once, dead code is dropped
+        let tape = Tape::record(2, |x| {
+            let _unused = x[0].sin();
+            vec![(x[0] * x[1]).cos() + (x[1] * x[0]).cos()]
+        });
+        assert_eq!(tape.len(), 2 + 1 + 1 + 1, "{:?}", tape.ops);
     }
 
     #[test]
     fn singular_operations_are_failures_not_numbers() {
-        let tape = Tape::record(1, |x| vec![Tracer::zero() * (Tracer::one() / x[0])]);
+        let tape = Tape::record(1, |x| vec![(Tracer::one() / x[0]) * x[0]]);
         assert!(tape.eval_checked(&[crate::scalar::iv(-1.0, 1.0)]).is_none());
         assert!(tape.eval_checked(&[point(2.0)]).is_some());
         let tape = Tape::record(1, |x| vec![x[0].sqrt()]);

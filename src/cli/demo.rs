@@ -9,7 +9,10 @@ pub fn run() -> Result<Option<Value>, Error> {
     let (q, u) = ([0.0, 0.0, 0.0], [0.8, 0.8]);
     println!("dalembert: the nonholonomic particle (paper Example 2.1), q0 = 0, u0 = (0.8, 0.8)");
     println!("certified enclosures of the exact flow (contains the true state; widths are max over components)");
-    println!("{:>8} {:>24} {:>24} {:>10} {:>7} {:>6} {:>10}", "t", "x(t)", "z(t)", "width", "steps", "order", "ms");
+    println!(
+        "{:>8} {:>24} {:>24} {:>10} {:>7} {:>6} {:>10}",
+        "t", "x(t)", "z(t)", "width", "steps", "order", "ms"
+    );
     for t in [0.5, 50.0, 600.0] {
         let start = Instant::now();
         let e = dalembert::flow(&model, &q, &u, t, &FlowOptions::default())?;

@@ -8,13 +8,14 @@ use serde_json::{json, Value};
 pub fn parse_num(name: &str, s: &str) -> Result<f64, Error> {
     let t = s.trim();
     let ok_chars = !t.is_empty()
-        && t
-            .chars()
+        && t.chars()
             .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-'));
     let x: f64 = if ok_chars { t.parse().ok() } else { None }
         .ok_or_else(|| Error::input(format!("--{name}: `{s}` is not a decimal number")))?;
     if !x.is_finite() {
-        return Err(Error::input(format!("--{name}: `{s}` is not a finite number")));
+        return Err(Error::input(format!(
+            "--{name}: `{s}` is not a finite number"
+        )));
     }
     Ok(x)
 }
@@ -35,7 +36,9 @@ pub fn parse_param(s: &str) -> Result<(String, f64), Error> {
 pub fn parse_order(s: &str) -> Result<usize, Error> {
     match s.parse::<usize>() {
         Ok(p) if (2..=60).contains(&p) => Ok(p),
-        _ => Err(Error::input(format!("--order: expected an integer in 2..=60, got `{s}`"))),
+        _ => Err(Error::input(format!(
+            "--order: expected an integer in 2..=60, got `{s}`"
+        ))),
     }
 }
 
@@ -45,7 +48,7 @@ pub fn intervals(x: &[Interval]) -> Value {
 }
 
 pub fn stats(s: &FlowStats) -> Value {
-    json!({"order": s.order, "steps": s.steps, "h_min": s.h_min, "h_max": s.h_max})
+    json!({"order": s.order, "steps": s.steps, "rejected": s.rejected, "h_min": s.h_min, "h_max": s.h_max})
 }
 
 /// Plain-text rendering of an answer object for people.

@@ -18,7 +18,11 @@ pub fn imat(m: &DMatrix<f64>) -> IMat {
 
 pub fn identity(n: usize) -> IMat {
     (0..n)
-        .map(|i| (0..n).map(|j| point(if i == j { 1.0 } else { 0.0 })).collect())
+        .map(|i| {
+            (0..n)
+                .map(|j| point(if i == j { 1.0 } else { 0.0 }))
+                .collect()
+        })
         .collect()
 }
 
@@ -41,7 +45,11 @@ pub fn mul(a: &IMat, b: &IMat) -> IMat {
 
 pub fn mul_vec(a: &IMat, x: &[Interval]) -> Vec<Interval> {
     a.iter()
-        .map(|r| r.iter().zip(x).fold(point(0.0), |s, (a, b)| a.mul_add(*b, s)))
+        .map(|r| {
+            r.iter()
+                .zip(x)
+                .fold(point(0.0), |s, (a, b)| a.mul_add(*b, s))
+        })
         .collect()
 }
 
@@ -80,7 +88,7 @@ pub fn enclose_inverse(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IMat> {
         return None;
     }
     let d = norm_inf_sup(&e);
-    if !(d < 0.5) {
+    if d.is_nan() || d >= 0.5 {
         return None;
     }
     let di = point(d);

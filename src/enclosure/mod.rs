@@ -69,6 +69,8 @@ impl Default for FlowOptions {
 pub struct FlowStats {
     pub order: usize,
     pub steps: usize,
+    /// Steps tried and rejected (a priori enclosure or remainder not good enough).
+    pub rejected: usize,
     pub h_min: f64,
     pub h_max: f64,
 }
@@ -172,6 +174,7 @@ pub fn flow_set(
     let mut stats = FlowStats {
         order: p,
         steps: 0,
+        rejected: 0,
         h_min: f64::INFINITY,
         h_max: 0.0,
     };
@@ -196,7 +199,7 @@ pub fn flow_set(
             match lohner_step(model, &set, hi, p, tries < 12) {
                 Ok(next) => {
                     set = next;
-                    factor = (factor * 1.5).min(1.0);
+                    factor = (factor * 1.1).min(1.0);
                     done = if last { total } else { done + hi };
                     stats.steps += 1;
                     stats.h_min = stats.h_min.min(hi.inf());
@@ -206,10 +209,11 @@ pub fn flow_set(
                 Err(StepFail::Fatal(why)) => return Err(Error::uncertified(why)),
                 Err(StepFail::Shrink) => {
                     tries += 1;
-                    factor *= 0.5;
-                    h = round_step(h * 0.5);
+                    stats.rejected += 1;
+                    factor *= 0.7;
+                    h = round_step(h * 0.7);
                     last = false;
-                    if tries > 60 || !(h > 0.0) || h < t * 1e-14 {
+                    if tries > 60 || h.is_nan() || h <= 0.0 || h < t * 1e-14 {
                         return Err(Error::uncertified(format!(
                             "no a priori enclosure could be proved near t = {} (step size underflow)",
                             done.inf()
@@ -225,22 +229,21 @@ pub fn flow_set(
     Ok((set, stats))
 }
 
+/// Number of time slices over which the remainder's coefficient is enclosed (spec (5.5)).
+const SLICES: usize = 8;
+
 /// Largest accepted width of the Lagrange remainder, relative to the state's size.
 const REMAINDER_TOL: f64 = f64::EPSILON;
 
-/// Round a positive step down to two significant bits (`{1, 1.5} * 2^e`), so that sums of
-/// steps stay exact in f64 for long (spec eq. (5.7)).
+/// Round a positive step down to three significant bits (`{1, 1.25, 1.5, 1.75} * 2^e`), so
+/// that sums of steps stay exact in f64 for long (spec eq. (5.7)).
 fn round_step(h: f64) -> f64 {
-    if !(h > 0.0) || !h.is_finite() {
+    if h.is_nan() || h <= 0.0 || !h.is_finite() {
         return h;
     }
-    let e = h.log2().floor();
-    let base = 2f64.powf(e);
-    if h >= 1.5 * base {
-        1.5 * base
-    } else {
-        base
-    }
+    let base = 2f64.powf(h.log2().floor());
+    let quarters = (h / base * 4.0).floor().clamp(4.0, 7.0);
+    base * quarters / 4.0
 }
 
 /// Step size from the Taylor coefficients at the centre (spec eq. (5.8)): the last two
@@ -298,10 +301,7 @@ fn lohner_step(
     for i in 0..d {
         xv.extend((0..d).map(|j| point(if i == j { 1.0 } else { 0.0 })));
     }
-    let cv = model
-        .field_var
-        .ode_taylor(&xv, p)
-        .ok_or(StepFail::Shrink)?;
+    let cv = model.field_var.ode_taylor(&xv, p).ok_or(StepFail::Shrink)?;
     // (5.4) a priori enclosure on [0, h]: Z = sum_{i<p} Tb_i [0,h]^i + T_p(Y) [0,h]^p in Y.
     let h0 = iv(0.0, h.sup());
     let coef = |k: usize, i: usize| cv[k][i];
@@ -323,12 +323,45 @@ fn lohner_step(
             })
             .collect();
         if z.iter().zip(&y).all(|(a, b)| a.subset(*b)) {
-            // (5.5) Lagrange remainder T_{p+1}(Y) h^{p+1}
+            // (5.5) Lagrange remainder T_{p+1}(x(xi)) h^{p+1}, x(xi) in the enclosure of
+            // one of SLICES sub-intervals of [0, h] (narrower boxes than Y: less dependency).
             let hp = (0..=p).fold(point(1.0), |a, _| a * h);
-            remainder = Some(ty[p + 1].iter().map(|t| *t * hp).collect::<Vec<_>>());
+            let mut hull: Option<Vec<Interval>> = None;
+            for j in 0..SLICES {
+                let lo = h.sup() * j as f64 / SLICES as f64;
+                let hi = if j + 1 == SLICES {
+                    h.sup()
+                } else {
+                    h.sup() * (j + 1) as f64 / SLICES as f64
+                };
+                let tj = iv(lo, hi);
+                let yj: Vec<Interval> = (0..d)
+                    .map(|i| {
+                        let mut cs: Vec<Interval> = (0..p).map(|k| coef(k, i)).collect();
+                        cs.push(ty[p][i]);
+                        horner(&cs, tj).intersection(y[i])
+                    })
+                    .collect();
+                let tj = model.field.ode_taylor(&yj, p + 1).ok_or(StepFail::Shrink)?;
+                hull = Some(match hull {
+                    None => tj[p + 1].clone(),
+                    Some(hh) => hh
+                        .iter()
+                        .zip(&tj[p + 1])
+                        .map(|(a, b)| a.convex_hull(*b))
+                        .collect(),
+                });
+            }
+            let t_rem = hull.unwrap_or_else(|| ty[p + 1].clone());
+            remainder = Some(t_rem.iter().map(|t| *t * hp).collect::<Vec<_>>());
             break;
         }
-        y = inflate(&z.iter().zip(&y).map(|(a, b)| a.convex_hull(*b)).collect::<Vec<_>>());
+        y = inflate(
+            &z.iter()
+                .zip(&y)
+                .map(|(a, b)| a.convex_hull(*b))
+                .collect::<Vec<_>>(),
+        );
     }
     let remainder = remainder.ok_or(StepFail::Shrink)?;
     // (5.8) step-size control on the proved remainder, not only on the estimate.
@@ -350,7 +383,12 @@ fn lohner_step(
     let jac: IMat = (0..d)
         .map(|i| {
             (0..d)
-                .map(|j| horner(&cv.iter().map(|ck| ck[d + i * d + j]).collect::<Vec<_>>(), h))
+                .map(|j| {
+                    horner(
+                        &cv.iter().map(|ck| ck[d + i * d + j]).collect::<Vec<_>>(),
+                        h,
+                    )
+                })
                 .collect()
         })
         .collect();
@@ -403,7 +441,14 @@ mod tests {
     #[test]
     fn particle_with_zero_y_speed_moves_on_a_line() {
         let model = Model::new(AnyScene::new("particle", &[]).unwrap());
-        let e = flow(&model, &[0.5, 2.0, -1.0], &[0.25, 0.0], 3.0, &FlowOptions::default()).unwrap();
+        let e = flow(
+            &model,
+            &[0.5, 2.0, -1.0],
+            &[0.25, 0.0],
+            3.0,
+            &FlowOptions::default(),
+        )
+        .unwrap();
         // nhsolution0: x = x0 + xd t, y = y0, z = z0 + y0 xd t
         assert!(e.q[0].contains(1.25) && e.q[1].contains(2.0) && e.q[2].contains(0.5));
         assert!(e.q.iter().all(|x| x.wid() < 1e-14));

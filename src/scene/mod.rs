@@ -60,7 +60,9 @@ impl AnyScene {
         let allowed = Self::params_of(name)?;
         for (k, v) in params {
             if !allowed.iter().any(|p| p.name == k) {
-                return Err(Error::input(format!("scene `{name}` has no parameter `{k}`")));
+                return Err(Error::input(format!(
+                    "scene `{name}` has no parameter `{k}`"
+                )));
             }
             if !v.is_finite() {
                 return Err(Error::input(format!("parameter `{k}` must be finite")));
