@@ -11,6 +11,7 @@
 
 pub mod dynamics;
 pub mod enclosure;
+pub mod exact;
 pub mod model;
 pub mod scalar;
 pub mod scene;

@@ -21,6 +21,14 @@ pub struct Model {
     pub field_var: Tape,
     /// x -> v = E(q)^T u (spec eq. (4.2)).
     pub velocity: Tape,
+    /// q -> mu(q), k x n row-major (spec eq. (3.1)).
+    pub constraints: Tape,
+    /// (q, v) -> p_a = <M(q) v, e_a(q)> (spec eq. (4.8)).
+    pub momentum_d: Tape,
+    /// (q, v) -> E_L(q, v) (spec eq. (4.9)).
+    pub energy: Tape,
+    /// (q, v) -> F_nh(q, v) (spec eq. (4.6)).
+    pub nh_force: Tape,
 }
 
 /// The reduced vector field of spec eq. (4.4) at x = (q, u), generic over the scalar.
@@ -49,6 +57,18 @@ impl Model {
         let velocity = with_scene!(&scene, s => Tape::record(d, |x| {
             Geometry::at(s, &x[..n]).velocity(&x[n..])
         }));
+        let constraints = with_scene!(&scene, s => Tape::record(n, |q| {
+            s.constraints(q).into_iter().flatten().collect()
+        }));
+        let momentum_d = with_scene!(&scene, s => Tape::record(2 * n, |x| {
+            Geometry::at(s, &x[..n]).momentum_d(&x[n..])
+        }));
+        let energy = with_scene!(&scene, s => Tape::record(2 * n, |x| {
+            vec![crate::dynamics::energy(s, &x[..n], &x[n..])]
+        }));
+        let nh_force = with_scene!(&scene, s => Tape::record(2 * n, |x| {
+            Geometry::at(s, &x[..n]).nh_force(&x[n..])
+        }));
         Model {
             scene,
             n,
@@ -56,6 +76,10 @@ impl Model {
             field,
             field_var,
             velocity,
+            constraints,
+            momentum_d,
+            energy,
+            nh_force,
         }
     }
 

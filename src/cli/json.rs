@@ -1,5 +1,6 @@
 //! Numbers in and out (contract.md, "Numbers").
 
+use dalembert::exact::{ExactStep, Retraction};
 use dalembert::{Error, FlowStats};
 use inari::Interval;
 use serde_json::{json, Value};
@@ -60,4 +61,26 @@ pub fn human(v: &Value) -> String {
         }
     }
     out.trim_end().to_string()
+}
+
+/// The `retract` answer (contract command 2).
+pub fn retraction(r: &Retraction) -> Value {
+    json!({
+        "u0": intervals(&r.u0),
+        "v0": intervals(&r.v0),
+        "v1": intervals(&r.v1),
+        "defect": intervals(&r.s),
+        "member": if r.possibly_member() { "possible" } else { "no" },
+        "q1": intervals(&r.q1),
+    })
+}
+
+/// The `step` answer (contract command 3).
+pub fn step(s: &ExactStep) -> Value {
+    json!({
+        "q1": intervals(&s.q1),
+        "q2": intervals(&s.q2),
+        "p_minus": intervals(&s.p_minus),
+        "p_plus": intervals(&s.p_plus),
+    })
 }

@@ -4,7 +4,9 @@ pub mod demo;
 pub mod json;
 
 use clap::{Parser, Subcommand};
-use dalembert::{AnyScene, Error, FlowOptions, Model};
+use dalembert::scalar::point;
+use dalembert::{exact, AnyScene, Error, FlowOptions, Model};
+use inari::Interval;
 use serde_json::{json, Value};
 
 #[derive(Parser, Debug)]
@@ -30,8 +32,30 @@ pub struct SceneArgs {
     pub params: Vec<String>,
 }
 
+#[derive(clap::Args, Debug, Clone)]
+pub struct PairArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// First configuration Q0, comma-separated
+    #[arg(long, allow_hyphen_values = true)]
+    pub q0: String,
+    /// Second configuration Q1
+    #[arg(long, allow_hyphen_values = true)]
+    pub q1: String,
+    /// Time step H > 0
+    #[arg(long, allow_hyphen_values = true)]
+    pub h: String,
+    /// Print one JSON object
+    #[arg(long)]
+    pub json: bool,
+}
+
 #[derive(Subcommand, Debug)]
 pub enum Cmd {
+    /// Exact retractions R^{e-}, R^{e+} and the defect of (Q0, Q1) w.r.t. M_h^{e,nh}
+    Retract(PairArgs),
+    /// One step of the exact discrete flow with the exact discrete Legendre transforms
+    Step(PairArgs),
     /// Enclose the exact nonholonomic state at time T
     Flow {
         #[command(flatten)]
@@ -96,8 +120,35 @@ fn one_line(s: &str) -> String {
     s.replace('\n', " ")
 }
 
+fn render(out: Value, as_json: bool) -> Option<Value> {
+    if as_json {
+        Some(out)
+    } else {
+        Some(Value::String(json::human(&out)))
+    }
+}
+
+fn pair_inputs(a: &PairArgs) -> Result<(Model, Vec<Interval>, Vec<Interval>, f64), Error> {
+    let model = model_of(&a.scene)?;
+    let q0 = json::parse_vec("q0", &a.q0)?;
+    let q1 = json::parse_vec("q1", &a.q1)?;
+    let h = json::parse_num("h", &a.h)?;
+    let pts = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
+    Ok((model, pts(&q0), pts(&q1), h))
+}
+
 fn execute(cmd: Cmd) -> Result<Option<Value>, Error> {
     match cmd {
+        Cmd::Retract(a) => {
+            let (model, q0, q1, h) = pair_inputs(&a)?;
+            let r = exact::retract(&model, &q0, &q1, h, &FlowOptions::default())?;
+            Ok(render(json::retraction(&r), a.json))
+        }
+        Cmd::Step(a) => {
+            let (model, q0, q1, h) = pair_inputs(&a)?;
+            let s = exact::step(&model, &q0, &q1, h, &FlowOptions::default())?;
+            Ok(render(json::step(&s), a.json))
+        }
         Cmd::Flow {
             scene,
             q,
@@ -121,11 +172,7 @@ fn execute(cmd: Cmd) -> Result<Option<Value>, Error> {
                 "u": json::intervals(&e.u),
                 "stats": json::stats(&e.stats),
             });
-            if as_json {
-                Ok(Some(out))
-            } else {
-                Ok(Some(Value::String(json::human(&out))))
-            }
+            Ok(render(out, as_json))
         }
     }
 }

@@ -162,10 +162,35 @@ enum StepFail {
 /// state at time t of every solution starting in `set`.
 pub fn flow_set(
     model: &Model,
-    mut set: LohnerSet,
+    set: LohnerSet,
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, FlowStats), Error> {
+    let (set, _, stats) = flow_set_general(model, set, t, opts, false)?;
+    Ok((set, stats))
+}
+
+/// As [`flow_set`], and also an interval matrix containing the derivative `D x(t) / D x(0)`
+/// at every initial point of `set` (spec Theorem 5.2).
+pub fn flow_set_c1(
+    model: &Model,
+    set: LohnerSet,
+    t: f64,
+    opts: &FlowOptions,
+) -> Result<(LohnerSet, IMat, FlowStats), Error> {
+    let (set, jac, stats) = flow_set_general(model, set, t, opts, true)?;
+    let d = set.m.len();
+    Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
+}
+
+fn flow_set_general(
+    model: &Model,
+    mut set: LohnerSet,
+    t: f64,
+    opts: &FlowOptions,
+    c1: bool,
+) -> Result<(LohnerSet, Option<IMat>, FlowStats), Error> {
+    let mut total_jac: Option<IMat> = None;
     let p = if opts.order == 0 {
         DEFAULT_ORDER
     } else {
@@ -196,9 +221,20 @@ pub fn flow_set(
         let mut tries = 0;
         loop {
             let hi = if last { rem } else { point(h) };
-            match lohner_step(model, &set, hi, p, tries < 12) {
-                Ok(next) => {
+            match lohner_step(model, &set, hi, p, tries < 12, c1) {
+                Ok((next, step_jac)) => {
                     set = next;
+                    if let Some(j) = step_jac {
+                        total_jac = Some(match total_jac {
+                            None => j,
+                            Some(acc) => linalg::mul(&j, &acc),
+                        });
+                        if !total_jac.as_ref().is_some_and(linalg::all_finite) {
+                            return Err(Error::uncertified(
+                                "derivative enclosure became unbounded",
+                            ));
+                        }
+                    }
                     factor = (factor * 1.1).min(1.0);
                     done = if last { total } else { done + hi };
                     stats.steps += 1;
@@ -226,7 +262,7 @@ pub fn flow_set(
     if stats.steps == 0 {
         stats.h_min = 0.0;
     }
-    Ok((set, stats))
+    Ok((set, total_jac, stats))
 }
 
 /// Number of time slices over which the remainder's coefficient is enclosed (spec (5.5)).
@@ -283,7 +319,8 @@ fn lohner_step(
     h: Interval,
     p: usize,
     strict: bool,
-) -> Result<LohnerSet, StepFail> {
+    c1: bool,
+) -> Result<(LohnerSet, Option<IMat>), StepFail> {
     let d = set.m.len();
     let fatal = |s: &str| StepFail::Fatal(s.to_string());
     if !set.r.iter().all(|r| r.contains(0.0)) {
@@ -392,6 +429,18 @@ fn lohner_step(
                 .collect()
         })
         .collect();
+    // (5.11) the derivative of the step map over the whole set, with its own remainder.
+    let step_jac = if c1 {
+        let rem = variational_remainder(model, &y, &cv, h, p)?;
+        Some(
+            jac.iter()
+                .zip(&rem)
+                .map(|(a, b)| a.iter().zip(b).map(|(x, y)| *x + *y).collect())
+                .collect(),
+        )
+    } else {
+        None
+    };
     let a = linalg::mul(&jac, &linalg::imat(&set.b));
     if !z.iter().all(|x| finite(*x)) || !linalg::all_finite(&a) {
         return Err(StepFail::Shrink);
@@ -415,11 +464,62 @@ fn lohner_step(
     if !r_new.iter().all(|x| finite(*x)) {
         return Err(fatal("enclosure became unbounded"));
     }
-    Ok(LohnerSet {
-        m: m_new,
-        b: b_new,
-        r: r_new,
-    })
+    Ok((
+        LohnerSet {
+            m: m_new,
+            b: b_new,
+            r: r_new,
+        },
+        step_jac,
+    ))
+}
+
+/// (5.11) Remainder of the variational equation over one step: with `Y` the proved a priori
+/// box of the state, find `Y_V` with
+/// `sum_{i<p} [V_i] [0,h]^i + V_p(Y, Y_V) [0,h]^p  in  Y_V` (V(0) = I), so that `V(t) in Y_V`
+/// on `[0, h]`; then `V(h) - sum_{i<=p} V_i h^i in V_{p+1}(Y, Y_V) h^{p+1}`.
+fn variational_remainder(
+    model: &Model,
+    y: &[Interval],
+    cv: &[Vec<Interval>],
+    h: Interval,
+    p: usize,
+) -> Result<IMat, StepFail> {
+    let d = y.len();
+    let h0 = iv(0.0, h.sup());
+    let series = |k_max: usize, i: usize, top: Option<Interval>| {
+        let mut cs: Vec<Interval> = (0..k_max).map(|k| cv[k][d + i]).collect();
+        cs.extend(top);
+        horner(&cs, h0)
+    };
+    let mut yv = inflate(
+        &(0..d * d)
+            .map(|i| series(p + 1, i, None))
+            .collect::<Vec<_>>(),
+    );
+    for _ in 0..4 {
+        let ext: Vec<Interval> = y.iter().chain(&yv).copied().collect();
+        let tv = model
+            .field_var
+            .ode_taylor(&ext, p + 1)
+            .ok_or(StepFail::Shrink)?;
+        let zv: Vec<Interval> = (0..d * d)
+            .map(|i| series(p, i, Some(tv[p][d + i])))
+            .collect();
+        if zv.iter().zip(&yv).all(|(a, b)| a.subset(*b)) {
+            let hp = (0..=p).fold(point(1.0), |a, _| a * h);
+            return Ok((0..d)
+                .map(|i| (0..d).map(|j| tv[p + 1][d + i * d + j] * hp).collect())
+                .collect());
+        }
+        yv = inflate(
+            &zv.iter()
+                .zip(&yv)
+                .map(|(a, b)| a.convex_hull(*b))
+                .collect::<Vec<_>>(),
+        );
+    }
+    Err(StepFail::Shrink)
 }
 
 /// A trial box for the a priori enclosure: widened by 10% of its width and a little more.

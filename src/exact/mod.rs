@@ -1,0 +1,362 @@
+//! The exact discrete objects of the paper, certified (spec/06-exact-discrete.md):
+//! the nonholonomic exponential map, the exact retractions R^{e-}, R^{e+} and the defect of
+//! membership in M_h^{e,nh} (Krawczyk), the exact discrete flow and Legendre transforms.
+
+mod krawczyk;
+
+use crate::enclosure::linalg::{self, IMat};
+use crate::enclosure::{flow_set, flow_set_c1, FlowOptions, LohnerSet};
+use crate::model::Model;
+use crate::scalar::point;
+use crate::tape::finite;
+use crate::Error;
+use inari::Interval;
+use nalgebra::{DMatrix, DVector};
+
+pub use krawczyk::krawczyk;
+
+/// The nonholonomic exponential map with its derivative (spec eq. (6.1)).
+#[derive(Clone, Debug)]
+pub struct Exponential {
+    /// `q(h)` for every initial condition in the input boxes.
+    pub q1: Vec<Interval>,
+    /// `qd(h)`.
+    pub v1: Vec<Interval>,
+    /// `D q(h) / D u0`, n x (n - k), over the whole input box.
+    pub dq_du: IMat,
+    /// The state set at time h (to carry a trajectory further).
+    pub set: LohnerSet,
+}
+
+/// `exp_h(q0, u0) = (q0, q(h))` and `D_{u0} q(h)`.
+///
+/// # Containment
+/// For every `q0` in the box `q0` and `u0` in the box `u0`, the exact `q(h)` and `qd(h)` of the
+/// trajectory with `q(0) = q0`, `qd(0) = E(q0)^T u0` lie in `q1`, `v1`, and
+/// `D q(h)/D u0 (q0, u0)` lies in `dq_du` (spec Theorem 5.2). `Error::Uncertified` otherwise.
+pub fn exponential(
+    model: &Model,
+    q0: &[Interval],
+    u0: &[Interval],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<Exponential, Error> {
+    let n = model.n;
+    let x0: Vec<Interval> = q0.iter().chain(u0).copied().collect();
+    let (set, jac, _) = flow_set_c1(model, LohnerSet::from_box(&x0), h, opts)?;
+    let hull = set.hull();
+    let v1 = velocity(model, &hull)?;
+    let dq_du = jac[..n].iter().map(|row| row[n..].to_vec()).collect();
+    Ok(Exponential {
+        q1: hull[..n].to_vec(),
+        v1,
+        dq_du,
+        set,
+    })
+}
+
+fn velocity(model: &Model, x: &[Interval]) -> Result<Vec<Interval>, Error> {
+    model
+        .velocity
+        .eval_checked(x)
+        .ok_or_else(|| Error::uncertified("velocity enclosure is not finite"))
+}
+
+/// `N(q) = mu(q)^T`, n x k, enclosed over a box (spec eq. (6.2)).
+pub fn normal_matrix(model: &Model, q: &[Interval]) -> Result<IMat, Error> {
+    let (n, k) = (model.n, model.k);
+    let mu = model
+        .constraints
+        .eval_checked(q)
+        .ok_or_else(|| Error::uncertified("constraint covectors not finite"))?;
+    Ok((0..n)
+        .map(|i| (0..k).map(|a| mu[a * n + i]).collect())
+        .collect())
+}
+
+/// The exact retraction at a pair (spec eqs. (6.2)-(6.4)).
+#[derive(Clone, Debug)]
+pub struct Retraction {
+    /// Quasi-velocities at Q0: `R^{e-}` in the basis of D.
+    pub u0: Vec<Interval>,
+    /// The defect s in R^k: (Q0, Q1) is in M_h^{e,nh} iff s = 0.
+    pub s: Vec<Interval>,
+    /// `v0 = E(Q0)^T u0 = R^{e-}_{h,nh}(Q0, Q1)`.
+    pub v0: Vec<Interval>,
+    /// `v1 = qd(h) = R^{e+}_{h,nh}`.
+    pub v1: Vec<Interval>,
+    /// `q(h) = Q1 + N(Q1) s`, the point of M_h^{e,nh} over Q0 nearest Q1 along N.
+    pub q1: Vec<Interval>,
+    /// The state set at time h (carries the trajectory on).
+    pub set: LohnerSet,
+}
+
+impl Retraction {
+    /// False when the defect enclosure excludes 0: (Q0, Q1) is proved off M_h^{e,nh}.
+    pub fn possibly_member(&self) -> bool {
+        self.s.iter().all(|x| x.contains(0.0))
+    }
+}
+
+/// Solve `q(h; Q0, u0) = Q1 + N(Q1) s` for `(u0, s)` (spec eq. (6.2)).
+///
+/// # Containment
+/// For every `Q0`, `Q1` in the input boxes there is exactly one solution `(u0, s)` in a box
+/// that was proved to contain it (Krawczyk, spec Theorem 6.1), and it lies in
+/// `(u0, s)`; `v0`, `v1`, `q1` enclose `R^{e-}`, `R^{e+}` and `q(h)` of that solution.
+/// `Error::Uncertified` when Newton does not converge, the Jacobian is singular, or the
+/// Krawczyk test fails (e.g. h too large for uniqueness); nothing unproved is returned.
+pub fn retract(
+    model: &Model,
+    q0: &[Interval],
+    q1: &[Interval],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<Retraction, Error> {
+    check_pair(model, q0, q1, h)?;
+    let (n, k) = (model.n, model.k);
+    let m = n - k;
+    let nq1 = normal_matrix(model, q1)?;
+    // G(z; Q0, Q1) = q(h; Q0, u) - Q1 - N(Q1) s over a box of z = (u, s).
+    let g_and_dg = |z: &[Interval]| -> Result<(Vec<Interval>, IMat), Error> {
+        let e = exponential(model, q0, &z[..m], h, opts)?;
+        let ns = linalg::mul_vec(&nq1, &z[m..]);
+        let g = (0..n).map(|i| e.q1[i] - q1[i] - ns[i]).collect();
+        let dg = (0..n)
+            .map(|i| {
+                e.dq_du[i]
+                    .iter()
+                    .copied()
+                    .chain(nq1[i].iter().map(|x| -*x))
+                    .collect()
+            })
+            .collect();
+        Ok((g, dg))
+    };
+    let guess = newton_guess(model, q0, q1, h, &g_and_dg)?;
+    let z = krawczyk(
+        &guess,
+        |z| g_and_dg(z).map(|x| x.0),
+        |z| g_and_dg(z).map(|x| x.1),
+    )?;
+    let (u0, s) = (z[..m].to_vec(), z[m..].to_vec());
+    let x0: Vec<Interval> = q0.iter().chain(&u0).copied().collect();
+    let v0 = velocity(model, &x0)?;
+    let (set, _) = flow_set(model, LohnerSet::from_box(&x0), h, opts)?;
+    let hull = set.hull();
+    let v1 = velocity(model, &hull)?;
+    // q(h) is enclosed twice: by the flow and by Q1 + N(Q1) s (spec eq. (6.4)).
+    let ns = linalg::mul_vec(&nq1, &s);
+    let q_at_h = intersect_checked(
+        &hull[..n],
+        &(0..n).map(|i| q1[i] + ns[i]).collect::<Vec<_>>(),
+    )?;
+    Ok(Retraction {
+        u0,
+        s,
+        v0,
+        v1,
+        q1: q_at_h,
+        set,
+    })
+}
+
+/// Two enclosures of one object must intersect (spec 0.4); their intersection encloses it.
+pub fn intersect_checked(a: &[Interval], b: &[Interval]) -> Result<Vec<Interval>, Error> {
+    let r: Vec<Interval> = a.iter().zip(b).map(|(x, y)| x.intersection(*y)).collect();
+    if r.iter().any(|x| x.is_empty()) {
+        return Err(Error::uncertified(
+            "self-check failed: two enclosures of the same quantity are disjoint",
+        ));
+    }
+    Ok(r)
+}
+
+fn check_pair(model: &Model, q0: &[Interval], q1: &[Interval], h: f64) -> Result<(), Error> {
+    let n = model.n;
+    if q0.len() != n || q1.len() != n {
+        return Err(Error::input(format!(
+            "q0 and q1 need {n} components for scene `{}`",
+            model.scene.name()
+        )));
+    }
+    if !q0.iter().chain(q1).all(|x| finite(*x)) {
+        return Err(Error::input("non-finite number in q0 or q1"));
+    }
+    if !h.is_finite() || h <= 0.0 {
+        return Err(Error::input(format!("h must be finite and > 0 (got {h})")));
+    }
+    Ok(())
+}
+
+type GDg<'a> = dyn Fn(&[Interval]) -> Result<(Vec<Interval>, IMat), Error> + 'a;
+
+/// A float Newton iteration for (u0, s), started from the least-squares velocity
+/// `E(Q0)^T u ~ (Q1 - Q0)/h`, s = 0. It only chooses the centre of the Krawczyk box.
+fn newton_guess(
+    model: &Model,
+    q0: &[Interval],
+    q1: &[Interval],
+    h: f64,
+    g_and_dg: &GDg,
+) -> Result<Vec<f64>, Error> {
+    let (n, k) = (model.n, model.k);
+    let m = n - k;
+    let mid = |x: &[Interval]| x.iter().map(|v| v.mid()).collect::<Vec<f64>>();
+    let (a, b) = (mid(q0), mid(q1));
+    // E(Q0) rows from the velocity tape: v = E^T u is linear in u.
+    let basis: Vec<Vec<f64>> = (0..m)
+        .map(|j| {
+            let x: Vec<f64> = a
+                .iter()
+                .copied()
+                .chain((0..m).map(|i| if i == j { 1.0 } else { 0.0 }))
+                .collect();
+            model.velocity.eval::<f64>(&x)
+        })
+        .collect();
+    let e = DMatrix::from_fn(m, n, |i, j| basis[i][j]);
+    let rhs = DVector::from_fn(n, |i, _| (b[i] - a[i]) / h);
+    let u = (&e * e.transpose())
+        .lu()
+        .solve(&(&e * rhs))
+        .ok_or_else(|| Error::uncertified("basis of D is degenerate at q0"))?;
+    let mut z: Vec<f64> = u
+        .iter()
+        .copied()
+        .chain(std::iter::repeat_n(0.0, k))
+        .collect();
+    for _ in 0..40 {
+        let pts: Vec<Interval> = z.iter().map(|x| point(*x)).collect();
+        let (g, dg) = g_and_dg(&pts)?;
+        let gm = DVector::from_fn(n, |i, _| g[i].mid());
+        let jm = linalg::mid(&dg);
+        let dz = jm
+            .lu()
+            .solve(&gm)
+            .ok_or_else(|| Error::uncertified("singular Jacobian of the shooting map"))?;
+        let mut small = true;
+        for i in 0..n {
+            z[i] -= dz[i];
+            small &= dz[i].abs() <= 4.0 * f64::EPSILON * z[i].abs().max(1e-300);
+        }
+        if !z.iter().all(|x| x.is_finite()) {
+            return Err(Error::uncertified("Newton iteration diverged"));
+        }
+        if small {
+            break;
+        }
+    }
+    Ok(z)
+}
+
+/// The exact discrete flow and Legendre transforms at a pair (spec eqs. (6.5)-(6.7)).
+#[derive(Clone, Debug)]
+pub struct ExactStep {
+    pub retraction: Retraction,
+    /// `q(h)`, the point of M_h^{e,nh}.
+    pub q1: Vec<Interval>,
+    /// `q(2h)`: the exact discrete flow maps (q0, q1) to (q1, q2).
+    pub q2: Vec<Interval>,
+    /// `F^-_{h,nh} l = (<FL(v0), e_a(Q0)>)_a`.
+    pub p_minus: Vec<Interval>,
+    /// `F^+_{h,nh} l = (<FL(v1), e_a(q1)>)_a`.
+    pub p_plus: Vec<Interval>,
+}
+
+/// One step of the exact discrete flow, with the Legendre transforms.
+///
+/// # Containment
+/// For every `(Q0, Q1)` in the boxes, with `(u0, s)` the unique solution of spec eq. (6.2)
+/// in the Krawczyk box: `q1 ∋ q(h)`, `q2 ∋ q(2h)`, `p_minus ∋ F^- l`, `p_plus ∋ F^+ l`
+/// (spec Theorem 6.2).
+pub fn step(
+    model: &Model,
+    q0: &[Interval],
+    q1: &[Interval],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<ExactStep, Error> {
+    let n = model.n;
+    let r = retract(model, q0, q1, h, opts)?;
+    let p_minus = momentum(model, q0, &r.v0)?;
+    let p_plus = momentum(model, &r.q1, &r.v1)?;
+    let (set2, _) = flow_set(model, r.set.clone(), h, opts)?;
+    let q2 = set2.hull()[..n].to_vec();
+    Ok(ExactStep {
+        q1: r.q1.clone(),
+        q2,
+        p_minus,
+        p_plus,
+        retraction: r,
+    })
+}
+
+/// `p_a = <M(q) v, e_a(q)>` over boxes (spec eq. (4.8)).
+pub fn momentum(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Vec<Interval>, Error> {
+    let x: Vec<Interval> = q.iter().chain(v).copied().collect();
+    model
+        .momentum_d
+        .eval_checked(&x)
+        .ok_or_else(|| Error::uncertified("momentum enclosure not finite"))
+}
+
+/// The exact discrete trajectory `q_0 .. q_N` from `(Q0, Q1)` (spec eq. (6.6)).
+#[derive(Clone, Debug)]
+pub struct ExactTrajectory {
+    pub retraction: Retraction,
+    /// `q_k ∋ q(k h)`, k = 0..=N.
+    pub q: Vec<Vec<Interval>>,
+    /// `v_k ∋ qd(k h)`.
+    pub v: Vec<Vec<Interval>>,
+    /// `p_k ∋ <FL(qd(kh)), e_a(q(kh))>`: both F^+ of the pair ending at k and F^- of the
+    /// pair starting at k (momentum matching, paper eq. (momemtummatch)).
+    pub p: Vec<Vec<Interval>>,
+}
+
+/// Iterate the exact discrete flow N - 1 times from `(Q0, Q1)`.
+///
+/// The exact discrete flow reproduces the continuous flow (paper eq. (exactflow)): the
+/// iterates are `q_k = q(kh)` of the one trajectory through `Q0` with `u0 = R^{e-}(Q0, Q1)`.
+/// The certificate is carried as that trajectory's Lohner set, so correlations between
+/// consecutive iterates are kept and widths grow like the flow's, not like a box iteration's.
+///
+/// # Containment
+/// `q[k] ∋ q(kh)`, `v[k] ∋ qd(kh)`, `p[k] ∋` the D*-momentum at `kh`, for the trajectory
+/// of the unique solution of (6.2) in the Krawczyk box (spec Theorem 6.3).
+pub fn trajectory(
+    model: &Model,
+    q0: &[Interval],
+    q1: &[Interval],
+    h: f64,
+    steps: usize,
+    opts: &FlowOptions,
+) -> Result<ExactTrajectory, Error> {
+    let n = model.n;
+    let r = retract(model, q0, q1, h, opts)?;
+    let mut q = vec![q0.to_vec()];
+    let mut v = vec![r.v0.clone()];
+    let mut p = vec![momentum(model, q0, &r.v0)?];
+    let mut set = r.set.clone();
+    for k in 1..=steps {
+        if k > 1 {
+            set = flow_set(model, set, h, opts)?.0;
+        }
+        let hull = set.hull();
+        let qk = if k == 1 {
+            intersect_checked(&hull[..n], &r.q1)?
+        } else {
+            hull[..n].to_vec()
+        };
+        let vk = velocity(model, &hull)?;
+        p.push(momentum(model, &qk, &vk)?);
+        q.push(qk);
+        v.push(vk);
+    }
+    Ok(ExactTrajectory {
+        retraction: r,
+        q,
+        v,
+        p,
+    })
+}
