@@ -181,10 +181,19 @@ impl<S: Scalar> Geometry<S> {
     }
 }
 
+/// Kinetic energy 1/2 v^T M(q) v.
+fn kinetic<Sc: Scene, S: Scalar>(sc: &Sc, q: &[S], v: &[S]) -> S {
+    dot(v, &mat_vec(&sc.mass(q), v)) * S::cst(0.5)
+}
+
 /// Energy E_L = 1/2 v^T M v + V(q) (spec eq. (4.9)).
 pub fn energy<Sc: Scene, S: Scalar>(sc: &Sc, q: &[S], v: &[S]) -> S {
-    let m = sc.mass(q);
-    dot(v, &mat_vec(&m, v)) * S::cst(0.5) + sc.potential(q)
+    kinetic(sc, q, v) + sc.potential(q)
+}
+
+/// The Lagrangian L = 1/2 v^T M v - V(q) (spec eq. (3.1)).
+pub fn lagrangian<Sc: Scene, S: Scalar>(sc: &Sc, q: &[S], v: &[S]) -> S {
+    kinetic(sc, q, v) - sc.potential(q)
 }
 
 pub fn sum<S: Scalar>(it: impl Iterator<Item = S>) -> S {

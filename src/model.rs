@@ -5,8 +5,49 @@
 use crate::dynamics::Geometry;
 use crate::scalar::{Dual, Scalar};
 use crate::scene::{AnyScene, Scene};
-use crate::tape::Tape;
+use crate::tape::{Tape, Tracer};
 use crate::with_scene;
+
+/// An autonomous ODE `x' = F(x)` as tapes: `field: x -> F(x)` and
+/// `field_var: (x, V) -> (F(x), DF(x) V)`, V a d x d matrix row-major (spec eq. (5.6)).
+pub struct System {
+    pub field: Tape,
+    pub field_var: Tape,
+}
+
+impl System {
+    /// Record `f` and its variational equation, f written once over any scalar.
+    fn record(
+        d: usize,
+        f: impl Fn(&[Tracer]) -> Vec<Tracer>,
+        fd: impl Fn(&[Dual<Tracer>]) -> Vec<Dual<Tracer>>,
+    ) -> System {
+        let field = Tape::record(d, f);
+        let field_var = Tape::record(d + d * d, |xv| {
+            let x: Vec<Dual<Tracer>> = (0..d)
+                .map(|i| Dual::new(xv[i], xv[d + i * d..d + (i + 1) * d].to_vec()))
+                .collect();
+            let f = fd(&x);
+            let mut out: Vec<Tracer> = f.iter().map(|fi| fi.v).collect();
+            for fi in &f {
+                out.extend((0..d).map(|j| fi.der(j)));
+            }
+            out
+        });
+        System { field, field_var }
+    }
+}
+
+/// The reduced field with the Lagrangian appended (spec eq. (6.8)).
+pub fn field_with_action<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
+    let n = sc.dim();
+    let d = x.len() - 1;
+    let v = Geometry::at(sc, &x[..n]).velocity(&x[n..d]);
+    let lag = crate::dynamics::lagrangian(sc, &x[..n], &v);
+    let mut f = reduced_field(sc, &x[..d]);
+    f.push(lag);
+    f
+}
 
 /// The reduced state x = (q, u): the dimension is n + (n - k).
 pub struct Model {
@@ -15,10 +56,10 @@ pub struct Model {
     pub n: usize,
     /// Number of constraints k.
     pub k: usize,
-    /// x' = F(x), x = (q, u) (spec eq. (4.4)).
-    pub field: Tape,
-    /// (x, V) -> (F(x), DF(x) V), V a d x d matrix row-major (spec eq. (5.6)).
-    pub field_var: Tape,
+    /// x' = F(x), x = (q, u) (spec eq. (4.4)), and its variational equation.
+    pub dynamics: System,
+    /// The same with the action: (q, u, l)' = (F(q, u), L(q, E^T u)) (spec eq. (6.8)).
+    pub with_action: System,
     /// x -> v = E(q)^T u (spec eq. (4.2)).
     pub velocity: Tape,
     /// q -> mu(q), k x n row-major (spec eq. (3.1)).
@@ -42,18 +83,12 @@ impl Model {
     pub fn new(scene: AnyScene) -> Model {
         let (n, k) = with_scene!(&scene, s => (s.dim(), s.n_constraints()));
         let d = 2 * n - k;
-        let field = with_scene!(&scene, s => Tape::record(d, |x| reduced_field(s, x)));
-        let field_var = with_scene!(&scene, s => Tape::record(d + d * d, |xv| {
-            let x: Vec<Dual<_>> = (0..d)
-                .map(|i| Dual::new(xv[i], xv[d + i * d..d + (i + 1) * d].to_vec()))
-                .collect();
-            let f = reduced_field(s, &x);
-            let mut out: Vec<_> = f.iter().map(|fi| fi.v).collect();
-            for fi in &f {
-                out.extend((0..d).map(|j| fi.der(j)));
-            }
-            out
-        }));
+        let dynamics = with_scene!(&scene, s => System::record(d, |x| reduced_field(s, x), |x| reduced_field(s, x)));
+        let with_action = with_scene!(&scene, s => System::record(
+            d + 1,
+            |x| field_with_action(s, x),
+            |x| field_with_action(s, x),
+        ));
         let velocity = with_scene!(&scene, s => Tape::record(d, |x| {
             Geometry::at(s, &x[..n]).velocity(&x[n..])
         }));
@@ -73,8 +108,8 @@ impl Model {
             scene,
             n,
             k,
-            field,
-            field_var,
+            dynamics,
+            with_action,
             velocity,
             constraints,
             momentum_d,

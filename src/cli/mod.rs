@@ -56,6 +56,8 @@ pub enum Cmd {
     Retract(PairArgs),
     /// One step of the exact discrete flow with the exact discrete Legendre transforms
     Step(PairArgs),
+    /// The exact discrete Lagrangian: the action along the retraction's trajectory
+    Lagrangian(PairArgs),
     /// Enclose the exact nonholonomic state at time T
     Flow {
         #[command(flatten)]
@@ -143,6 +145,13 @@ fn execute(cmd: Cmd) -> Result<Option<Value>, Error> {
             let (model, q0, q1, h) = pair_inputs(&a)?;
             let r = exact::retract(&model, &q0, &q1, h, &FlowOptions::default())?;
             Ok(render(json::retraction(&r), a.json))
+        }
+        Cmd::Lagrangian(a) => {
+            let (model, q0, q1, h) = pair_inputs(&a)?;
+            let (r, l) = exact::discrete_lagrangian(&model, &q0, &q1, h, &FlowOptions::default())?;
+            let out =
+                serde_json::json!({"l": json::intervals(&[l])[0], "defect": json::intervals(&r.s)});
+            Ok(render(out, a.json))
         }
         Cmd::Step(a) => {
             let (model, q0, q1, h) = pair_inputs(&a)?;

@@ -4,7 +4,7 @@
 
 pub mod linalg;
 
-use crate::model::Model;
+use crate::model::{Model, System};
 use crate::scalar::{iv, point};
 use crate::tape::finite;
 use crate::Error;
@@ -111,7 +111,7 @@ pub fn flow(
         )));
     }
     let x: Vec<f64> = q.iter().chain(u).copied().collect();
-    let (set, stats) = flow_set(model, LohnerSet::point(&x), t, opts)?;
+    let (set, stats) = flow_set(&model.dynamics, LohnerSet::point(&x), t, opts)?;
     finish(model, &set.hull(), stats)
 }
 
@@ -161,30 +161,30 @@ enum StepFail {
 /// Carry a set through time `t` (spec Theorem 5.1): the returned set contains the exact
 /// state at time t of every solution starting in `set`.
 pub fn flow_set(
-    model: &Model,
+    sys: &System,
     set: LohnerSet,
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, FlowStats), Error> {
-    let (set, _, stats) = flow_set_general(model, set, t, opts, false)?;
+    let (set, _, stats) = flow_set_general(sys, set, t, opts, false)?;
     Ok((set, stats))
 }
 
 /// As [`flow_set`], and also an interval matrix containing the derivative `D x(t) / D x(0)`
 /// at every initial point of `set` (spec Theorem 5.2).
 pub fn flow_set_c1(
-    model: &Model,
+    sys: &System,
     set: LohnerSet,
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, IMat, FlowStats), Error> {
-    let (set, jac, stats) = flow_set_general(model, set, t, opts, true)?;
+    let (set, jac, stats) = flow_set_general(sys, set, t, opts, true)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }
 
 fn flow_set_general(
-    model: &Model,
+    sys: &System,
     mut set: LohnerSet,
     t: f64,
     opts: &FlowOptions,
@@ -216,12 +216,12 @@ fn flow_set_general(
             )));
         }
         let rem = (total - done).intersection(iv(0.0, f64::MAX));
-        let mut h = round_step(suggest_step(model, &set, p)? * factor).min(rem.inf());
+        let mut h = round_step(suggest_step(sys, &set, p)? * factor).min(rem.inf());
         let mut last = h >= rem.inf();
         let mut tries = 0;
         loop {
             let hi = if last { rem } else { point(h) };
-            match lohner_step(model, &set, hi, p, tries < 12, c1) {
+            match lohner_step(sys, &set, hi, p, tries < 12, c1) {
                 Ok((next, step_jac)) => {
                     set = next;
                     if let Some(j) = step_jac {
@@ -284,8 +284,8 @@ fn round_step(h: f64) -> f64 {
 
 /// Step size from the Taylor coefficients at the centre (spec eq. (5.8)): the last two
 /// terms of the series should be below the rounding level of the state.
-fn suggest_step(model: &Model, set: &LohnerSet, p: usize) -> Result<f64, Error> {
-    let c = model
+fn suggest_step(sys: &System, set: &LohnerSet, p: usize) -> Result<f64, Error> {
+    let c = sys
         .field
         .ode_taylor(&set.m.iter().map(|x| point(*x)).collect::<Vec<_>>(), p)
         .ok_or_else(|| Error::uncertified("vector field not defined at the state"))?;
@@ -314,7 +314,7 @@ fn horner(c: &[Interval], h: Interval) -> Interval {
 
 /// One step of the method (spec eqs. (5.3)-(5.6), (5.9)-(5.10)).
 fn lohner_step(
-    model: &Model,
+    sys: &System,
     set: &LohnerSet,
     h: Interval,
     p: usize,
@@ -329,7 +329,7 @@ fn lohner_step(
     let xbox = set.hull();
     // (5.3) Taylor coefficients at the centre.
     let centre: Vec<Interval> = set.m.iter().map(|x| point(*x)).collect();
-    let c = model
+    let c = sys
         .field
         .ode_taylor(&centre, p)
         .ok_or_else(|| fatal("vector field not defined at the state"))?;
@@ -338,7 +338,7 @@ fn lohner_step(
     for i in 0..d {
         xv.extend((0..d).map(|j| point(if i == j { 1.0 } else { 0.0 })));
     }
-    let cv = model.field_var.ode_taylor(&xv, p).ok_or(StepFail::Shrink)?;
+    let cv = sys.field_var.ode_taylor(&xv, p).ok_or(StepFail::Shrink)?;
     // (5.4) a priori enclosure on [0, h]: Z = sum_{i<p} Tb_i [0,h]^i + T_p(Y) [0,h]^p in Y.
     let h0 = iv(0.0, h.sup());
     let coef = |k: usize, i: usize| cv[k][i];
@@ -348,7 +348,7 @@ fn lohner_step(
     let mut y = inflate(&guess);
     let mut remainder = None;
     for _ in 0..4 {
-        let ty = match model.field.ode_taylor(&y, p + 1) {
+        let ty = match sys.field.ode_taylor(&y, p + 1) {
             Some(ty) => ty,
             None => return Err(StepFail::Shrink),
         };
@@ -379,7 +379,7 @@ fn lohner_step(
                         horner(&cs, tj).intersection(y[i])
                     })
                     .collect();
-                let tj = model.field.ode_taylor(&yj, p + 1).ok_or(StepFail::Shrink)?;
+                let tj = sys.field.ode_taylor(&yj, p + 1).ok_or(StepFail::Shrink)?;
                 hull = Some(match hull {
                     None => tj[p + 1].clone(),
                     Some(hh) => hh
@@ -431,7 +431,7 @@ fn lohner_step(
         .collect();
     // (5.11) the derivative of the step map over the whole set, with its own remainder.
     let step_jac = if c1 {
-        let rem = variational_remainder(model, &y, &cv, h, p)?;
+        let rem = variational_remainder(sys, &y, &cv, h, p)?;
         Some(
             jac.iter()
                 .zip(&rem)
@@ -479,7 +479,7 @@ fn lohner_step(
 /// `sum_{i<p} [V_i] [0,h]^i + V_p(Y, Y_V) [0,h]^p  in  Y_V` (V(0) = I), so that `V(t) in Y_V`
 /// on `[0, h]`; then `V(h) - sum_{i<=p} V_i h^i in V_{p+1}(Y, Y_V) h^{p+1}`.
 fn variational_remainder(
-    model: &Model,
+    sys: &System,
     y: &[Interval],
     cv: &[Vec<Interval>],
     h: Interval,
@@ -499,7 +499,7 @@ fn variational_remainder(
     );
     for _ in 0..4 {
         let ext: Vec<Interval> = y.iter().chain(&yv).copied().collect();
-        let tv = model
+        let tv = sys
             .field_var
             .ode_taylor(&ext, p + 1)
             .ok_or(StepFail::Shrink)?;

@@ -43,7 +43,7 @@ pub fn exponential(
 ) -> Result<Exponential, Error> {
     let n = model.n;
     let x0: Vec<Interval> = q0.iter().chain(u0).copied().collect();
-    let (set, jac, _) = flow_set_c1(model, LohnerSet::from_box(&x0), h, opts)?;
+    let (set, jac, _) = flow_set_c1(&model.dynamics, LohnerSet::from_box(&x0), h, opts)?;
     let hull = set.hull();
     let v1 = velocity(model, &hull)?;
     let dq_du = jac[..n].iter().map(|row| row[n..].to_vec()).collect();
@@ -142,7 +142,7 @@ pub fn retract(
     let (u0, s) = (z[..m].to_vec(), z[m..].to_vec());
     let x0: Vec<Interval> = q0.iter().chain(&u0).copied().collect();
     let v0 = velocity(model, &x0)?;
-    let (set, _) = flow_set(model, LohnerSet::from_box(&x0), h, opts)?;
+    let (set, _) = flow_set(&model.dynamics, LohnerSet::from_box(&x0), h, opts)?;
     let hull = set.hull();
     let v1 = velocity(model, &hull)?;
     // q(h) is enclosed twice: by the flow and by Q1 + N(Q1) s (spec eq. (6.4)).
@@ -281,7 +281,7 @@ pub fn step(
     let r = retract(model, q0, q1, h, opts)?;
     let p_minus = momentum(model, q0, &r.v0)?;
     let p_plus = momentum(model, &r.q1, &r.v1)?;
-    let (set2, _) = flow_set(model, r.set.clone(), h, opts)?;
+    let (set2, _) = flow_set(&model.dynamics, r.set.clone(), h, opts)?;
     let q2 = set2.hull()[..n].to_vec();
     Ok(ExactStep {
         q1: r.q1.clone(),
@@ -340,7 +340,7 @@ pub fn trajectory(
     let mut set = r.set.clone();
     for k in 1..=steps {
         if k > 1 {
-            set = flow_set(model, set, h, opts)?.0;
+            set = flow_set(&model.dynamics, set, h, opts)?.0;
         }
         let hull = set.hull();
         let qk = if k == 1 {
@@ -359,4 +359,34 @@ pub fn trajectory(
         v,
         p,
     })
+}
+
+/// The exact discrete Lagrangian `l^{e,h}_{d,nh}(Q0, Q1) = int_0^h L(q(t), qd(t)) dt` along
+/// the trajectory of [`retract`] (paper section 6; spec eq. (6.8)).
+///
+/// # Containment
+/// The returned interval contains the action over `[0, h]` of the trajectory from `Q0` with
+/// `u0` the unique solution of (6.2) in the Krawczyk box, for every `(Q0, Q1)` in the boxes.
+/// On M_h^{e,nh} (defect 0) this is the paper's exact discrete Lagrangian; off it, it is the
+/// action of the trajectory from Q0 to `Q1 + N(Q1) s`.
+pub fn discrete_lagrangian(
+    model: &Model,
+    q0: &[Interval],
+    q1: &[Interval],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<(Retraction, Interval), Error> {
+    let r = retract(model, q0, q1, h, opts)?;
+    let x0: Vec<Interval> = q0
+        .iter()
+        .chain(&r.u0)
+        .copied()
+        .chain(std::iter::once(point(0.0)))
+        .collect();
+    let (set, _) = flow_set(&model.with_action, LohnerSet::from_box(&x0), h, opts)?;
+    let l = set.hull()[x0.len() - 1];
+    if !finite(l) {
+        return Err(Error::uncertified("action enclosure not finite"));
+    }
+    Ok((r, l))
 }
