@@ -78,7 +78,7 @@ mod tests {
         // G(z) = z^2 - 2
         let g = |z: &[Interval]| Ok(vec![z[0] * z[0] - point(2.0)]);
         let dg = |z: &[Interval]| Ok(vec![vec![point(2.0) * z[0]]]);
-        let r = krawczyk(&[1.4142135623730951], g, dg).unwrap();
+        let r = krawczyk(&[std::f64::consts::SQRT_2], g, dg).unwrap();
         assert!(r[0].contains(std::f64::consts::SQRT_2));
         assert!(r[0].wid() < 1e-15);
         assert!(r[0].interior(iv(1.0, 2.0)));
