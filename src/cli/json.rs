@@ -1,6 +1,7 @@
 //! Numbers in and out (contract.md, "Numbers").
 
 use dalembert::exact::{ExactStep, Retraction};
+use dalembert::integrator::Trajectory;
 use dalembert::{Error, FlowStats};
 use inari::Interval;
 use serde_json::{json, Value};
@@ -32,6 +33,16 @@ pub fn parse_param(s: &str) -> Result<(String, f64), Error> {
         .split_once('=')
         .ok_or_else(|| Error::input(format!("--param: expected name=value, got `{s}`")))?;
     Ok((k.to_string(), parse_num("param", v)?))
+}
+
+/// The number of steps of `integrate`: an integer in 0..=10^7.
+pub fn parse_steps(s: &str) -> Result<usize, Error> {
+    match s.parse::<usize>() {
+        Ok(n) if n <= 10_000_000 => Ok(n),
+        _ => Err(Error::input(format!(
+            "--steps: expected an integer in 0..=10000000, got `{s}`"
+        ))),
+    }
 }
 
 pub fn parse_order(s: &str) -> Result<usize, Error> {
@@ -83,4 +94,40 @@ pub fn step(s: &ExactStep) -> Value {
         "p_minus": intervals(&s.p_minus),
         "p_plus": intervals(&s.p_plus),
     })
+}
+
+/// The `integrate` answer (contract command 4), with the Legendre transforms, energy and
+/// Newton figures as extra fields.
+pub fn trajectory(t: &Trajectory) -> Value {
+    json!({
+        "q": t.q,
+        "p": t.p,
+        "energy": t.energy,
+        "newton_iterations": t.iterations,
+        "max_residual": t.max_residual,
+    })
+}
+
+/// The same as CSV: `k, q..., p..., energy`.
+pub fn trajectory_csv(t: &Trajectory) -> String {
+    let n = t.q.first().map_or(0, |q| q.len());
+    let m = t.p.first().map_or(0, |p| p.len());
+    let mut out = String::from("k");
+    (0..n).for_each(|i| out.push_str(&format!(",q{i}")));
+    (0..m).for_each(|a| out.push_str(&format!(",p{a}")));
+    out.push_str(",energy\n");
+    for (k, q) in t.q.iter().enumerate() {
+        out.push_str(&k.to_string());
+        for x in q {
+            out.push_str(&format!(",{x:?}"));
+        }
+        for x in t.p.get(k).into_iter().flatten() {
+            out.push_str(&format!(",{x:?}"));
+        }
+        if let Some(e) = t.energy.get(k) {
+            out.push_str(&format!(",{e:?}"));
+        }
+        out.push('\n');
+    }
+    out.trim_end().to_string()
 }

@@ -4,6 +4,7 @@ pub mod demo;
 pub mod json;
 
 use clap::{Parser, Subcommand};
+use dalembert::integrator::{NewtonOptions, Scheme, SchemeKind};
 use dalembert::scalar::point;
 use dalembert::{exact, AnyScene, Error, FlowOptions, Model};
 use inari::Interval;
@@ -58,6 +59,17 @@ pub enum Cmd {
     Step(PairArgs),
     /// The exact discrete Lagrangian: the action along the retraction's trajectory
     Lagrangian(PairArgs),
+    /// Float trajectory of the DLA or MLA scheme (CSV unless --json)
+    Integrate {
+        #[command(flatten)]
+        pair: PairArgs,
+        /// mla or dla
+        #[arg(long, allow_hyphen_values = true)]
+        scheme: String,
+        /// Number of steps N (q_0 .. q_N)
+        #[arg(long, allow_hyphen_values = true)]
+        steps: String,
+    },
     /// Enclose the exact nonholonomic state at time T
     Flow {
         #[command(flatten)]
@@ -106,8 +118,10 @@ pub fn run(args: Vec<String>) -> i32 {
     };
     match result {
         Ok(out) => {
-            if let Some(v) = out {
-                println!("{v}");
+            match out {
+                Some(Value::String(text)) => println!("{text}"),
+                Some(v) => println!("{v}"),
+                None => {}
             }
             0
         }
@@ -130,32 +144,74 @@ fn render(out: Value, as_json: bool) -> Option<Value> {
     }
 }
 
-fn pair_inputs(a: &PairArgs) -> Result<(Model, Vec<Interval>, Vec<Interval>, f64), Error> {
+fn pair_inputs(a: &PairArgs) -> Result<(Model, Vec<f64>, Vec<f64>, f64), Error> {
     let model = model_of(&a.scene)?;
     let q0 = json::parse_vec("q0", &a.q0)?;
     let q1 = json::parse_vec("q1", &a.q1)?;
     let h = json::parse_num("h", &a.h)?;
-    let pts = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
-    Ok((model, pts(&q0), pts(&q1), h))
+    Ok((model, q0, q1, h))
+}
+
+fn points(v: &[f64]) -> Vec<Interval> {
+    v.iter().map(|x| point(*x)).collect()
 }
 
 fn execute(cmd: Cmd) -> Result<Option<Value>, Error> {
     match cmd {
         Cmd::Retract(a) => {
             let (model, q0, q1, h) = pair_inputs(&a)?;
-            let r = exact::retract(&model, &q0, &q1, h, &FlowOptions::default())?;
+            let r = exact::retract(
+                &model,
+                &points(&q0),
+                &points(&q1),
+                h,
+                &FlowOptions::default(),
+            )?;
             Ok(render(json::retraction(&r), a.json))
+        }
+        Cmd::Integrate {
+            pair,
+            scheme,
+            steps,
+        } => {
+            let (model, q0, q1, h) = pair_inputs(&pair)?;
+            let kind: SchemeKind = scheme.parse()?;
+            let steps = json::parse_steps(&steps)?;
+            let tr = Scheme::new(&model, kind).integrate(
+                &q0,
+                &q1,
+                h,
+                steps,
+                &NewtonOptions::default(),
+            )?;
+            if pair.json {
+                Ok(Some(json::trajectory(&tr)))
+            } else {
+                Ok(Some(Value::String(json::trajectory_csv(&tr))))
+            }
         }
         Cmd::Lagrangian(a) => {
             let (model, q0, q1, h) = pair_inputs(&a)?;
-            let (r, l) = exact::discrete_lagrangian(&model, &q0, &q1, h, &FlowOptions::default())?;
+            let (r, l) = exact::discrete_lagrangian(
+                &model,
+                &points(&q0),
+                &points(&q1),
+                h,
+                &FlowOptions::default(),
+            )?;
             let out =
                 serde_json::json!({"l": json::intervals(&[l])[0], "defect": json::intervals(&r.s)});
             Ok(render(out, a.json))
         }
         Cmd::Step(a) => {
             let (model, q0, q1, h) = pair_inputs(&a)?;
-            let s = exact::step(&model, &q0, &q1, h, &FlowOptions::default())?;
+            let s = exact::step(
+                &model,
+                &points(&q0),
+                &points(&q1),
+                h,
+                &FlowOptions::default(),
+            )?;
             Ok(render(json::step(&s), a.json))
         }
         Cmd::Flow {

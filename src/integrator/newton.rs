@@ -1,0 +1,171 @@
+//! A damped Newton solver with a typed result (spec/07-schemes.md, eq. (7.6)).
+
+use nalgebra::{DMatrix, DVector};
+
+/// How a Newton solve ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NewtonOutcome {
+    /// `|R(x)|_inf <= residual` after `iterations` iterations.
+    Converged { iterations: usize, residual: f64 },
+    /// The named failure; the state is not returned.
+    Failed(NewtonFailure),
+}
+
+/// Why Newton stopped without converging.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum NewtonFailure {
+    /// The Jacobian could not be factorised or is numerically singular.
+    SingularJacobian,
+    /// No step along the Newton direction reduced the residual (line search exhausted).
+    Diverged,
+    /// A residual or Jacobian entry was NaN or infinite.
+    NonFinite,
+    /// The iteration limit was reached.
+    IterationLimit,
+}
+
+impl std::fmt::Display for NewtonFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            NewtonFailure::SingularJacobian => "singular Jacobian",
+            NewtonFailure::Diverged => "divergence (line search found no decrease)",
+            NewtonFailure::NonFinite => "non-finite values",
+            NewtonFailure::IterationLimit => "iteration limit reached",
+        })
+    }
+}
+
+/// Settings: at most `max_iter` iterations; converged when the Newton step is below
+/// `4 eps max(1, |x|)` or the residual is below `tol`.
+#[derive(Clone, Debug)]
+pub struct NewtonOptions {
+    pub max_iter: usize,
+    pub tol: f64,
+}
+
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        NewtonOptions {
+            max_iter: 50,
+            tol: 0.0,
+        }
+    }
+}
+
+fn norm_inf(v: &DVector<f64>) -> f64 {
+    v.iter().fold(0.0, |a, x| a.max(x.abs()))
+}
+
+/// Solve `R(x) = 0` from `x`, where `f(x)` returns `(R(x), DR(x))`. On success `x` holds the
+/// solution; on failure `x` is unspecified and must not be used.
+pub fn solve(
+    x: &mut DVector<f64>,
+    f: impl Fn(&DVector<f64>) -> (DVector<f64>, DMatrix<f64>),
+    opts: &NewtonOptions,
+) -> NewtonOutcome {
+    let finite = |v: &DVector<f64>| v.iter().all(|a| a.is_finite());
+    let (mut r, mut j) = f(x);
+    for it in 0..opts.max_iter {
+        if !finite(&r) || !j.iter().all(|a| a.is_finite()) {
+            return NewtonOutcome::Failed(NewtonFailure::NonFinite);
+        }
+        let rn = norm_inf(&r);
+        if rn <= opts.tol {
+            return NewtonOutcome::Converged {
+                iterations: it,
+                residual: rn,
+            };
+        }
+        let lu = j.clone().lu();
+        let dx = match lu.solve(&(-&r)) {
+            Some(d) if finite(&d) => d,
+            _ => return NewtonOutcome::Failed(NewtonFailure::SingularJacobian),
+        };
+        // Reject numerically singular systems: a step far larger than the state and the
+        // residual can justify.
+        let scale = norm_inf(x).max(1.0);
+        if norm_inf(&dx) > 1e12 * scale.max(rn) {
+            return NewtonOutcome::Failed(NewtonFailure::SingularJacobian);
+        }
+        // Backtracking line search on |R|_inf.
+        let mut alpha = 1.0;
+        let accepted = loop {
+            let trial = &*x + &dx * alpha;
+            let (rt, jt) = f(&trial);
+            if finite(&rt) && norm_inf(&rt) <= (1.0 - 1e-4 * alpha) * rn {
+                break Some((trial, rt, jt));
+            }
+            alpha *= 0.5;
+            if alpha < 1e-10 {
+                break None;
+            }
+        };
+        let small_step = norm_inf(&dx) <= 4.0 * f64::EPSILON * scale;
+        match accepted {
+            Some((trial, rt, jt)) => {
+                *x = trial;
+                r = rt;
+                j = jt;
+            }
+            None if small_step => {
+                // At rounding level already: no decrease is possible.
+                return NewtonOutcome::Converged {
+                    iterations: it,
+                    residual: rn,
+                };
+            }
+            None => return NewtonOutcome::Failed(NewtonFailure::Diverged),
+        }
+        if small_step {
+            return NewtonOutcome::Converged {
+                iterations: it + 1,
+                residual: norm_inf(&r),
+            };
+        }
+    }
+    NewtonOutcome::Failed(NewtonFailure::IterationLimit)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn converges_on_a_smooth_system_and_names_failures() {
+        // x^2 = 2, y = x y0 with y0 = 3
+        let f = |x: &DVector<f64>| {
+            (
+                DVector::from_vec(vec![x[0] * x[0] - 2.0, x[1] - 3.0 * x[0]]),
+                DMatrix::from_row_slice(2, 2, &[2.0 * x[0], 0.0, -3.0, 1.0]),
+            )
+        };
+        let mut x = DVector::from_vec(vec![1.0, 0.0]);
+        let out = solve(&mut x, f, &NewtonOptions::default());
+        assert!(matches!(out, NewtonOutcome::Converged { .. }), "{out:?}");
+        assert!((x[0] - std::f64::consts::SQRT_2).abs() < 1e-15);
+        // singular: R(x) = (x0 + x1 - 1, 2 x0 + 2 x1 - 2)
+        let g = |x: &DVector<f64>| {
+            (
+                DVector::from_vec(vec![x[0] + x[1] - 1.0, 2.0 * x[0] + 2.0 * x[1] - 5.0]),
+                DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 2.0, 2.0]),
+            )
+        };
+        let mut x = DVector::from_vec(vec![0.0, 0.0]);
+        assert_eq!(
+            solve(&mut x, g, &NewtonOptions::default()),
+            NewtonOutcome::Failed(NewtonFailure::SingularJacobian)
+        );
+        // non-finite
+        let h = |x: &DVector<f64>| {
+            (
+                DVector::from_vec(vec![f64::NAN * x[0]]),
+                DMatrix::from_row_slice(1, 1, &[1.0]),
+            )
+        };
+        let mut x = DVector::from_vec(vec![1.0]);
+        assert_eq!(
+            solve(&mut x, h, &NewtonOptions::default()),
+            NewtonOutcome::Failed(NewtonFailure::NonFinite)
+        );
+    }
+}
