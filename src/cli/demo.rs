@@ -1,10 +1,9 @@
 //! `dalembert` with no arguments: a demonstration on the paper's nonholonomic particle.
 
 use dalembert::{AnyScene, Error, FlowOptions, Model};
-use serde_json::Value;
 use std::time::Instant;
 
-pub fn run() -> Result<Option<Value>, Error> {
+pub fn run() -> Result<(), Error> {
     let model = Model::new(AnyScene::new("particle", &[])?);
     let (q, u) = ([0.0, 0.0, 0.0], [0.8, 0.8]);
     println!("dalembert: the nonholonomic particle (paper Example 2.1), q0 = 0, u0 = (0.8, 0.8)");
@@ -29,5 +28,5 @@ pub fn run() -> Result<Option<Value>, Error> {
             ms
         );
     }
-    Ok(None)
+    Ok(())
 }

@@ -1,14 +1,14 @@
-//! The command line: parsing, JSON, exit codes (contract.md). No mathematics here.
+//! The command line: parsing flags into `dalembert::protocol::Query`, printing answers, exit
+//! codes (contract.md). No mathematics here.
 
+mod batch;
 pub mod demo;
 pub mod json;
 
 use clap::{Parser, Subcommand};
-use dalembert::integrator::{NewtonOptions, Scheme, SchemeKind};
-use dalembert::scalar::point;
-use dalembert::{exact, AnyScene, Error, FlowOptions, Model};
-use inari::Interval;
-use serde_json::{json, Value};
+use dalembert::protocol::{self, Pair, Query, SceneSpec, Session};
+use dalembert::Error;
+use serde_json::Value;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -53,23 +53,6 @@ pub struct PairArgs {
 
 #[derive(Subcommand, Debug)]
 pub enum Cmd {
-    /// Exact retractions R^{e-}, R^{e+} and the defect of (Q0, Q1) w.r.t. M_h^{e,nh}
-    Retract(PairArgs),
-    /// One step of the exact discrete flow with the exact discrete Legendre transforms
-    Step(PairArgs),
-    /// The exact discrete Lagrangian: the action along the retraction's trajectory
-    Lagrangian(PairArgs),
-    /// Float trajectory of the DLA or MLA scheme (CSV unless --json)
-    Integrate {
-        #[command(flatten)]
-        pair: PairArgs,
-        /// mla or dla
-        #[arg(long, allow_hyphen_values = true)]
-        scheme: String,
-        /// Number of steps N (q_0 .. q_N)
-        #[arg(long, allow_hyphen_values = true)]
-        steps: String,
-    },
     /// Enclose the exact nonholonomic state at time T
     Flow {
         #[command(flatten)]
@@ -87,6 +70,32 @@ pub enum Cmd {
         #[arg(long, allow_hyphen_values = true)]
         order: Option<String>,
         /// Print one JSON object
+        #[arg(long)]
+        json: bool,
+    },
+    /// Exact retractions R^{e-}, R^{e+} and the defect of (Q0, Q1) w.r.t. M_h^{e,nh}
+    Retract(PairArgs),
+    /// One step of the exact discrete flow with the exact discrete Legendre transforms
+    Step(PairArgs),
+    /// Float trajectory of the DLA or MLA scheme (CSV unless --json)
+    Integrate {
+        #[command(flatten)]
+        pair: PairArgs,
+        /// mla or dla
+        #[arg(long, allow_hyphen_values = true)]
+        scheme: String,
+        /// Number of steps N (q_0 .. q_N)
+        #[arg(long, allow_hyphen_values = true)]
+        steps: String,
+    },
+    /// The exact discrete Lagrangian: the action along the retraction's trajectory
+    Lagrangian(PairArgs),
+    /// JSON lines in, JSON lines out (one answer per query, in order)
+    Batch {
+        /// Worker threads
+        #[arg(long, allow_hyphen_values = true, default_value = "1")]
+        jobs: String,
+        /// Accepted for uniformity: batch output is always JSON
         #[arg(long)]
         json: bool,
     },
@@ -113,140 +122,85 @@ pub fn run(args: Vec<String>) -> i32 {
         }
     };
     let result = match cli.cmd {
-        None => demo::run(),
-        Some(cmd) => execute(cmd),
+        None => demo::run().map(|()| None),
+        Some(Cmd::Batch { jobs, .. }) => batch::run(&jobs).map(|()| None),
+        Some(cmd) => execute(cmd).map(Some),
     };
     match result {
-        Ok(out) => {
-            match out {
-                Some(Value::String(text)) => println!("{text}"),
-                Some(v) => println!("{v}"),
-                None => {}
-            }
+        Ok(Some(text)) => {
+            println!("{text}");
             0
         }
+        Ok(None) => 0,
         Err(e) => {
-            eprintln!("error: {}", one_line(&e.to_string()));
+            eprintln!("error: {}", e.to_string().replace('\n', " "));
             e.code()
         }
     }
 }
 
-fn one_line(s: &str) -> String {
-    s.replace('\n', " ")
+fn scene_spec(s: &SceneArgs) -> Result<SceneSpec, Error> {
+    Ok(SceneSpec {
+        name: s.scene.clone(),
+        params: s
+            .params
+            .iter()
+            .map(|p| protocol::parse_param(p))
+            .collect::<Result<_, _>>()?,
+    })
 }
 
-fn render(out: Value, as_json: bool) -> Option<Value> {
-    if as_json {
-        Some(out)
-    } else {
-        Some(Value::String(json::human(&out)))
-    }
+fn pair(a: &PairArgs) -> Result<Pair, Error> {
+    Ok(Pair {
+        scene: scene_spec(&a.scene)?,
+        q0: protocol::parse_vec("--q0", &a.q0)?,
+        q1: protocol::parse_vec("--q1", &a.q1)?,
+        h: protocol::parse_num("--h", &a.h)?,
+    })
 }
 
-fn pair_inputs(a: &PairArgs) -> Result<(Model, Vec<f64>, Vec<f64>, f64), Error> {
-    let model = model_of(&a.scene)?;
-    let q0 = json::parse_vec("q0", &a.q0)?;
-    let q1 = json::parse_vec("q1", &a.q1)?;
-    let h = json::parse_num("h", &a.h)?;
-    Ok((model, q0, q1, h))
-}
-
-fn points(v: &[f64]) -> Vec<Interval> {
-    v.iter().map(|x| point(*x)).collect()
-}
-
-fn execute(cmd: Cmd) -> Result<Option<Value>, Error> {
-    match cmd {
-        Cmd::Retract(a) => {
-            let (model, q0, q1, h) = pair_inputs(&a)?;
-            let r = exact::retract(
-                &model,
-                &points(&q0),
-                &points(&q1),
-                h,
-                &FlowOptions::default(),
-            )?;
-            Ok(render(json::retraction(&r), a.json))
-        }
-        Cmd::Integrate {
-            pair,
-            scheme,
-            steps,
-        } => {
-            let (model, q0, q1, h) = pair_inputs(&pair)?;
-            let kind: SchemeKind = scheme.parse()?;
-            let steps = json::parse_steps(&steps)?;
-            let tr = Scheme::new(&model, kind).integrate(
-                &q0,
-                &q1,
-                h,
-                steps,
-                &NewtonOptions::default(),
-            )?;
-            if pair.json {
-                Ok(Some(json::trajectory(&tr)))
-            } else {
-                Ok(Some(Value::String(json::trajectory_csv(&tr))))
-            }
-        }
-        Cmd::Lagrangian(a) => {
-            let (model, q0, q1, h) = pair_inputs(&a)?;
-            let (r, l) = exact::discrete_lagrangian(
-                &model,
-                &points(&q0),
-                &points(&q1),
-                h,
-                &FlowOptions::default(),
-            )?;
-            let out =
-                serde_json::json!({"l": json::intervals(&[l])[0], "defect": json::intervals(&r.s)});
-            Ok(render(out, a.json))
-        }
-        Cmd::Step(a) => {
-            let (model, q0, q1, h) = pair_inputs(&a)?;
-            let s = exact::step(
-                &model,
-                &points(&q0),
-                &points(&q1),
-                h,
-                &FlowOptions::default(),
-            )?;
-            Ok(render(json::step(&s), a.json))
-        }
+/// Translate flags into a query, answer it, render it.
+fn execute(cmd: Cmd) -> Result<String, Error> {
+    let (query, as_json, csv) = match cmd {
         Cmd::Flow {
             scene,
             q,
             u,
             t,
             order,
-            json: as_json,
+            json,
         } => {
-            let model = model_of(&scene)?;
-            let q = json::parse_vec("q", &q)?;
-            let u = json::parse_vec("u", &u)?;
-            let t = json::parse_num("t", &t)?;
-            let mut opts = FlowOptions::default();
-            if let Some(o) = order {
-                opts.order = json::parse_order(&o)?;
-            }
-            let e = dalembert::flow(&model, &q, &u, t, &opts)?;
-            let out = json!({
-                "q": json::intervals(&e.q),
-                "v": json::intervals(&e.v),
-                "u": json::intervals(&e.u),
-                "stats": json::stats(&e.stats),
-            });
-            Ok(render(out, as_json))
+            let t = protocol::parse_num("--t", &t)?;
+            let query = Query::Flow {
+                scene: scene_spec(&scene)?,
+                q: protocol::parse_vec("--q", &q)?,
+                u: protocol::parse_vec("--u", &u)?,
+                t,
+                order: order.map_or(Ok(0), |o| protocol::parse_order(&o))?,
+            };
+            (query, json, false)
         }
-    }
-}
-
-pub fn model_of(s: &SceneArgs) -> Result<Model, Error> {
-    let params = s
-        .params
-        .iter()
-        .map(|p| json::parse_param(p))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok(Model::new(AnyScene::new(&s.scene, &params)?))
+        Cmd::Retract(a) => (Query::Retract(pair(&a)?), a.json, false),
+        Cmd::Step(a) => (Query::Step(pair(&a)?), a.json, false),
+        Cmd::Lagrangian(a) => (Query::Lagrangian(pair(&a)?), a.json, false),
+        Cmd::Integrate {
+            pair: a,
+            scheme,
+            steps,
+        } => {
+            let query = Query::Integrate {
+                pair: pair(&a)?,
+                scheme: scheme.parse()?,
+                steps: protocol::parse_steps(&steps)?,
+            };
+            (query, a.json, true)
+        }
+        Cmd::Batch { .. } => return Err(Error::input("batch is not a single query")),
+    };
+    let answer: Value = Session::default().answer(&query)?;
+    Ok(match (as_json, csv) {
+        (true, _) => answer.to_string(),
+        (false, true) => json::trajectory_csv(&answer),
+        (false, false) => json::human(&answer),
+    })
 }
