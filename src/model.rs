@@ -62,6 +62,8 @@ pub struct Model {
     pub with_action: System,
     /// x -> v = E(q)^T u (spec eq. (4.2)).
     pub velocity: Tape,
+    /// x -> (v, Dv/Dx) for the centred form (spec eq. (5.12)).
+    pub velocity_jac: Tape,
     /// q -> mu(q), k x n row-major (spec eq. (3.1)).
     pub constraints: Tape,
     /// (q, v) -> p_a = <M(q) v, e_a(q)> (spec eq. (4.8)).
@@ -92,6 +94,9 @@ impl Model {
         let velocity = with_scene!(&scene, s => Tape::record(d, |x| {
             Geometry::at(s, &x[..n]).velocity(&x[n..])
         }));
+        let velocity_jac = with_scene!(&scene, s => Tape::record_with_jacobian(d, |x| {
+            Geometry::at(s, &x[..n]).velocity(&x[n..])
+        }));
         let constraints = with_scene!(&scene, s => Tape::record(n, |q| {
             s.constraints(q).into_iter().flatten().collect()
         }));
@@ -111,6 +116,7 @@ impl Model {
             dynamics,
             with_action,
             velocity,
+            velocity_jac,
             constraints,
             momentum_d,
             energy,

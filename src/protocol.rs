@@ -146,7 +146,13 @@ impl Session {
                 steps,
             } => {
                 let sc = self.scheme(&pair.scene, *scheme)?;
-                let tr = sc.integrate(&pair.q0, &pair.q1, pair.h, *steps, &NewtonOptions::default())?;
+                let tr = sc.integrate(
+                    &pair.q0,
+                    &pair.q1,
+                    pair.h,
+                    *steps,
+                    &NewtonOptions::default(),
+                )?;
                 Ok(trajectory(&tr))
             }
         }
@@ -206,8 +212,7 @@ pub fn trajectory(t: &Trajectory) -> Value {
 pub fn parse_num(name: &str, s: &str) -> Result<f64, Error> {
     let t = s.trim();
     let ok_chars = !t.is_empty()
-        && t
-            .chars()
+        && t.chars()
             .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-'));
     let x: f64 = if ok_chars { t.parse().ok() } else { None }
         .ok_or_else(|| Error::input(format!("{name}: `{s}` is not a decimal number")))?;
@@ -247,7 +252,9 @@ pub fn parse_steps(s: &str) -> Result<usize, Error> {
 pub fn parse_order(s: &str) -> Result<usize, Error> {
     match s.trim().parse::<usize>() {
         Ok(p) if (2..=60).contains(&p) => Ok(p),
-        _ => Err(Error::input(format!("order: expected an integer in 2..=60, got `{s}`"))),
+        _ => Err(Error::input(format!(
+            "order: expected an integer in 2..=60, got `{s}`"
+        ))),
     }
 }
 

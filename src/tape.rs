@@ -217,6 +217,25 @@ impl Tape {
         .without_dead_code()
     }
 
+    /// Record `f` and its Jacobian by forward-mode duals: the outputs are `f` and then
+    /// `df/dx` row-major.
+    pub fn record_with_jacobian(
+        n_inputs: usize,
+        f: impl FnOnce(&[crate::scalar::Dual<Tracer>]) -> Vec<crate::scalar::Dual<Tracer>>,
+    ) -> Tape {
+        Tape::record(n_inputs, |x| {
+            let xd: Vec<_> = (0..n_inputs)
+                .map(|j| crate::scalar::Dual::var(x[j], j, n_inputs))
+                .collect();
+            let y = f(&xd);
+            let mut out: Vec<Tracer> = y.iter().map(|v| v.v).collect();
+            for v in &y {
+                out.extend((0..n_inputs).map(|j| v.der(j)));
+            }
+            out
+        })
+    }
+
     /// Drop the operations no output depends on (inputs are kept, in order).
     fn without_dead_code(self) -> Tape {
         let n = self.ops.len();
@@ -300,10 +319,10 @@ impl Tape {
     /// Returns `None` when the tape is not proved smooth on the box: a divisor enclosure
     /// containing 0, a square root of an enclosure not in (0, inf), or a non-finite
     /// coefficient (spec eq. (2.8)).
-    pub fn ode_taylor(&self, x0: &[Interval], order: usize) -> Option<Vec<Vec<Interval>>> {
+    pub fn ode_taylor<T: Coef>(&self, x0: &[T], order: usize) -> Option<Vec<Vec<T>>> {
         let d = self.n_inputs;
         let mut s = Series::new(self.ops.len(), order + 1);
-        let mut xs: Vec<Vec<Interval>> = vec![x0.to_vec()];
+        let mut xs: Vec<Vec<T>> = vec![x0.to_vec()];
         for k in 0..=order {
             s.step(&self.ops, k, &xs[k]);
             if !s.ok {
@@ -312,9 +331,9 @@ impl Tape {
             if k == order {
                 break;
             }
-            let kk = point((k + 1) as f64);
-            let next: Vec<Interval> = (0..d).map(|i| s.get(self.outputs[i], k) / kk).collect();
-            if !next.iter().all(|x| finite(*x)) {
+            let kk = T::cst((k + 1) as f64);
+            let next: Vec<T> = (0..d).map(|i| s.get(self.outputs[i], k) / kk).collect();
+            if !next.iter().all(|x| x.is_finite_coef()) {
                 return None;
             }
             xs.push(next);
@@ -325,11 +344,11 @@ impl Tape {
     /// Rigorous evaluation over intervals, with the same smoothness checks as
     /// [`Tape::ode_taylor`]: `None` unless every output is a finite enclosure of the exact
     /// value at every point of the box (spec eq. (2.8)).
-    pub fn eval_checked(&self, x: &[Interval]) -> Option<Vec<Interval>> {
+    pub fn eval_checked<T: Coef>(&self, x: &[T]) -> Option<Vec<T>> {
         let mut s = Series::new(self.ops.len(), 1);
         s.step(&self.ops, 0, x);
-        let out: Vec<Interval> = self.outputs.iter().map(|o| s.get(*o, 0)).collect();
-        (s.ok && out.iter().all(|x| finite(*x))).then_some(out)
+        let out: Vec<T> = self.outputs.iter().map(|o| s.get(*o, 0)).collect();
+        (s.ok && out.iter().all(|x| x.is_finite_coef())).then_some(out)
     }
 }
 
@@ -359,21 +378,21 @@ fn remap(op: &Op, m: &[u32]) -> Op {
 }
 
 /// Storage of the Taylor coefficients of every node, node-major.
-struct Series {
+struct Series<T> {
     n: usize,
     /// False once a singular operation (divisor or sqrt argument not proved safe) was met.
     ok: bool,
-    c: Vec<Interval>,
+    c: Vec<T>,
     /// Companion series: cos for a Sin node, sin for a Cos node.
-    aux: Vec<Interval>,
+    aux: Vec<T>,
     /// Per node, the first and last index of a coefficient (or companion) not exactly 0
     /// so far; `(usize::MAX, 0)` while all are 0.
     nz: Vec<(usize, usize)>,
 }
 
-impl Series {
+impl<T: Coef> Series<T> {
     fn new(nodes: usize, n: usize) -> Self {
-        let z = point(0.0);
+        let z = T::zero();
         Series {
             n,
             ok: true,
@@ -382,30 +401,30 @@ impl Series {
             nz: vec![(usize::MAX, 0); nodes],
         }
     }
-    fn get(&self, node: u32, k: usize) -> Interval {
+    fn get(&self, node: u32, k: usize) -> T {
         self.c[node as usize * self.n + k]
     }
-    fn aux(&self, node: u32, k: usize) -> Interval {
+    fn aux(&self, node: u32, k: usize) -> T {
         self.aux[node as usize * self.n + k]
     }
 
     /// Coefficient k of every node, given all coefficients below k (spec eq. (2.3)-(2.7)).
-    fn step(&mut self, ops: &[Op], k: usize, input_k: &[Interval]) {
-        let zero = point(0.0);
-        let kf = point(k as f64);
+    fn step(&mut self, ops: &[Op], k: usize, input_k: &[T]) {
+        let zero = T::zero();
+        let kf = T::cst(k as f64);
         for (idx, op) in ops.iter().enumerate() {
             let (val, aux) = match *op {
                 Op::Input(i) => (input_k[i], zero),
-                Op::Const(c) => (if k == 0 { point(c) } else { zero }, zero),
+                Op::Const(c) => (if k == 0 { T::cst(c) } else { zero }, zero),
                 Op::Add(a, b) => (self.get(a, k) + self.get(b, k), zero),
                 Op::Sub(a, b) => (self.get(a, k) - self.get(b, k), zero),
                 Op::Neg(a) => (-self.get(a, k), zero),
-                Op::Scale(a, c) => (self.get(a, k) * point(c), zero),
+                Op::Scale(a, c) => (self.get(a, k) * T::cst(c), zero),
                 Op::Mul(a, b) => {
                     // (2.3) w_k = sum_{j=0..k} a_j b_{k-j}
                     let mut acc = zero;
                     for j in self.terms(a, b, k, 0, k) {
-                        acc += self.get(a, j) * self.get(b, k - j);
+                        acc = acc + self.get(a, j) * self.get(b, k - j);
                     }
                     (acc, zero)
                 }
@@ -413,10 +432,10 @@ impl Series {
                     // (2.4) w_k = (a_k - sum_{j=1..k} b_j w_{k-j}) / b_0
                     let mut acc = self.get(a, k);
                     for j in self.terms(b, idx as u32, k, 1, k) {
-                        acc -= self.get(b, j) * self.get(idx as u32, k - j);
+                        acc = acc - self.get(b, j) * self.get(idx as u32, k - j);
                     }
                     let b0 = self.get(b, 0);
-                    if b0.contains(0.0) || b0.is_empty() {
+                    if !b0.safe_divisor() {
                         self.ok = false;
                     }
                     (acc / b0, zero)
@@ -425,7 +444,7 @@ impl Series {
                     // (2.5) w_0 = sqrt(a_0); w_k = (a_k - sum_{j=1..k-1} w_j w_{k-j}) / (2 w_0)
                     if k == 0 {
                         let a0 = self.get(a, 0);
-                        if a0.is_empty() || a0.inf() <= 0.0 {
+                        if !a0.safe_sqrt_arg() {
                             self.ok = false;
                         }
                         (a0.sqrt(), zero)
@@ -433,7 +452,7 @@ impl Series {
                         let me = idx as u32;
                         let mut acc = self.get(a, k);
                         for j in self.terms(me, me, k, 1, k - 1) {
-                            acc -= self.get(me, j) * self.get(me, k - j);
+                            acc = acc - self.get(me, j) * self.get(me, k - j);
                         }
                         let w0 = self.get(me, 0);
                         (acc / (w0 + w0), zero)
@@ -450,14 +469,14 @@ impl Series {
                         let (mut s, mut c) = (zero, zero);
                         let (lo, hi) = self.nz[a as usize];
                         for j in lo.max(1)..=hi.min(k) {
-                            let ju = point(j as f64) * self.get(a, j);
+                            let ju = T::cst(j as f64) * self.get(a, j);
                             let (sp, cp) = if is_sin {
                                 (self.get(me, k - j), self.aux(me, k - j))
                             } else {
                                 (self.aux(me, k - j), self.get(me, k - j))
                             };
-                            s += ju * cp;
-                            c -= ju * sp;
+                            s = s + ju * cp;
+                            c = c - ju * sp;
                         }
                         (s / kf, c / kf)
                     };
@@ -470,7 +489,7 @@ impl Series {
             };
             self.c[idx * self.n + k] = val;
             self.aux[idx * self.n + k] = aux;
-            if !(is_zero(val) && is_zero(aux)) {
+            if !(val.is_exact_zero() && aux.is_exact_zero()) {
                 let e = &mut self.nz[idx];
                 e.0 = e.0.min(k);
                 e.1 = k;
@@ -498,9 +517,46 @@ impl Series {
     }
 }
 
-/// The exact point 0.
-fn is_zero(x: Interval) -> bool {
-    x.inf() == 0.0 && x.sup() == 0.0
+/// A coefficient type for the Taylor recurrences: intervals (rigorous, with the domain
+/// checks of spec eq. (2.8)) or f64 (only to *choose* things, e.g. Newton guesses).
+pub trait Coef: Scalar + Copy {
+    /// Exactly 0 (terms with such a factor are skipped).
+    fn is_exact_zero(&self) -> bool;
+    /// Proved non-zero (Interval: 0 not in it).
+    fn safe_divisor(&self) -> bool;
+    /// Proved positive.
+    fn safe_sqrt_arg(&self) -> bool;
+    fn is_finite_coef(&self) -> bool;
+}
+
+impl Coef for Interval {
+    fn is_exact_zero(&self) -> bool {
+        self.inf() == 0.0 && self.sup() == 0.0
+    }
+    fn safe_divisor(&self) -> bool {
+        !self.is_empty() && !self.contains(0.0)
+    }
+    fn safe_sqrt_arg(&self) -> bool {
+        !self.is_empty() && self.inf() > 0.0
+    }
+    fn is_finite_coef(&self) -> bool {
+        finite(*self)
+    }
+}
+
+impl Coef for f64 {
+    fn is_exact_zero(&self) -> bool {
+        *self == 0.0
+    }
+    fn safe_divisor(&self) -> bool {
+        *self != 0.0 && self.is_finite()
+    }
+    fn safe_sqrt_arg(&self) -> bool {
+        *self > 0.0
+    }
+    fn is_finite_coef(&self) -> bool {
+        self.is_finite()
+    }
 }
 
 /// A non-empty interval with finite endpoints.

@@ -11,7 +11,11 @@ use std::sync::{mpsc, Arc, Mutex};
 pub fn run(jobs: &str) -> Result<(), Error> {
     let jobs: usize = match jobs.trim().parse() {
         Ok(j) if (1..=256).contains(&j) => j,
-        _ => return Err(Error::input(format!("--jobs: expected an integer in 1..=256, got `{jobs}`"))),
+        _ => {
+            return Err(Error::input(format!(
+                "--jobs: expected an integer in 1..=256, got `{jobs}`"
+            )))
+        }
     };
     let stdin = std::io::stdin();
     let stdout = std::io::stdout();
@@ -21,7 +25,9 @@ pub fn run(jobs: &str) -> Result<(), Error> {
         for line in stdin.lock().lines() {
             let line = line.map_err(|e| Error::input(format!("reading stdin: {e}")))?;
             if let Some(answer) = session.batch_line(&line) {
-                writeln!(out, "{answer}").and_then(|_| out.flush()).map_err(broken_pipe)?;
+                writeln!(out, "{answer}")
+                    .and_then(|_| out.flush())
+                    .map_err(broken_pipe)?;
             }
         }
         return Ok(());
@@ -57,7 +63,9 @@ pub fn run(jobs: &str) -> Result<(), Error> {
             pending.insert(i, answer);
             while let Some(a) = pending.remove(&next) {
                 if let Some(a) = a {
-                    writeln!(out, "{a}").and_then(|_| out.flush()).map_err(broken_pipe)?;
+                    writeln!(out, "{a}")
+                        .and_then(|_| out.flush())
+                        .map_err(broken_pipe)?;
                 }
                 next += 1;
             }

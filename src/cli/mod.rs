@@ -111,13 +111,16 @@ pub fn run(args: Vec<String>) -> i32 {
                 print!("{e}");
                 return 0;
             }
+            // clap's message spans several lines: keep the part before the usage, on one line
             let text = e.to_string();
-            let first = text
+            let msg: Vec<&str> = text
                 .lines()
-                .next()
-                .unwrap_or("invalid arguments")
-                .trim_start_matches("error: ");
-            eprintln!("error: {first}");
+                .map(str::trim)
+                .take_while(|l| !l.starts_with("Usage:"))
+                .filter(|l| !l.is_empty() && !l.starts_with("tip:"))
+                .collect();
+            let msg = msg.join(" ");
+            eprintln!("error: {}", msg.trim_start_matches("error: "));
             return 2;
         }
     };

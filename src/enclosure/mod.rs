@@ -6,19 +6,21 @@ pub mod linalg;
 
 use crate::model::{Model, System};
 use crate::scalar::{iv, point};
-use crate::tape::finite;
+use crate::tape::{finite, Coef};
 use crate::Error;
 use inari::Interval;
 use linalg::IMat;
 use nalgebra::DMatrix;
 
-/// A set `{ m + B r : r in [r] }` (Lohner's parallelepiped; spec eq. (5.1)): `m` and `B` are
-/// exact f64 data, `[r]` an interval vector that contains 0.
+/// A set `{ m + B r : r in [r] } ∩ boxed` (Lohner's parallelepiped and a box, both
+/// enclosures of the same states; spec eq. (5.1)): `m` and `B` are exact f64 data, `[r]` an
+/// interval vector that contains 0.
 #[derive(Clone, Debug)]
 pub struct LohnerSet {
     pub m: Vec<f64>,
     pub b: DMatrix<f64>,
     pub r: Vec<Interval>,
+    pub boxed: Vec<Interval>,
 }
 
 impl LohnerSet {
@@ -28,6 +30,7 @@ impl LohnerSet {
             m: x.to_vec(),
             b: DMatrix::identity(x.len(), x.len()),
             r: vec![point(0.0); x.len()],
+            boxed: x.iter().map(|v| point(*v)).collect(),
         }
     }
     /// A box, as centre plus radius.
@@ -38,12 +41,53 @@ impl LohnerSet {
             m,
             b: DMatrix::identity(x.len(), x.len()),
             r,
+            boxed: x.to_vec(),
         }
     }
-    /// An interval box containing the set (spec eq. (5.2)).
+    /// An interval box containing the set (spec eq. (5.2)): the parallelepiped's hull
+    /// intersected with the box (both contain the set, so the intersection is not empty).
     pub fn hull(&self) -> Vec<Interval> {
         let br = linalg::mul_vec(&linalg::imat(&self.b), &self.r);
-        self.m.iter().zip(br).map(|(c, x)| point(*c) + x).collect()
+        self.m
+            .iter()
+            .zip(br)
+            .zip(&self.boxed)
+            .map(|((c, x), bx)| {
+                let p = point(*c) + x;
+                let both = p.intersection(*bx);
+                if both.is_empty() {
+                    p
+                } else {
+                    both
+                }
+            })
+            .collect()
+    }
+
+    /// An enclosure of `{ G(x) : x in the set }` by the centred form
+    /// `G(m) + (DG([X]) B) [r]`, intersected with `G([X])` (spec eq. (5.12)); `g_jac` is the
+    /// tape of `(G, DG)` (`G` then `DG` row-major). `None` if an evaluation is not proved.
+    pub fn image(&self, g_jac: &crate::tape::Tape) -> Option<Vec<Interval>> {
+        let d = self.m.len();
+        let k = g_jac.n_outputs() / (d + 1);
+        let at_m = g_jac.eval_checked(&self.m.iter().map(|x| point(*x)).collect::<Vec<_>>())?;
+        let over = g_jac.eval_checked(&self.hull())?;
+        let dg: IMat = (0..k)
+            .map(|i| over[k + i * d..k + (i + 1) * d].to_vec())
+            .collect();
+        let lin = linalg::mul_vec(&linalg::mul(&dg, &linalg::imat(&self.b)), &self.r);
+        let out: Vec<Interval> = (0..k)
+            .map(|i| {
+                let c = at_m[i] + lin[i];
+                let both = c.intersection(over[i]);
+                if both.is_empty() {
+                    c
+                } else {
+                    both
+                }
+            })
+            .collect();
+        out.iter().all(|x| finite(*x)).then_some(out)
     }
 }
 
@@ -59,7 +103,7 @@ impl Default for FlowOptions {
     fn default() -> Self {
         FlowOptions {
             order: 0,
-            max_steps: 200_000,
+            max_steps: 20_000,
         }
     }
 }
@@ -112,7 +156,7 @@ pub fn flow(
     }
     let x: Vec<f64> = q.iter().chain(u).copied().collect();
     let (set, stats) = flow_set(&model.dynamics, LohnerSet::point(&x), t, opts)?;
-    finish(model, &set.hull(), stats)
+    finish(model, &set, stats)
 }
 
 /// Validate dimensions and finiteness of a state.
@@ -138,10 +182,10 @@ pub fn check_state(model: &Model, q: &[f64], u: &[f64]) -> Result<(), Error> {
     Ok(())
 }
 
-fn finish(model: &Model, x: &[Interval], stats: FlowStats) -> Result<FlowEnclosure, Error> {
-    let v = model
-        .velocity
-        .eval_checked(x)
+fn finish(model: &Model, set: &LohnerSet, stats: FlowStats) -> Result<FlowEnclosure, Error> {
+    let x = set.hull();
+    let v = set
+        .image(&model.velocity_jac)
         .ok_or_else(|| Error::uncertified("velocity enclosure is not finite"))?;
     Ok(FlowEnclosure {
         q: x[..model.n].to_vec(),
@@ -210,10 +254,7 @@ fn flow_set_general(
     let mut factor = 1.0f64;
     while done.sup() < t {
         if stats.steps >= opts.max_steps {
-            return Err(Error::uncertified(format!(
-                "more than {} steps needed to reach t = {t}",
-                opts.max_steps
-            )));
+            return Err(too_many(opts.max_steps, t));
         }
         let rem = (total - done).intersection(iv(0.0, f64::MAX));
         let mut h = round_step(suggest_step(sys, &set, p)? * factor).min(rem.inf());
@@ -240,6 +281,11 @@ fn flow_set_general(
                     stats.steps += 1;
                     stats.h_min = stats.h_min.min(hi.inf());
                     stats.h_max = stats.h_max.max(hi.sup());
+                    // refuse early when the steps now taken would not reach t in time
+                    let left = (t - done.sup()) / hi.sup();
+                    if !last && stats.steps as f64 + left > 4.0 * opts.max_steps as f64 {
+                        return Err(too_many(opts.max_steps, t));
+                    }
                     break;
                 }
                 Err(StepFail::Fatal(why)) => return Err(Error::uncertified(why)),
@@ -252,7 +298,7 @@ fn flow_set_general(
                     if tries > 60 || h.is_nan() || h <= 0.0 || h < t * 1e-14 {
                         return Err(Error::uncertified(format!(
                             "no a priori enclosure could be proved near t = {} (step size underflow)",
-                            done.inf()
+                            done.sup()
                         )));
                     }
                 }
@@ -271,6 +317,12 @@ const SLICES: usize = 8;
 /// Largest accepted width of the Lagrange remainder, relative to the state's size.
 const REMAINDER_TOL: f64 = f64::EPSILON;
 
+fn too_many(max: usize, t: f64) -> Error {
+    Error::uncertified(format!(
+        "more than {max} steps would be needed to reach t = {t}"
+    ))
+}
+
 /// Round a positive step down to three significant bits (`{1, 1.25, 1.5, 1.75} * 2^e`), so
 /// that sums of steps stay exact in f64 for long (spec eq. (5.7)).
 fn round_step(h: f64) -> f64 {
@@ -287,13 +339,18 @@ fn round_step(h: f64) -> f64 {
 fn suggest_step(sys: &System, set: &LohnerSet, p: usize) -> Result<f64, Error> {
     let c = sys
         .field
-        .ode_taylor(&set.m.iter().map(|x| point(*x)).collect::<Vec<_>>(), p)
+        .ode_taylor::<f64>(&set.m, p)
         .ok_or_else(|| Error::uncertified("vector field not defined at the state"))?;
-    let scale = set.m.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+    Ok(step_size(&c, p, &set.m))
+}
+
+/// The step-size rule of spec eq. (5.8) from float Taylor coefficients at the state `x`.
+fn step_size(c: &[Vec<f64>], p: usize, x: &[f64]) -> f64 {
+    let scale = x.iter().fold(1.0f64, |a, v| a.max(v.abs()));
     let tol = scale * f64::EPSILON * 0.25;
     let mut h = f64::INFINITY;
     for (i, ci) in c.iter().enumerate().skip(1) {
-        let norm = ci.iter().map(|x| x.mag()).fold(0.0, f64::max);
+        let norm = ci.iter().map(|v| v.abs()).fold(0.0, f64::max);
         if norm > 0.0 {
             // no term larger than the state (no cancellation in the sum) ...
             h = h.min((scale / norm).powf(1.0 / i as f64));
@@ -303,7 +360,48 @@ fn suggest_step(sys: &System, set: &LohnerSet, p: usize) -> Result<f64, Error> {
             }
         }
     }
-    Ok(round_step(h.min(f64::MAX)))
+    round_step(h.min(f64::MAX))
+}
+
+/// A float Taylor integration of `x' = F(x)` and of its variational equation over time `t`:
+/// `(x(t), D x(t)/D x0)` approximately. Not rigorous: used only to choose points (the Newton
+/// guesses of the retraction); `None` on non-finite values or too many steps.
+pub fn float_flow_c1(
+    sys: &System,
+    x0: &[f64],
+    t: f64,
+    opts: &FlowOptions,
+) -> Option<(Vec<f64>, DMatrix<f64>)> {
+    let d = x0.len();
+    let p = if opts.order == 0 {
+        DEFAULT_ORDER
+    } else {
+        opts.order
+    };
+    let mut x = x0.to_vec();
+    let mut jac = DMatrix::<f64>::identity(d, d);
+    let mut done = 0.0;
+    for _ in 0..opts.max_steps {
+        if done >= t {
+            return Some((x, jac));
+        }
+        let mut xv = x.clone();
+        for i in 0..d {
+            xv.extend((0..d).map(|j| if i == j { 1.0 } else { 0.0 }));
+        }
+        let c = sys.field_var.ode_taylor::<f64>(&xv, p)?;
+        let xc: Vec<Vec<f64>> = c.iter().map(|ck| ck[..d].to_vec()).collect();
+        let h = step_size(&xc, p, &x).min(t - done);
+        let poly = |i: usize| c.iter().rev().fold(0.0, |acc, ck| acc * h + ck[i]);
+        x = (0..d).map(poly).collect();
+        let v = DMatrix::from_fn(d, d, |i, j| poly(d + i * d + j));
+        jac = v * jac;
+        done = if h >= t - done { t } else { done + h };
+        if !x.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+    }
+    None
 }
 
 /// Horner's scheme in intervals: encloses `sum_i c_i t^i` for every `t` in `h` and every
@@ -333,12 +431,25 @@ fn lohner_step(
         .field
         .ode_taylor(&centre, p)
         .ok_or_else(|| fatal("vector field not defined at the state"))?;
-    // (5.6) coefficients of the solution and of the variational equation over the box.
-    let mut xv = xbox.clone();
-    for i in 0..d {
-        xv.extend((0..d).map(|j| point(if i == j { 1.0 } else { 0.0 })));
-    }
-    let cv = sys.field_var.ode_taylor(&xv, p).ok_or(StepFail::Shrink)?;
+    // (5.6) coefficients of the solution and of the variational equation over the box. For
+    // a point set (r = 0) without C^1 output, the box is the centre and J is not needed
+    // (J B r = 0): the centre's coefficients serve, with J = 0.
+    let point_set = !c1 && set.r.iter().all(|r| r.is_exact_zero());
+    let cv = if point_set {
+        c.iter()
+            .map(|ck| {
+                let mut v = ck.clone();
+                v.resize(d + d * d, point(0.0));
+                v
+            })
+            .collect()
+    } else {
+        let mut xv = xbox.clone();
+        for i in 0..d {
+            xv.extend((0..d).map(|j| point(if i == j { 1.0 } else { 0.0 })));
+        }
+        sys.field_var.ode_taylor(&xv, p).ok_or(StepFail::Shrink)?
+    };
     // (5.4) a priori enclosure on [0, h]: Z = sum_{i<p} Tb_i [0,h]^i + T_p(Y) [0,h]^p in Y.
     let h0 = iv(0.0, h.sup());
     let coef = |k: usize, i: usize| cv[k][i];
@@ -464,11 +575,20 @@ fn lohner_step(
     if !r_new.iter().all(|x| finite(*x)) {
         return Err(fatal("enclosure became unbounded"));
     }
+    // The box method beside the parallelepiped: x(h) in z + [J] ([X] - m) (spec eq. (5.6)).
+    let dx: Vec<Interval> = xbox
+        .iter()
+        .zip(&set.m)
+        .map(|(x, c)| *x - point(*c))
+        .collect();
+    let jdx = linalg::mul_vec(&jac, &dx);
+    let boxed = z.iter().zip(jdx).map(|(a, b)| *a + b).collect();
     Ok((
         LohnerSet {
             m: m_new,
             b: b_new,
             r: r_new,
+            boxed,
         },
         step_jac,
     ))

@@ -5,8 +5,10 @@ use crate::scalar::{iv, point};
 use crate::tape::finite;
 use crate::Error;
 use inari::Interval;
+use nalgebra::DMatrix;
 
-/// A box containing the unique zero of `g` near `guess`.
+/// A box containing the unique zero of `g` near `guess`, with `c` any float matrix
+/// (best an approximate inverse of `DG(guess)`).
 ///
 /// `g(z)` must enclose `G` at the points of the box `z` (for every parameter value), and
 /// `dg(z)` must enclose `DG` over the box `z`.
@@ -18,16 +20,14 @@ use inari::Interval;
 /// without that inclusion: `Error::Uncertified`.
 pub fn krawczyk(
     guess: &[f64],
+    c: &DMatrix<f64>,
     g: impl Fn(&[Interval]) -> Result<Vec<Interval>, Error>,
     dg: impl Fn(&[Interval]) -> Result<IMat, Error>,
 ) -> Result<Vec<Interval>, Error> {
     let n = guess.len();
     let zt: Vec<Interval> = guess.iter().map(|x| point(*x)).collect();
     let gz = g(&zt)?;
-    let c = linalg::mid(&dg(&zt)?)
-        .try_inverse()
-        .ok_or_else(|| Error::uncertified("singular Jacobian at the Newton point"))?;
-    let ci = linalg::imat(&c);
+    let ci = linalg::imat(c);
     let cg = linalg::mul_vec(&ci, &gz);
     if !cg.iter().all(|x| finite(*x)) {
         return Err(Error::uncertified(
@@ -78,13 +78,15 @@ mod tests {
         // G(z) = z^2 - 2
         let g = |z: &[Interval]| Ok(vec![z[0] * z[0] - point(2.0)]);
         let dg = |z: &[Interval]| Ok(vec![vec![point(2.0) * z[0]]]);
-        let r = krawczyk(&[std::f64::consts::SQRT_2], g, dg).unwrap();
+        let c = DMatrix::from_element(1, 1, 1.0 / (2.0 * std::f64::consts::SQRT_2));
+        let r = krawczyk(&[std::f64::consts::SQRT_2], &c, g, dg).unwrap();
         assert!(r[0].contains(std::f64::consts::SQRT_2));
         assert!(r[0].wid() < 1e-15);
         assert!(r[0].interior(iv(1.0, 2.0)));
         // G(z) = z^2 has a double root at 0: no uniqueness proof possible
         let g = |z: &[Interval]| Ok(vec![z[0] * z[0]]);
         let dg = |z: &[Interval]| Ok(vec![vec![point(2.0) * z[0]]]);
-        assert!(krawczyk(&[1e-9], g, dg).is_err());
+        let c = DMatrix::from_element(1, 1, 1.0 / 2e-9);
+        assert!(krawczyk(&[1e-9], &c, g, dg).is_err());
     }
 }

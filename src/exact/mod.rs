@@ -5,7 +5,8 @@
 mod krawczyk;
 
 use crate::enclosure::linalg::{self, IMat};
-use crate::enclosure::{flow_set, flow_set_c1, FlowOptions, LohnerSet};
+use crate::enclosure::{float_flow_c1, flow_set, flow_set_c1, FlowOptions, LohnerSet};
+use crate::integrator::newton::{self, NewtonFailure, NewtonOptions, NewtonOutcome};
 use crate::model::Model;
 use crate::scalar::point;
 use crate::tape::finite;
@@ -45,7 +46,7 @@ pub fn exponential(
     let x0: Vec<Interval> = q0.iter().chain(u0).copied().collect();
     let (set, jac, _) = flow_set_c1(&model.dynamics, LohnerSet::from_box(&x0), h, opts)?;
     let hull = set.hull();
-    let v1 = velocity(model, &hull)?;
+    let v1 = set_velocity(model, &set)?;
     let dq_du = jac[..n].iter().map(|row| row[n..].to_vec()).collect();
     Ok(Exponential {
         q1: hull[..n].to_vec(),
@@ -59,6 +60,12 @@ fn velocity(model: &Model, x: &[Interval]) -> Result<Vec<Interval>, Error> {
     model
         .velocity
         .eval_checked(x)
+        .ok_or_else(|| Error::uncertified("velocity enclosure is not finite"))
+}
+
+/// Velocities over a state set, by the centred form (spec eq. (5.12)).
+fn set_velocity(model: &Model, set: &LohnerSet) -> Result<Vec<Interval>, Error> {
+    set.image(&model.velocity_jac)
         .ok_or_else(|| Error::uncertified("velocity enclosure is not finite"))
 }
 
@@ -117,12 +124,30 @@ pub fn retract(
     let (n, k) = (model.n, model.k);
     let m = n - k;
     let nq1 = normal_matrix(model, q1)?;
-    // G(z; Q0, Q1) = q(h; Q0, u) - Q1 - N(Q1) s over a box of z = (u, s).
-    let g_and_dg = |z: &[Interval]| -> Result<(Vec<Interval>, IMat), Error> {
-        let e = exponential(model, q0, &z[..m], h, opts)?;
+    let (guess, jac) = newton_guess(model, q0, q1, h, opts)?;
+    let c = jac
+        .try_inverse()
+        .ok_or_else(|| Error::uncertified("singular Jacobian of the shooting map"))?;
+    // The state set at time h from the last Krawczyk box (it contains the answer's).
+    let last_set = std::cell::RefCell::new(None);
+    let x0_of = |u: &[Interval]| q0.iter().chain(u).copied().collect::<Vec<_>>();
+    // G(z~; Q0, Q1) = q(h; Q0, u~) - Q1 - N(Q1) s~ at the point z~ (C^0 suffices).
+    let g = |z: &[Interval]| -> Result<Vec<Interval>, Error> {
+        let (set, _) = flow_set(
+            &model.dynamics,
+            LohnerSet::from_box(&x0_of(&z[..m])),
+            h,
+            opts,
+        )?;
+        let qh = set.hull();
         let ns = linalg::mul_vec(&nq1, &z[m..]);
-        let g = (0..n).map(|i| e.q1[i] - q1[i] - ns[i]).collect();
-        let dg = (0..n)
+        Ok((0..n).map(|i| qh[i] - q1[i] - ns[i]).collect())
+    };
+    // DG = [D_u q(h) | -N(Q1)] over the box z.
+    let dg = |z: &[Interval]| -> Result<IMat, Error> {
+        let e = exponential(model, q0, &z[..m], h, opts)?;
+        *last_set.borrow_mut() = Some(e.set);
+        Ok((0..n)
             .map(|i| {
                 e.dq_du[i]
                     .iter()
@@ -130,21 +155,16 @@ pub fn retract(
                     .chain(nq1[i].iter().map(|x| -*x))
                     .collect()
             })
-            .collect();
-        Ok((g, dg))
+            .collect())
     };
-    let guess = newton_guess(model, q0, q1, h, &g_and_dg)?;
-    let z = krawczyk(
-        &guess,
-        |z| g_and_dg(z).map(|x| x.0),
-        |z| g_and_dg(z).map(|x| x.1),
-    )?;
+    let z = krawczyk(&guess, &c, g, dg)?;
     let (u0, s) = (z[..m].to_vec(), z[m..].to_vec());
-    let x0: Vec<Interval> = q0.iter().chain(&u0).copied().collect();
-    let v0 = velocity(model, &x0)?;
-    let (set, _) = flow_set(&model.dynamics, LohnerSet::from_box(&x0), h, opts)?;
+    let v0 = velocity(model, &x0_of(&u0))?;
+    let set = last_set
+        .into_inner()
+        .ok_or_else(|| Error::uncertified("internal: no state set from the Krawczyk box"))?;
     let hull = set.hull();
-    let v1 = velocity(model, &hull)?;
+    let v1 = set_velocity(model, &set)?;
     // q(h) is enclosed twice: by the flow and by Q1 + N(Q1) s (spec eq. (6.4)).
     let ns = linalg::mul_vec(&nq1, &s);
     let q_at_h = intersect_checked(
@@ -189,21 +209,23 @@ fn check_pair(model: &Model, q0: &[Interval], q1: &[Interval], h: f64) -> Result
     Ok(())
 }
 
-type GDg<'a> = dyn Fn(&[Interval]) -> Result<(Vec<Interval>, IMat), Error> + 'a;
-
 /// A float Newton iteration for (u0, s), started from the least-squares velocity
-/// `E(Q0)^T u ~ (Q1 - Q0)/h`, s = 0. It only chooses the centre of the Krawczyk box.
+/// `E(Q0)^T u ~ (Q1 - Q0)/h`, s = 0, on a float Taylor integration of the flow and its
+/// variational equation. It only chooses the centre of the Krawczyk box and the matrix C;
+/// returns the point and the float Jacobian of G there.
 fn newton_guess(
     model: &Model,
     q0: &[Interval],
     q1: &[Interval],
     h: f64,
-    g_and_dg: &GDg,
-) -> Result<Vec<f64>, Error> {
+    opts: &FlowOptions,
+) -> Result<(Vec<f64>, DMatrix<f64>), Error> {
     let (n, k) = (model.n, model.k);
     let m = n - k;
     let mid = |x: &[Interval]| x.iter().map(|v| v.mid()).collect::<Vec<f64>>();
     let (a, b) = (mid(q0), mid(q1));
+    let not_converged =
+        || Error::uncertified("Newton iteration for the retraction did not converge");
     // E(Q0) rows from the velocity tape: v = E^T u is linear in u.
     let basis: Vec<Vec<f64>> = (0..m)
         .map(|j| {
@@ -221,33 +243,46 @@ fn newton_guess(
         .lu()
         .solve(&(&e * rhs))
         .ok_or_else(|| Error::uncertified("basis of D is degenerate at q0"))?;
-    let mut z: Vec<f64> = u
-        .iter()
-        .copied()
-        .chain(std::iter::repeat_n(0.0, k))
-        .collect();
-    for _ in 0..40 {
-        let pts: Vec<Interval> = z.iter().map(|x| point(*x)).collect();
-        let (g, dg) = g_and_dg(&pts)?;
-        let gm = DVector::from_fn(n, |i, _| g[i].mid());
-        let jm = linalg::mid(&dg);
-        let dz = jm
-            .lu()
-            .solve(&gm)
-            .ok_or_else(|| Error::uncertified("singular Jacobian of the shooting map"))?;
-        let mut small = true;
-        for i in 0..n {
-            z[i] -= dz[i];
-            small &= dz[i].abs() <= 4.0 * f64::EPSILON * z[i].abs().max(1e-300);
+    let mu = model.constraints.eval::<f64>(&b);
+    let shoot = |z: &DVector<f64>| -> Option<(DVector<f64>, DMatrix<f64>)> {
+        let x0: Vec<f64> = a.iter().copied().chain(z.iter().take(m).copied()).collect();
+        let (x, jx) = float_flow_c1(&model.dynamics, &x0, h, opts)?;
+        let g = DVector::from_fn(n, |i, _| {
+            x[i] - b[i] - (0..k).map(|c| mu[c * n + i] * z[m + c]).sum::<f64>()
+        });
+        let j = DMatrix::from_fn(n, n, |i, c| {
+            if c < m {
+                jx[(i, n + c)]
+            } else {
+                -mu[(c - m) * n + i]
+            }
+        });
+        Some((g, j))
+    };
+    let mut z = DVector::from_fn(n, |i, _| if i < m { u[i] } else { 0.0 });
+    let nan = || {
+        (
+            DVector::from_element(n, f64::NAN),
+            DMatrix::from_element(n, n, f64::NAN),
+        )
+    };
+    let outcome = newton::solve(
+        &mut z,
+        |z| shoot(z).unwrap_or_else(nan),
+        &NewtonOptions::default(),
+    );
+    match outcome {
+        NewtonOutcome::Converged { .. } => {
+            let (_, j) = shoot(&z).ok_or_else(not_converged)?;
+            Ok((z.iter().copied().collect(), j))
         }
-        if !z.iter().all(|x| x.is_finite()) {
-            return Err(Error::uncertified("Newton iteration diverged"));
+        NewtonOutcome::Failed(NewtonFailure::SingularJacobian) => {
+            Err(Error::uncertified("singular Jacobian of the shooting map"))
         }
-        if small {
-            break;
-        }
+        NewtonOutcome::Failed(f) => Err(Error::uncertified(format!(
+            "Newton iteration for the retraction failed: {f}"
+        ))),
     }
-    Ok(z)
 }
 
 /// The exact discrete flow and Legendre transforms at a pair (spec eqs. (6.5)-(6.7)).
@@ -348,7 +383,7 @@ pub fn trajectory(
         } else {
             hull[..n].to_vec()
         };
-        let vk = velocity(model, &hull)?;
+        let vk = set_velocity(model, &set)?;
         p.push(momentum(model, &qk, &vk)?);
         q.push(qk);
         v.push(vk);

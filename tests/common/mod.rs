@@ -1,0 +1,104 @@
+//! Helpers shared by the integration tests: scenes, a fixed-seed generator of states and
+//! failure messages that print every input as a hex float so a failure can be replayed
+//! bit for bit.
+
+// Each test binary uses a different subset of these helpers.
+#![allow(dead_code)]
+
+use dalembert::{flow, AnyScene, Error, FlowEnclosure, FlowOptions, Model};
+use inari::Interval;
+
+/// A scene by name, with parameters.
+pub fn model(name: &str, params: &[(&str, f64)]) -> Model {
+    let params: Vec<(String, f64)> = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    Model::new(AnyScene::new(name, &params).expect("scene"))
+}
+
+/// `x` as a decimal (`{:e}`, which is exact enough to round-trip) and as its bits.
+pub fn hex(x: f64) -> String {
+    format!("{x:e} (bits 0x{:016x})", x.to_bits())
+}
+
+/// An interval as `[inf, sup] (wid ...)`.
+pub fn show(x: Interval) -> String {
+    if x.is_empty() {
+        return "EMPTY".to_string();
+    }
+    format!("[{:e}, {:e}] (wid {:e})", x.inf(), x.sup(), x.wid())
+}
+
+/// Rust source of a vector of exact f64, e.g. `[f64::from_bits(0x...), ...]`.
+fn bits_vec(x: &[f64]) -> String {
+    let v: Vec<String> = x
+        .iter()
+        .map(|c| format!("f64::from_bits(0x{:016x})", c.to_bits()))
+        .collect();
+    format!("[{}]", v.join(", "))
+}
+
+/// The inputs of a flow call, readable and as a copy-paste reproducer.
+pub fn describe(scene: &str, params: &[(&str, f64)], q: &[f64], u: &[f64], t: f64) -> String {
+    let mut s = format!("scene `{scene}`");
+    for (k, v) in params {
+        s += &format!(", {k} = {}", hex(*v));
+    }
+    s += "\n";
+    for (i, c) in q.iter().enumerate() {
+        s += &format!("  q[{i}] = {}\n", hex(*c));
+    }
+    for (i, c) in u.iter().enumerate() {
+        s += &format!("  u[{i}] = {}\n", hex(*c));
+    }
+    s += &format!("  t    = {}\n", hex(t));
+    let ps: Vec<String> = params
+        .iter()
+        .map(|(k, v)| {
+            format!(
+                "(\"{k}\".to_string(), f64::from_bits(0x{:016x}))",
+                v.to_bits()
+            )
+        })
+        .collect();
+    s += &format!(
+        "  reproduce: flow(&Model::new(AnyScene::new(\"{scene}\", &[{}]).unwrap()), &{}, &{}, f64::from_bits(0x{:016x}), &FlowOptions::default())\n",
+        ps.join(", "),
+        bits_vec(q),
+        bits_vec(u),
+        t.to_bits()
+    );
+    s
+}
+
+/// `flow` with the default options.
+pub fn run(model: &Model, q: &[f64], u: &[f64], t: f64) -> Result<FlowEnclosure, Error> {
+    flow(model, q, u, t, &FlowOptions::default())
+}
+
+/// `max(1, |x|)` for an interval: the scale of the relative width bounds.
+pub fn scale(x: Interval) -> f64 {
+    x.mag().max(1.0)
+}
+
+/// SplitMix64 (Steele, Lea, Flood 2014): a tiny generator with a fixed seed, so that the
+/// "random" cases are the same on every run and every machine.
+pub struct SplitMix64(pub u64);
+
+impl SplitMix64 {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [lo, hi] (a finite f64).
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        from_bits_in(self.next_u64(), lo, hi)
+    }
+}
+
+/// Map 64 random bits to a finite f64 in [lo, hi] (53 bits of the word are used).
+pub fn from_bits_in(bits: u64, lo: f64, hi: f64) -> f64 {
+    let unit = (bits >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+    (lo + (hi - lo) * unit).clamp(lo, hi)
+}
