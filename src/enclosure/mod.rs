@@ -471,11 +471,16 @@ fn lohner_step(
             })
             .collect();
         if z.iter().zip(&y).all(|(a, b)| a.subset(*b)) {
-            // (5.5) Lagrange remainder T_{p+1}(x(xi)) h^{p+1}, x(xi) in the enclosure of
-            // one of SLICES sub-intervals of [0, h] (narrower boxes than Y: less dependency).
+            // (5.5) Lagrange remainder T_{p+1}(x(xi)) h^{p+1} with x(xi) in Y; when that is
+            // too wide, x(xi) in the enclosure of one of SLICES sub-intervals of [0, h]
+            // (narrower boxes than Y: less dependency in the high-order coefficients).
             let hp = (0..=p).fold(point(1.0), |a, _| a * h);
+            let scale = set.m.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+            let wide = ty[p + 1]
+                .iter()
+                .any(|t| (*t * hp).wid() > scale * REMAINDER_TOL);
             let mut hull: Option<Vec<Interval>> = None;
-            for j in 0..SLICES {
+            for j in 0..if wide { SLICES } else { 0 } {
                 let lo = h.sup() * j as f64 / SLICES as f64;
                 let hi = if j + 1 == SLICES {
                     h.sup()
