@@ -14,6 +14,7 @@ pub mod enclosure;
 pub mod exact;
 pub mod integrator;
 pub mod model;
+pub mod oracle;
 pub mod protocol;
 pub mod scalar;
 pub mod scene;

@@ -2,6 +2,7 @@
 //! codes (contract.md). No mathematics here.
 
 mod batch;
+mod check;
 pub mod demo;
 pub mod json;
 
@@ -90,6 +91,28 @@ pub enum Cmd {
     },
     /// The exact discrete Lagrangian: the action along the retraction's trajectory
     Lagrangian(PairArgs),
+    /// Certified verdict on a candidate trajectory (CSV or JSON file from any integrator);
+    /// exit 1 when the certified distance to the exact discrete flow exceeds --tol
+    Check {
+        #[command(flatten)]
+        scene: SceneArgs,
+        /// Time step H > 0 of the candidate
+        #[arg(long, allow_hyphen_values = true)]
+        h: String,
+        /// File with q_0 .. q_N: JSON {"q": [[..], ..]} or [[..], ..], or CSV (columns q0..;
+        /// a header line is optional, a first column `k` is skipped)
+        #[arg(long)]
+        trajectory: String,
+        /// Tolerance on max_k |q_k - q^e_k|_inf
+        #[arg(long, allow_hyphen_values = true)]
+        tol: Option<String>,
+        /// Skip the per-pair defects and energies (faster)
+        #[arg(long)]
+        no_pairs: bool,
+        /// Print one JSON object
+        #[arg(long)]
+        json: bool,
+    },
     /// JSON lines in, JSON lines out (one answer per query, in order)
     Batch {
         /// Worker threads
@@ -127,6 +150,20 @@ pub fn run(args: Vec<String>) -> i32 {
     let result = match cli.cmd {
         None => demo::run().map(|()| None),
         Some(Cmd::Batch { jobs, .. }) => batch::run(&jobs).map(|()| None),
+        Some(Cmd::Check {
+            scene,
+            h,
+            trajectory,
+            tol,
+            no_pairs,
+            json,
+        }) => match check::run(&scene, &h, &trajectory, tol.as_deref(), no_pairs, json) {
+            Ok((text, passed)) => {
+                println!("{text}");
+                return if passed { 0 } else { 1 };
+            }
+            Err(e) => Err(e),
+        },
         Some(cmd) => execute(cmd).map(Some),
     };
     match result {
@@ -142,7 +179,7 @@ pub fn run(args: Vec<String>) -> i32 {
     }
 }
 
-fn scene_spec(s: &SceneArgs) -> Result<SceneSpec, Error> {
+pub(crate) fn scene_spec(s: &SceneArgs) -> Result<SceneSpec, Error> {
     Ok(SceneSpec {
         name: s.scene.clone(),
         params: s
@@ -198,7 +235,9 @@ fn execute(cmd: Cmd) -> Result<String, Error> {
             };
             (query, a.json, true)
         }
-        Cmd::Batch { .. } => return Err(Error::input("batch is not a single query")),
+        Cmd::Batch { .. } | Cmd::Check { .. } => {
+            return Err(Error::input("not a single query"))
+        }
     };
     let answer: Value = Session::default().answer(&query)?;
     Ok(match (as_json, csv) {
