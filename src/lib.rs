@@ -12,6 +12,7 @@
 pub mod dynamics;
 pub mod enclosure;
 pub mod exact;
+pub mod fuzzing;
 pub mod integrator;
 pub mod model;
 pub mod oracle;

@@ -98,14 +98,8 @@ pub fn check_trajectory(
     }
     let pts = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
     let ex = exact::trajectory(model, &pts(&q[0]), &pts(&q[1]), h, q.len() - 1, &opts.flow)?;
-    let distance: Vec<Interval> = q
-        .iter()
-        .zip(&ex.q)
-        .map(|(a, b)| distance(a, b))
-        .collect();
-    let max_distance = distance
-        .iter()
-        .fold(point(0.0), |m, d| m.max(*d));
+    let distance: Vec<Interval> = q.iter().zip(&ex.q).map(|(a, b)| distance(a, b)).collect();
+    let max_distance = distance.iter().fold(point(0.0), |m, d| m.max(*d));
     let (mut defect, mut energy_error) = (Vec::new(), Vec::new());
     if opts.pairs {
         let e0 = energy(model, &ex.q[0], &ex.v[0])?;

@@ -56,6 +56,10 @@ pub const MAX_STEPS: usize = 10_000_000;
 pub struct Session {
     models: HashMap<String, Rc<Model>>,
     schemes: HashMap<(String, bool), Rc<Scheme>>,
+    /// Settings of the validated integrator for every query (a fuzzer lowers `max_steps`).
+    pub flow: FlowOptions,
+    /// Refuse `integrate` queries with more steps than this (0: the contract's maximum).
+    pub max_integrate_steps: usize,
 }
 
 fn scene_key(s: &SceneSpec) -> String {
@@ -90,7 +94,7 @@ impl Session {
 
     /// Answer a query with the JSON object its command prints with `--json`.
     pub fn answer(&mut self, q: &Query) -> Result<Value, Error> {
-        let opts = FlowOptions::default();
+        let opts = self.flow.clone();
         match q {
             Query::Flow {
                 scene,
@@ -145,6 +149,12 @@ impl Session {
                 scheme,
                 steps,
             } => {
+                if self.max_integrate_steps > 0 && *steps > self.max_integrate_steps {
+                    return Err(Error::input(format!(
+                        "steps: at most {} in this session",
+                        self.max_integrate_steps
+                    )));
+                }
                 let sc = self.scheme(&pair.scene, *scheme)?;
                 let tr = sc.integrate(
                     &pair.q0,

@@ -51,7 +51,14 @@ pub fn run(
         })
         .to_string()
     } else {
-        table(&v.distance, &v.defect, &v.energy_error, v.max_distance, passed, tol)
+        table(
+            &v.distance,
+            &v.defect,
+            &v.energy_error,
+            v.max_distance,
+            passed,
+            tol,
+        )
     };
     Ok((out, passed))
 }
@@ -71,7 +78,12 @@ fn table(
     for (k, d) in dist.iter().enumerate() {
         let def = defect
             .get(k)
-            .map(|s| s.iter().map(|x| format!("[{:.2e},{:.2e}]", x.inf(), x.sup())).collect::<Vec<_>>().join(" "))
+            .map(|s| {
+                s.iter()
+                    .map(|x| format!("[{:.2e},{:.2e}]", x.inf(), x.sup()))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            })
             .unwrap_or_default();
         let en = energy
             .get(k)
@@ -105,7 +117,9 @@ fn parse_trajectory(text: &str, n: usize) -> Result<Vec<Vec<f64>>, Error> {
                 r.as_array()
                     .map(|a| a.iter().filter_map(|x| x.as_f64()).collect::<Vec<f64>>())
                     .filter(|a| a.len() == n)
-                    .ok_or_else(|| Error::input(format!("--trajectory: each q_k needs {n} numbers")))
+                    .ok_or_else(|| {
+                        Error::input(format!("--trajectory: each q_k needs {n} numbers"))
+                    })
             })
             .collect();
     }
@@ -129,7 +143,9 @@ fn parse_trajectory(text: &str, n: usize) -> Result<Vec<Vec<f64>>, Error> {
             if cells.len() == n {
                 Ok(cells)
             } else {
-                Err(Error::input(format!("--trajectory: a CSV row needs {n} numbers")))
+                Err(Error::input(format!(
+                    "--trajectory: a CSV row needs {n} numbers"
+                )))
             }
         })
         .collect()

@@ -235,9 +235,7 @@ fn execute(cmd: Cmd) -> Result<String, Error> {
             };
             (query, a.json, true)
         }
-        Cmd::Batch { .. } | Cmd::Check { .. } => {
-            return Err(Error::input("not a single query"))
-        }
+        Cmd::Batch { .. } | Cmd::Check { .. } => return Err(Error::input("not a single query")),
     };
     let answer: Value = Session::default().answer(&query)?;
     Ok(match (as_json, csv) {

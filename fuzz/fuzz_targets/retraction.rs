@@ -1,0 +1,5 @@
+#![no_main]
+//! Invariant: see `dalembert::fuzzing::retraction` (written above that function).
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| dalembert::fuzzing::retraction(data));

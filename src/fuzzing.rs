@@ -1,0 +1,222 @@
+//! The checks behind the cargo-fuzz targets (`fuzz/fuzz_targets/`), kept in the library so
+//! that `cargo test` replays the committed corpus on the stable toolchain
+//! (`tests/fuzz_corpus.rs`). Each function decodes arbitrary bytes and panics exactly when
+//! the invariant written above it is broken (spec/08-oracle.md, "Fuzzing").
+
+use crate::enclosure::{flow_set, LohnerSet};
+use crate::integrator::{step_residual, NewtonOptions, Scheme, SchemeKind};
+use crate::protocol::Session;
+use crate::scalar::point;
+use crate::scene::{Knife, KnifeEps, Particle};
+use crate::tape::finite;
+use crate::{exact, AnyScene, Error, FlowOptions, Model};
+use arbitrary::{Arbitrary, Unstructured};
+use serde_json::Value;
+use std::cell::RefCell;
+
+/// A bounded step budget so that one input runs in well under a second.
+fn budget() -> FlowOptions {
+    FlowOptions {
+        max_steps: 400,
+        ..FlowOptions::default()
+    }
+}
+
+const EPS: [f64; 5] = [0.1, 0.5, -0.3, 0.9, 0.99];
+
+thread_local! {
+    static MODELS: RefCell<Vec<Option<(Model, Scheme, Scheme)>>> =
+        RefCell::new((0..2 + EPS.len()).map(|_| None).collect());
+}
+
+fn scene_of(i: usize) -> AnyScene {
+    match i {
+        0 => AnyScene::Particle(Particle),
+        1 => AnyScene::Knife(Knife),
+        j => AnyScene::KnifeEps(KnifeEps { eps: EPS[j - 2] }),
+    }
+}
+
+fn with_model<R>(i: usize, f: impl FnOnce(&Model, &Scheme, &Scheme) -> R) -> R {
+    MODELS.with(|m| {
+        let mut m = m.borrow_mut();
+        let slot = &mut m[i];
+        if slot.is_none() {
+            let model = Model::new(scene_of(i));
+            let dla = Scheme::new(&model, SchemeKind::Dla);
+            let mla = Scheme::new(&model, SchemeKind::Mla);
+            *slot = Some((model, dla, mla));
+        }
+        let (model, dla, mla) = slot.as_ref().expect("slot filled above");
+        f(model, dla, mla)
+    })
+}
+
+/// An f64 that is usually ordinary and sometimes extreme.
+fn num(u: &mut Unstructured) -> arbitrary::Result<f64> {
+    Ok(match u.int_in_range(0u8..=7)? {
+        0 => f64::arbitrary(u)?,
+        1 => u
+            .choose(&[
+                0.0,
+                -0.0,
+                1e-300,
+                -1e-300,
+                1e150,
+                -1e150,
+                1e308,
+                1.5707963267948966,
+            ])?
+            .to_owned(),
+        _ => i16::arbitrary(u)? as f64 / 1024.0,
+    })
+}
+
+fn vec3(u: &mut Unstructured) -> arbitrary::Result<Vec<f64>> {
+    (0..3).map(|_| num(u)).collect()
+}
+
+/// Invariant: a scheme step or projection on arbitrary scenes, states and steps never
+/// panics or hangs, and either fails with a named Newton failure or returns finite numbers
+/// that satisfy the discrete equations to a residual consistent with the one reported.
+pub fn newton_step(data: &[u8]) {
+    let mut u = Unstructured::new(data);
+    let Ok((scene, mla, qm, qk, h)) = (|| -> arbitrary::Result<_> {
+        Ok((
+            u.int_in_range(0..=1 + EPS.len())?,
+            bool::arbitrary(&mut u)?,
+            vec3(&mut u)?,
+            vec3(&mut u)?,
+            num(&mut u)?.abs(),
+        ))
+    })() else {
+        return;
+    };
+    with_model(scene, |_, dla, mla_s| {
+        let s = if mla { mla_s } else { dla };
+        let opts = NewtonOptions::default();
+        if let Ok(tr) = s.integrate(&qm, &qk, h, 2, &opts) {
+            assert!(
+                tr.q.iter().flatten().all(|x| x.is_finite()),
+                "non-finite state"
+            );
+            assert!(tr.max_residual.is_finite());
+        }
+        if !(h.is_finite() && h > 0.0) || qm.iter().chain(&qk).any(|x| !x.is_finite()) {
+            return;
+        }
+        if let Ok((next, _, reported)) = s.step(&qm, &qk, h, &opts) {
+            assert!(next.iter().all(|x| x.is_finite()), "non-finite step");
+            let kind = if mla {
+                SchemeKind::Mla
+            } else {
+                SchemeKind::Dla
+            };
+            let r = crate::with_scene!(&scene_of(scene), sc => {
+                step_residual::<_, f64>(sc, kind, &qm, &qk, &next, &h)
+            });
+            let norm = r.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            // the same residual evaluated again: identical up to nothing (same tape path
+            // apart from the generic evaluation), allow rounding of the recomputation
+            assert!(
+                !norm.is_nan() && norm <= 4.0 * reported + 1e-9 * (1.0 + scale(&next, &qk, h)),
+                "residual {norm:e} against reported {reported:e}"
+            );
+        }
+    });
+}
+
+fn scale(a: &[f64], b: &[f64], h: f64) -> f64 {
+    let m = a.iter().chain(b).fold(0.0f64, |m, x| m.max(x.abs()));
+    (m * m / h.min(1.0)).min(1e300)
+}
+
+/// Invariant: the certified retraction on arbitrary pairs never panics, and a success
+/// passes the oracle's own re-check: finite intervals, and the flow from the `u0` box
+/// encloses a `q(h)` that meets the returned `q1` box (two enclosures of one point).
+pub fn retraction(data: &[u8]) {
+    let mut u = Unstructured::new(data);
+    let Ok((scene, q0, q1, h)) = (|| -> arbitrary::Result<_> {
+        Ok((
+            u.int_in_range(0..=1 + EPS.len())?,
+            vec3(&mut u)?,
+            vec3(&mut u)?,
+            num(&mut u)?,
+        ))
+    })() else {
+        return;
+    };
+    with_model(scene, |model, _, _| {
+        let pts = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
+        match exact::retract(model, &pts(&q0), &pts(&q1), h, &budget()) {
+            Err(Error::Input(_)) | Err(Error::Uncertified(_)) => {}
+            Ok(r) => {
+                let all =
+                    r.u0.iter()
+                        .chain(&r.s)
+                        .chain(&r.v0)
+                        .chain(&r.v1)
+                        .chain(&r.q1);
+                assert!(all.clone().all(|x| finite(*x)), "non-finite success");
+                let x0: Vec<_> = pts(&q0).into_iter().chain(r.u0.iter().copied()).collect();
+                if let Ok((set, _)) =
+                    flow_set(&model.dynamics, LohnerSet::from_box(&x0), h, &budget())
+                {
+                    let hull = set.hull();
+                    for i in 0..model.n {
+                        assert!(
+                            !hull[i].intersection(r.q1[i]).is_empty(),
+                            "re-check failed: q(h) enclosures disjoint in component {i}"
+                        );
+                    }
+                }
+            }
+        }
+    });
+}
+
+/// Invariant: any bytes given to the batch protocol produce at most one line, which is a
+/// JSON object echoing an id with exactly one of `ok` / `error` (code 2 or 3), and every
+/// interval in an `ok` answer is finite with lo <= hi. Never a panic.
+pub fn batch_line(data: &[u8]) {
+    let line = String::from_utf8_lossy(data);
+    let line = line.lines().next().unwrap_or("");
+    let mut session = Session::default();
+    session.flow = budget();
+    session.max_integrate_steps = 1000;
+    let Some(out) = session.batch_line(line) else {
+        assert!(line.trim().is_empty());
+        return;
+    };
+    assert!(!out.contains('\n'));
+    let v: Value = serde_json::from_str(&out).expect("answer is JSON");
+    assert!(v.get("id").is_some());
+    match (v.get("ok"), v.get("error")) {
+        (Some(ok), None) => check_numbers(ok, ok.get("newton_iterations").is_none()),
+        (None, Some(e)) => {
+            let code = e["code"].as_i64();
+            assert!(code == Some(2) || code == Some(3), "bad code {e}");
+            assert!(e["message"].is_string());
+        }
+        _ => panic!("answer needs exactly one of ok/error: {out}"),
+    }
+}
+
+/// Every number finite; with `intervals`, every pair of numbers is an interval lo <= hi
+/// (a float trajectory from `integrate` has pairs that are not intervals).
+fn check_numbers(v: &Value, intervals: bool) {
+    match v {
+        Value::Array(a) if intervals && a.len() == 2 && a.iter().all(Value::is_number) => {
+            let lo = a[0].as_f64().unwrap_or(f64::NAN);
+            let hi = a[1].as_f64().unwrap_or(f64::NAN);
+            assert!(
+                lo.is_finite() && hi.is_finite() && lo <= hi,
+                "bad interval {v}"
+            );
+        }
+        Value::Array(a) => a.iter().for_each(|x| check_numbers(x, intervals)),
+        Value::Object(o) => o.values().for_each(|x| check_numbers(x, intervals)),
+        Value::Number(n) => assert!(n.as_f64().is_some_and(f64::is_finite)),
+        _ => {}
+    }
+}

@@ -1,0 +1,46 @@
+//! Replays the committed fuzz corpus and regressions through the fuzz targets' checks
+//! (`dalembert::fuzzing`) on the stable toolchain: every input must pass its target's
+//! invariant (a panic fails the test and names the file).
+
+use std::path::Path;
+
+fn replay(target: &str, check: fn(&[u8])) {
+    let mut n = 0;
+    for dir in ["corpus", "regressions"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("fuzz")
+            .join(dir)
+            .join(target);
+        let Ok(entries) = std::fs::read_dir(&path) else {
+            continue;
+        };
+        let mut files: Vec<_> = entries.filter_map(Result::ok).map(|e| e.path()).collect();
+        files.sort();
+        for f in files {
+            let data = std::fs::read(&f).expect("readable corpus file");
+            let r = std::panic::catch_unwind(|| check(&data));
+            assert!(
+                r.is_ok(),
+                "{target}: input {} broke the invariant",
+                f.display()
+            );
+            n += 1;
+        }
+    }
+    assert!(n > 0, "no corpus for {target}");
+}
+
+#[test]
+fn newton_step_corpus() {
+    replay("newton_step", dalembert::fuzzing::newton_step);
+}
+
+#[test]
+fn retraction_corpus() {
+    replay("retraction", dalembert::fuzzing::retraction);
+}
+
+#[test]
+fn batch_line_corpus() {
+    replay("batch_line", dalembert::fuzzing::batch_line);
+}
