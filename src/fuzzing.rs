@@ -65,7 +65,7 @@ fn num(u: &mut Unstructured) -> arbitrary::Result<f64> {
                 1e150,
                 -1e150,
                 1e308,
-                1.5707963267948966,
+                std::f64::consts::FRAC_PI_2,
             ])?
             .to_owned(),
         _ => i16::arbitrary(u)? as f64 / 1024.0,
