@@ -34,9 +34,13 @@ pub fn krawczyk(
             "shooting map not finite at the Newton point",
         ));
     }
-    // initial radius: twice the Newton correction plus a few ulps
+    // Initial radius: twice the Newton correction plus a few ulps of the solution's scale
+    // (not of the component itself: a component that is exactly 0 needs room too, since
+    // the coupling through I - C DG moves it by about eps times the other components).
+    let scale = guess.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let floor = 2.0 * f64::EPSILON * scale + 1e-300;
     let mut rad: Vec<f64> = (0..n)
-        .map(|i| 2.0 * cg[i].mag() + 8.0 * f64::EPSILON * guess[i].abs() + 1e-300)
+        .map(|i| 2.0 * cg[i].mag() + 8.0 * f64::EPSILON * guess[i].abs() + floor)
         .collect();
     for _ in 0..8 {
         let x: Vec<Interval> = (0..n).map(|i| zt[i] + iv(-rad[i], rad[i])).collect();
@@ -61,7 +65,7 @@ pub fn krawczyk(
         // epsilon-inflation: grow the box towards K(X)
         for i in 0..n {
             let reach = (k[i] - zt[i]).mag();
-            rad[i] = (rad[i] * 2.0).max(reach * 1.5) + 4.0 * f64::EPSILON * guess[i].abs();
+            rad[i] = (rad[i] * 2.0).max(reach * 2.0) + floor;
         }
     }
     Err(Error::uncertified(

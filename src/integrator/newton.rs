@@ -57,7 +57,8 @@ fn norm_inf(v: &DVector<f64>) -> f64 {
 }
 
 /// Solve `R(x) = 0` from `x`, where `f(x)` returns `(R(x), DR(x))`. On success `x` holds the
-/// solution; on failure `x` is unspecified and must not be used.
+/// solution. On `Diverged` and `IterationLimit`, `x` holds the last accepted iterate (a
+/// caller that only needs a starting point may use it); on other failures it is unspecified.
 pub fn solve(
     x: &mut DVector<f64>,
     f: impl Fn(&DVector<f64>) -> (DVector<f64>, DMatrix<f64>),
