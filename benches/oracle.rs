@@ -1,0 +1,61 @@
+//! Cost of the certified objects and of the float schemes (criterion).
+//! `cargo bench --bench oracle` (add `-- NAME` to filter).
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use dalembert::integrator::{NewtonOptions, Scheme, SchemeKind};
+use dalembert::protocol::Session;
+use dalembert::scalar::point;
+use dalembert::{exact, flow, AnyScene, FlowOptions, Model};
+
+const SCENES: [(&str, [f64; 3]); 3] = [
+    ("particle", [0.4, 0.4, 0.08]),
+    ("knife", [0.4, 0.08, 0.4]),
+    ("knife-eps", [0.4, 0.08, 0.4]),
+];
+
+fn model(name: &str) -> Model {
+    Model::new(AnyScene::new(name, &[]).expect("known scene"))
+}
+
+fn certified(c: &mut Criterion) {
+    let opts = FlowOptions::default();
+    for (name, q1) in SCENES {
+        let m = model(name);
+        c.bench_function(&format!("flow/{name}/t=0.5"), |b| {
+            b.iter(|| flow(&m, black_box(&[0.0; 3]), &[0.8, 0.8], 0.5, &opts))
+        });
+        let (p0, p1) = (vec![point(0.0); 3], q1.map(point).to_vec());
+        c.bench_function(&format!("step/{name}/h=0.5"), |b| {
+            b.iter(|| exact::step(&m, black_box(&p0), &p1, 0.5, &opts))
+        });
+    }
+}
+
+fn schemes(c: &mut Criterion) {
+    let opts = NewtonOptions::default();
+    for (name, q1) in SCENES {
+        let m = model(name);
+        for kind in [SchemeKind::Dla, SchemeKind::Mla] {
+            let s = Scheme::new(&m, kind);
+            let q1 = s.project(&[0.0; 3], &q1, &opts).expect("projection").0;
+            c.bench_function(&format!("{kind:?}/{name}/h=0.5"), |b| {
+                b.iter(|| s.step(black_box(&[0.0; 3]), &q1, 0.5, &opts))
+            });
+        }
+    }
+}
+
+fn batch(c: &mut Criterion) {
+    let mut session = Session::default();
+    let line = r#"{"id":1,"cmd":"step","scene":"particle","q0":[0,0,0],"q1":[0.4,0.4,0.08],"h":0.5}"#;
+    c.bench_function("batch/particle step line", |b| {
+        b.iter(|| session.batch_line(black_box(line)))
+    });
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(3));
+    targets = certified, schemes, batch
+}
+criterion_main!(benches);
