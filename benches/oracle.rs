@@ -47,7 +47,8 @@ fn schemes(c: &mut Criterion) {
 
 fn batch(c: &mut Criterion) {
     let mut session = Session::default();
-    let line = r#"{"id":1,"cmd":"step","scene":"particle","q0":[0,0,0],"q1":[0.4,0.4,0.08],"h":0.5}"#;
+    let line =
+        r#"{"id":1,"cmd":"step","scene":"particle","q0":[0,0,0],"q1":[0.4,0.4,0.08],"h":0.5}"#;
     c.bench_function("batch/particle step line", |b| {
         b.iter(|| session.batch_line(black_box(line)))
     });
