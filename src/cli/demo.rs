@@ -33,7 +33,7 @@ pub fn run() -> Result<(), Error> {
     let q0 = [point(0.0); 3];
     for q1 in [
         [0.4, 0.4, 0.08],
-        [0.39003531977071532, 0.4, 0.077032961426900798],
+        [0.3900353197707153, 0.4, 0.0770329614269008],
     ] {
         let s = exact::step(&model, &q0, &q1.map(point), h, &opts)?;
         let r = &s.retraction;
