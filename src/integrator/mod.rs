@@ -229,6 +229,10 @@ pub enum SchemeError {
         step: usize,
         failure: NewtonFailure,
     },
+    /// The states are finite but the momentum or energy at `step` is not (overflow).
+    NonFinite {
+        step: usize,
+    },
 }
 
 impl From<SchemeError> for Error {
@@ -238,6 +242,9 @@ impl From<SchemeError> for Error {
             SchemeError::Newton { step, failure } => {
                 Error::Uncertified(format!("Newton solver failed at step {step}: {failure}"))
             }
+            SchemeError::NonFinite { step } => Error::Uncertified(format!(
+                "momentum or energy not finite at step {step} (overflow)"
+            )),
         }
     }
 }
@@ -294,12 +301,21 @@ impl Scheme {
             let x: Vec<f64> = q0.iter().chain(q1).chain(s.iter()).copied().collect();
             Self::split(self.projection.eval::<f64>(&x), k, k)
         };
-        match newton::solve(&mut s, f, opts) {
+        // The residual mu(m) (q1' - q0) can be evaluated only to about eps |mu| |q|: stop
+        // there (spec eq. (7.6)), not at a step relative to |s|.
+        let mu1 = self.normals.eval::<f64>(q1);
+        let size = q0.iter().chain(q1).fold(1.0f64, |a, x| a.max(x.abs()));
+        let mu_size = mu1.iter().fold(0.0f64, |a, x| a + x.abs());
+        let o = NewtonOptions {
+            tol: opts.tol.max(16.0 * f64::EPSILON * size * mu_size),
+            ..opts.clone()
+        };
+        match newton::solve(&mut s, f, &o) {
             NewtonOutcome::Converged {
                 iterations,
                 residual,
             } => {
-                let mu = self.normals.eval::<f64>(q1);
+                let mu = mu1;
                 let moved = (0..n)
                     .map(|i| (0..k).fold(q1[i], |a, b| a + mu[b * n + i] * s[b]))
                     .collect();
@@ -405,7 +421,11 @@ impl Scheme {
             } else {
                 self.legendre(&q[k - 1], &q[k], h).1
             };
-            energy.push(self.energy(&q[k], &pk));
+            let ek = self.energy(&q[k], &pk);
+            if !ek.is_finite() || !pk.iter().all(|x| x.is_finite()) {
+                return Err(SchemeError::NonFinite { step: k });
+            }
+            energy.push(ek);
             p.push(pk);
         }
         Ok(Trajectory {
