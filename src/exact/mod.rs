@@ -269,9 +269,12 @@ fn newton_guess(
     // Converged at the noise level of the float flow; a stalled iteration still gives a
     // usable centre: the Krawczyk test, not Newton, decides (spec Theorem 6.1).
     let noise = b.iter().chain(&a).fold(1.0f64, |m, x| m.max(x.abs())) * 16.0 * f64::EPSILON;
+    // Each evaluation is a whole float integration: bound the work (at most 20 iterations
+    // of at most 9 evaluations), so that no input makes the retraction slow.
     let nopts = NewtonOptions {
         tol: noise,
-        ..NewtonOptions::default()
+        max_iter: 20,
+        max_backtracks: 8,
     };
     let outcome = newton::solve(&mut z, |z| shoot(z).unwrap_or_else(nan), &nopts);
     match outcome {

@@ -41,6 +41,8 @@ impl std::fmt::Display for NewtonFailure {
 pub struct NewtonOptions {
     pub max_iter: usize,
     pub tol: f64,
+    /// Halvings of the step allowed in one line search (the step factor stays >= 2^-n).
+    pub max_backtracks: u32,
 }
 
 impl Default for NewtonOptions {
@@ -48,6 +50,7 @@ impl Default for NewtonOptions {
         NewtonOptions {
             max_iter: 50,
             tol: 0.0,
+            max_backtracks: 33,
         }
     }
 }
@@ -97,7 +100,7 @@ pub fn solve(
                 break Some((trial, rt, jt));
             }
             alpha *= 0.5;
-            if alpha < 1e-10 {
+            if alpha < 0.5f64.powi(opts.max_backtracks as i32) {
                 break None;
             }
         };
