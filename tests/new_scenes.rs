@@ -243,6 +243,68 @@ fn rolling_disk_flow_encloses_the_closed_form() {
     }
 }
 
+/// k = 2: the multipliers solve the 2 x 2 system C lambda = -Gamma_L(Phi) (spec eq. (4.5))
+/// in interval arithmetic, through the generic Geometry and through the model's tape, over
+/// boxes of states; the result must contain the closed form lambda = m R u1 u2
+/// (-sin phi, cos phi) (from M a = mu^T lambda with a = Edot^T u, spec eq. (3.10)) at every
+/// corner and the centre of the box, and be narrow.
+#[test]
+fn rolling_disk_multipliers_solve_a_2x2_system_soundly() {
+    use dalembert::scene::RollingDisk;
+    let mut g = SplitMix64(0x2b2_0002);
+    for _ in 0..40 {
+        let sc = RollingDisk {
+            m: g.uniform(0.2, 3.0),
+            i: g.uniform(0.1, 2.0),
+            j: g.uniform(0.1, 2.0),
+            r: g.uniform(0.2, 2.0),
+        };
+        let mdl = Model::new(dalembert::AnyScene::RollingDisk(sc));
+        let q: Vec<f64> = (0..4).map(|_| g.uniform(-3.0, 3.0)).collect();
+        let u = [g.uniform(-2.0, 2.0), g.uniform(-2.0, 2.0)];
+        let rad = 1e-9;
+        let qb: Vec<Interval> = q.iter().map(|x| iv(x - rad, x + rad)).collect();
+        let ub: Vec<Interval> = u.iter().map(|x| iv(x - rad, x + rad)).collect();
+        let geo = Geometry::at(&sc, &qb);
+        let v = geo.velocity(&ub);
+        let lam = geo.multiplier(&v);
+        assert_eq!(lam.len(), 2);
+        // F_nh through the recorded tape, over the same box
+        let qv: Vec<Interval> = qb.iter().chain(&v).copied().collect();
+        let f = mdl.nh_force.eval_checked(&qv).expect("F_nh enclosure");
+        for (dq, du) in [
+            (-1.0, -1.0),
+            (1.0, 1.0),
+            (-1.0, 1.0),
+            (1.0, -1.0),
+            (0.0, 0.0),
+        ] {
+            let (phi, u1, u2) = (q[3] + dq * rad, u[0] + du * rad, u[1] - du * rad);
+            let k = pt(sc.m) * pt(sc.r) * pt(u1) * pt(u2);
+            let want = [-(k * pt(phi).sin()), k * pt(phi).cos()];
+            for a in 0..2 {
+                assert!(
+                    !lam[a].intersection(want[a]).is_empty(),
+                    "lambda[{a}] {} vs {}",
+                    show(lam[a]),
+                    show(want[a])
+                );
+            }
+            // F_nh = lambda_1 mu^1 + lambda_2 mu^2 = (lambda_1, lambda_2, 0, 0)
+            for (i, w) in [want[0], want[1], pt(0.0), pt(0.0)].iter().enumerate() {
+                assert!(
+                    !f[i].intersection(*w).is_empty(),
+                    "F_nh[{i}] {}",
+                    show(f[i])
+                );
+            }
+        }
+        for x in lam.iter().chain(&f) {
+            assert!(x.wid() < 1e-6, "{}", show(*x));
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------------------
 // 2. Chaplygin sleigh (spec eqs. (3.11)-(3.13)).
 
