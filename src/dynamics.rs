@@ -22,6 +22,9 @@ pub struct Geometry<S> {
     /// E(q) as rows e_a ((n-k) x n) and dE/dq_j.
     pub basis: Mat<S>,
     pub dbasis: Vec<Mat<S>>,
+    /// The one-form A(q) of the Lagrangian's linear term and `dA[j][i] = dA_i/dq_j`;
+    /// `None` for a natural Lagrangian (spec eq. (3.1)).
+    pub one_form: Option<(Vec<S>, Mat<S>)>,
 }
 
 fn split<S: Scalar>(m: Mat<Dual<S>>, n: usize) -> (Mat<S>, Vec<Mat<S>>) {
@@ -48,6 +51,11 @@ impl<S: Scalar> Geometry<S> {
         let (basis, dbasis) = split(sc.basis(&qd), n);
         let pot = sc.potential(&qd);
         let dpot = (0..n).map(|j| pot.der(j)).collect();
+        let one_form = sc.one_form(&qd).map(|a| {
+            let (val, ders) = split(vec![a], n);
+            let dadq = ders.into_iter().map(|mut d| d.remove(0)).collect();
+            (val.into_iter().next().unwrap_or_default(), dadq)
+        });
         Geometry {
             n,
             k: sc.n_constraints(),
@@ -58,6 +66,7 @@ impl<S: Scalar> Geometry<S> {
             dmu,
             basis,
             dbasis,
+            one_form,
         }
     }
 
@@ -68,22 +77,32 @@ impl<S: Scalar> Geometry<S> {
             .collect()
     }
 
-    /// w(q, v) = Mdot v - 1/2 d/dq (v^T M v) + grad V: the Lagrange-d'Alembert equations
-    /// read M a + w = mu^T lambda (spec eq. (4.3)).
+    /// w(q, v) = Mdot v - 1/2 d/dq (v^T M v) + grad V + (dA - dA^T) v: the
+    /// Lagrange-d'Alembert equations read M a + w = mu^T lambda (spec eq. (4.3)).
     pub fn bias(&self, v: &[S]) -> Vec<S> {
         let n = self.n;
-        (0..n)
-            .map(|i| {
-                let mdot_v = sum((0..n)
-                    .flat_map(|j| (0..n).map(move |l| (j, l)))
-                    .map(|(j, l)| self.dmass[j][i][l].clone() * v[j].clone() * v[l].clone()));
-                let half_grad = sum((0..n)
-                    .flat_map(|l| (0..n).map(move |r| (l, r)))
-                    .map(|(l, r)| self.dmass[i][l][r].clone() * v[l].clone() * v[r].clone()))
-                    * S::cst(0.5);
-                mdot_v - half_grad + self.dpot[i].clone()
-            })
-            .collect()
+        let natural = (0..n).map(|i| {
+            let mdot_v = sum((0..n)
+                .flat_map(|j| (0..n).map(move |l| (j, l)))
+                .map(|(j, l)| self.dmass[j][i][l].clone() * v[j].clone() * v[l].clone()));
+            let half_grad = sum((0..n)
+                .flat_map(|l| (0..n).map(move |r| (l, r)))
+                .map(|(l, r)| self.dmass[i][l][r].clone() * v[l].clone() * v[r].clone()))
+                * S::cst(0.5);
+            mdot_v - half_grad + self.dpot[i].clone()
+        });
+        match &self.one_form {
+            None => natural.collect(),
+            Some((_, da)) => natural
+                .enumerate()
+                .map(|(i, w)| {
+                    // (dA_i/dq_j - dA_j/dq_i) v_j; the term j = i is zero and is left out.
+                    w + sum((0..n)
+                        .filter(|&j| j != i)
+                        .map(|j| (da[j][i].clone() - da[i][j].clone()) * v[j].clone()))
+                })
+                .collect(),
+        }
     }
 
     /// Derivative along v of a q-dependent matrix given its partials: sum_j v_j dX/dq_j.
@@ -169,12 +188,23 @@ impl<S: Scalar> Geometry<S> {
         solve_spd(self.mass.clone(), r)
     }
 
-    /// Legendre map p = M v (spec eq. (4.8)).
+    /// Legendre map p = dL/dqd = M v + A (spec eq. (4.8)).
     pub fn momentum(&self, v: &[S]) -> Vec<S> {
-        mat_vec(&self.mass, v)
+        let mv = mat_vec(&self.mass, v);
+        match &self.one_form {
+            None => mv,
+            Some((a, _)) => mv.into_iter().zip(a).map(|(x, y)| x + y.clone()).collect(),
+        }
     }
 
-    /// The restricted Legendre map in D* coordinates: p_a = <M v, e_a(q)> (spec eq. (4.8)).
+    /// `<A(q), e_a(q)>`, the D* part of the one-form (zero when there is none).
+    pub fn one_form_d(&self) -> Option<Vec<S>> {
+        self.one_form
+            .as_ref()
+            .map(|(a, _)| self.basis.iter().map(|e| dot(a, e)).collect())
+    }
+
+    /// The restricted Legendre map in D* coordinates: p_a = <M v + A, e_a(q)> (spec eq. (4.8)).
     pub fn momentum_d(&self, v: &[S]) -> Vec<S> {
         let p = self.momentum(v);
         self.basis.iter().map(|e| dot(&p, e)).collect()
@@ -191,9 +221,13 @@ pub fn energy<Sc: Scene, S: Scalar>(sc: &Sc, q: &[S], v: &[S]) -> S {
     kinetic(sc, q, v) + sc.potential(q)
 }
 
-/// The Lagrangian L = 1/2 v^T M v - V(q) (spec eq. (3.1)).
+/// The Lagrangian L = 1/2 v^T M v + A(q) v - V(q) (spec eq. (3.1)).
 pub fn lagrangian<Sc: Scene, S: Scalar>(sc: &Sc, q: &[S], v: &[S]) -> S {
-    kinetic(sc, q, v) - sc.potential(q)
+    let l = kinetic(sc, q, v) - sc.potential(q);
+    match sc.one_form(q) {
+        None => l,
+        Some(a) => l + dot(&a, v),
+    }
 }
 
 pub fn sum<S: Scalar>(it: impl Iterator<Item = S>) -> S {
@@ -248,6 +282,88 @@ mod tests {
         let xdd = -(-1.7) * 0.8 * -0.4 / (1.0 + 1.7 * 1.7);
         assert!((ud[0] - xdd).abs() < 1e-15);
         assert_eq!(ud[1], 0.0);
+    }
+
+    /// A planar charge in a uniform magnetic field B: L = 1/2 |v|^2 + (B/2)(x yd - y xd),
+    /// constraint zd = 0. The one-form is not closed (dA = B dx ^ dy): the Lorentz force
+    /// gives xdd = B yd, ydd = -B xd (spec eq. (4.3)), and p = v + A (eq. (4.8)).
+    struct Charge(f64);
+    impl Scene for Charge {
+        fn info(&self) -> &'static crate::scene::SceneInfo {
+            Particle.info() // test-only scene: no description of its own
+        }
+        fn dim(&self) -> usize {
+            3
+        }
+        fn n_constraints(&self) -> usize {
+            1
+        }
+        fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
+            crate::scene::identity(3)
+        }
+        fn potential<S: Scalar>(&self, _q: &[S]) -> S {
+            S::zero()
+        }
+        fn constraints<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
+            vec![vec![S::zero(), S::zero(), S::one()]]
+        }
+        fn basis<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
+            vec![
+                vec![S::one(), S::zero(), S::zero()],
+                vec![S::zero(), S::one(), S::zero()],
+            ]
+        }
+        fn one_form<S: Scalar>(&self, q: &[S]) -> Option<Vec<S>> {
+            let h = S::cst(self.0 / 2.0);
+            Some(vec![
+                -(h.clone() * q[1].clone()),
+                h * q[0].clone(),
+                S::zero(),
+            ])
+        }
+    }
+
+    #[test]
+    fn a_one_form_gives_the_lorentz_force_and_shifts_the_momentum() {
+        let b = 1.5;
+        let (q, u) = ([0.3, -0.8, 0.2], [0.7, -0.4]);
+        let g = Geometry::at(&Charge(b), &q);
+        let (v, ud) = g.reduced_field(&u);
+        assert_eq!(ud, vec![b * u[1], -b * u[0]]);
+        assert_eq!(g.acceleration(&v), vec![b * u[1], -b * u[0], 0.0]);
+        let p = g.momentum(&v);
+        assert_eq!(p, vec![u[0] - b / 2.0 * q[1], u[1] + b / 2.0 * q[0], 0.0]);
+        assert_eq!(g.momentum_d(&v), vec![p[0], p[1]]);
+        // H|D*(q, p_D) = E_L: the one-form is subtracted before the kinetic energy
+        let e = crate::integrator::hamiltonian_d(&Charge(b), &q, &g.momentum_d(&v));
+        assert!((e - 0.5 * (u[0] * u[0] + u[1] * u[1])).abs() < 1e-15);
+        // L = 1/2 |v|^2 + A v
+        let l = lagrangian(&Charge(b), &q, &v);
+        let want = 0.5 * (0.49 + 0.16) + b / 2.0 * (q[0] * v[1] - q[1] * v[0]);
+        assert!((l - want).abs() < 1e-15);
+    }
+
+    /// A closed one-form (the non-reversible contact oscillator) changes neither the
+    /// reduced field nor the multipliers, bitwise.
+    #[test]
+    fn a_closed_one_form_leaves_the_motion_unchanged() {
+        use crate::scene::ContactOscillator;
+        let plain = ContactOscillator {
+            eps: 0.3,
+            delta: None,
+        };
+        let nr = ContactOscillator {
+            eps: 0.3,
+            delta: Some(0.8),
+        };
+        let (q, u) = ([0.4, -0.7, 1.1], [0.2, -0.9]);
+        let (g0, g1) = (Geometry::at(&plain, &q), Geometry::at(&nr, &q));
+        assert_eq!(g0.reduced_field(&u), g1.reduced_field(&u));
+        let v = g0.velocity(&u);
+        assert_eq!(g0.multiplier(&v), g1.multiplier(&v));
+        let (p0, p1) = (g0.momentum_d(&v), g1.momentum_d(&v));
+        assert_eq!(p0[0], p1[0]);
+        assert_eq!(p1[1], p0[1] + 0.8 * q[2].sin());
     }
 
     #[test]

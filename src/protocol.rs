@@ -189,6 +189,36 @@ impl Session {
     }
 }
 
+/// Every scene the crate knows, as the scene files describe them (the `scenes` command):
+/// `{"scenes": [{"name", "summary", "coordinates", "velocities", "n", "k", "parameters":
+/// [{"name", "default", "description"}], "lagrangian", "mu", "basis", "invariants"}]}`.
+/// The strings are formulas for people and for implementations that pose the same problems.
+pub fn scenes() -> Value {
+    let list: Vec<Value> = crate::scene::SCENES
+        .iter()
+        .map(|s| {
+            json!({
+                "name": s.name,
+                "summary": s.summary,
+                "coordinates": s.coordinates,
+                "velocities": s.velocities,
+                "n": s.n,
+                "k": s.k,
+                "parameters": s.params.iter().map(|p| json!({
+                    "name": p.name,
+                    "default": p.default,
+                    "description": p.description,
+                })).collect::<Vec<_>>(),
+                "lagrangian": s.lagrangian,
+                "mu": s.constraints,
+                "basis": s.basis,
+                "invariants": s.invariants,
+            })
+        })
+        .collect();
+    json!({ "scenes": list })
+}
+
 fn points(v: &[f64]) -> Vec<Interval> {
     v.iter().map(|x| point(*x)).collect()
 }

@@ -5,6 +5,7 @@ mod batch;
 mod check;
 pub mod demo;
 pub mod json;
+mod scenes;
 
 use clap::{Parser, Subcommand};
 use dalembert::protocol::{self, Pair, Query, SceneSpec, Session};
@@ -26,12 +27,19 @@ pub struct Cli {
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// Scene: particle, knife, knife-eps
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, help = scene_help())]
     pub scene: String,
     /// Scene parameter name=value (may repeat)
     #[arg(long = "param", allow_hyphen_values = true)]
     pub params: Vec<String>,
+}
+
+/// The `--scene` help: every registered scene.
+fn scene_help() -> String {
+    format!(
+        "Scene: {} (`dalembert scenes` describes them)",
+        dalembert::scene::scene_names().join(", ")
+    )
 }
 
 #[derive(clap::Args, Debug, Clone)]
@@ -113,6 +121,12 @@ pub enum Cmd {
         #[arg(long)]
         json: bool,
     },
+    /// Every scene: coordinates, parameters with defaults, Lagrangian, constraints, basis of D
+    Scenes {
+        /// Print one JSON object
+        #[arg(long)]
+        json: bool,
+    },
     /// JSON lines in, JSON lines out (one answer per query, in order)
     Batch {
         /// Worker threads
@@ -149,6 +163,7 @@ pub fn run(args: Vec<String>) -> i32 {
     };
     let result = match cli.cmd {
         None => demo::run().map(|()| None),
+        Some(Cmd::Scenes { json }) => Ok(Some(scenes::render(json))),
         Some(Cmd::Batch { jobs, .. }) => batch::run(&jobs).map(|()| None),
         Some(Cmd::Check {
             scene,
@@ -235,7 +250,9 @@ fn execute(cmd: Cmd) -> Result<String, Error> {
             };
             (query, a.json, true)
         }
-        Cmd::Batch { .. } | Cmd::Check { .. } => return Err(Error::input("not a single query")),
+        Cmd::Batch { .. } | Cmd::Check { .. } | Cmd::Scenes { .. } => {
+            return Err(Error::input("not a single query"))
+        }
     };
     let answer: Value = Session::default().answer(&query)?;
     Ok(match (as_json, csv) {

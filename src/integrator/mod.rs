@@ -148,9 +148,14 @@ pub fn step_residual<Sc: Scene, S: Scalar>(
         .collect()
 }
 
-/// `H|_{D*}(q, p) = 1/2 p^T (E M E^T)^{-1} p + V(q)` (spec eq. (7.7)).
+/// `H|_{D*}(q, p) = 1/2 p'^T (E M E^T)^{-1} p' + V(q)`, `p' = p - <A, e>` (spec eq. (7.7)).
 pub fn hamiltonian_d<Sc: Scene, S: Scalar>(sc: &Sc, q: &[S], p: &[S]) -> S {
     let g = Geometry::at(sc, q);
+    let p: Vec<S> = match g.one_form_d() {
+        None => p.to_vec(),
+        Some(a) => p.iter().zip(a).map(|(x, y)| x.clone() - y).collect(),
+    };
+    let p = &p[..];
     let m = p.len();
     let me: Vec<Vec<S>> = g
         .basis

@@ -1,8 +1,9 @@
 //! The knife edge on an inclined plane and its perturbation (paper section 5; spec
 //! eqs. (3.3)-(3.4)). Coordinates in the contract's order q = (x, y, phi).
 
-use super::{identity, Mat, Scene};
+use super::{identity, AnyScene, Mat, ParamInfo, Params, Scene, SceneInfo};
 use crate::scalar::Scalar;
+use crate::Error;
 
 /// L = 1/2 (xd^2 + yd^2 + phid^2) + x/2; constraint sin(phi) xd - cos(phi) yd = 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,7 +34,66 @@ fn knife_potential<S: Scalar>(q: &[S]) -> S {
     -(q[0].clone() * S::cst(0.5))
 }
 
+/// `knife` (contract; spec eq. (3.3)).
+pub const KNIFE_INFO: SceneInfo = SceneInfo {
+    name: "knife",
+    summary: "the knife edge on an inclined plane (paper section 5)",
+    coordinates: &["x", "y", "phi"],
+    velocities: &["s", "phid"],
+    params: &[] as &[ParamInfo],
+    n: 3,
+    k: 1,
+    lagrangian: "L = 1/2 (xd^2 + yd^2 + phid^2) + x/2",
+    constraints: &["mu = (sin phi, -cos phi, 0)   [sin(phi) xd - cos(phi) yd = 0]"],
+    basis: &[
+        "e1 = cos(phi) d/dx + sin(phi) d/dy = (cos phi, sin phi, 0)",
+        "e2 = d/dphi = (0, 0, 1)",
+    ],
+    invariants: &["E = 1/2 (xd^2 + yd^2 + phid^2) - x/2", "phid"],
+    build: build_knife,
+};
+
+/// `knife-eps` (contract; spec eq. (3.4)).
+pub const KNIFE_EPS_INFO: SceneInfo = SceneInfo {
+    name: "knife-eps",
+    summary: "the perturbed knife edge of the paper's section 5 (not a knife for eps != 0)",
+    coordinates: &["x", "y", "phi"],
+    velocities: &["u1", "phid"],
+    params: &[ParamInfo {
+        name: "eps",
+        default: 0.1,
+        description: "perturbation of the blade direction, |eps| < 1",
+    }],
+    n: 3,
+    k: 1,
+    lagrangian: "L = 1/2 (xd^2 + yd^2 + phid^2) + x/2",
+    constraints: &["mu = (sin phi, -(cos phi - eps), 0)   [sin(phi) xd - (cos(phi) - eps) yd = 0]"],
+    basis: &[
+        "e1 = (cos(phi) - eps) d/dx + sin(phi) d/dy = (cos phi - eps, sin phi, 0)",
+        "e2 = d/dphi = (0, 0, 1)",
+    ],
+    invariants: &["E = 1/2 (xd^2 + yd^2 + phid^2) - x/2", "phid"],
+    build: build_knife_eps,
+};
+
+fn build_knife(_: &Params) -> Result<AnyScene, Error> {
+    Ok(AnyScene::Knife(Knife))
+}
+
+fn build_knife_eps(p: &Params) -> Result<AnyScene, Error> {
+    let eps = p.get("eps");
+    if eps.abs() >= 1.0 {
+        return Err(Error::input(format!(
+            "knife-eps needs |eps| < 1 (got {eps}); at |eps| >= 1 the basis of D degenerates"
+        )));
+    }
+    Ok(AnyScene::KnifeEps(KnifeEps { eps }))
+}
+
 impl Scene for Knife {
+    fn info(&self) -> &'static SceneInfo {
+        &KNIFE_INFO
+    }
     fn dim(&self) -> usize {
         3
     }
@@ -55,6 +115,9 @@ impl Scene for Knife {
 }
 
 impl Scene for KnifeEps {
+    fn info(&self) -> &'static SceneInfo {
+        &KNIFE_EPS_INFO
+    }
     fn dim(&self) -> usize {
         3
     }

@@ -1,18 +1,28 @@
 //! Scenes: the data of one natural mechanical system with linear nonholonomic constraints
 //! (spec/03-scenes.md). A scene is nothing but data, written once over `S: Scalar`:
 //!
-//! - `L(q, qd) = 1/2 qd^T M(q) qd - V(q)` on `Q = R^n` (angles as real coordinates),
+//! - `L(q, qd) = 1/2 qd^T M(q) qd + A(q) qd - V(q)` on `Q = R^n` (angles as real
+//!   coordinates; the one-form `A` is absent, i.e. zero, unless a scene declares one),
 //! - `k` constraint covectors `mu^a(q)` (rows of the k x n matrix `mu(q)`), `mu(q) qd = 0`,
 //! - a basis `e_1(q) .. e_{n-k}(q)` of `D_q = ker mu(q)`, so that `v = E(q) u` is in D exactly.
 //!
 //! Everything else (dynamics, multipliers, enclosures, schemes) is derived in generic code;
-//! nothing downstream knows which scene it is running.
+//! nothing downstream knows which scene it is running. Each scene file also declares, as a
+//! [`SceneInfo`], its name, coordinates, parameters (defaults and validation) and a readable
+//! description of its data; this module only keeps the registry: the [`AnyScene`] enum, the
+//! [`with_scene!`] arms and the list [`SCENES`].
 
+mod contact_oscillator;
 mod knife;
 mod particle;
+mod rolling_disk;
+mod sleigh;
 
+pub use contact_oscillator::ContactOscillator;
 pub use knife::{Knife, KnifeEps};
 pub use particle::Particle;
+pub use rolling_disk::RollingDisk;
+pub use sleigh::Sleigh;
 
 use crate::scalar::Scalar;
 use crate::Error;
@@ -22,6 +32,8 @@ pub type Mat<S> = Vec<Vec<S>>;
 
 /// The data of one scene (spec eq. (3.1)). `q` has length `dim()`.
 pub trait Scene {
+    /// What the scene's file says about it (name, coordinates, parameters, formulas).
+    fn info(&self) -> &'static SceneInfo;
     /// Number of coordinates n.
     fn dim(&self) -> usize;
     /// Number of constraints k (the rank of D is n - k).
@@ -34,6 +46,87 @@ pub trait Scene {
     fn constraints<S: Scalar>(&self, q: &[S]) -> Mat<S>;
     /// Basis of D_q: row a is e_a(q) ((n-k) x n); mu(q) e_a(q) = 0 identically.
     fn basis<S: Scalar>(&self, q: &[S]) -> Mat<S>;
+    /// The one-form `A(q)` of a Lagrangian term `A(q) qd` linear in the velocities
+    /// (spec eq. (3.1)); `None`, the default, for a natural Lagrangian (A = 0).
+    fn one_form<S: Scalar>(&self, _q: &[S]) -> Option<Vec<S>> {
+        None
+    }
+}
+
+/// A scene parameter: name, default and a one-line description (with its admissible range).
+#[derive(Debug)]
+pub struct ParamInfo {
+    pub name: &'static str,
+    pub default: f64,
+    pub description: &'static str,
+}
+
+/// What a scene file declares about its scene, in words external implementations can use to
+/// pose the same problem (`dalembert scenes --json`), plus its constructor.
+#[derive(Debug)]
+pub struct SceneInfo {
+    /// The name on the command line (`--scene`).
+    pub name: &'static str,
+    /// One line: what the system is and where it comes from.
+    pub summary: &'static str,
+    /// Names of q's components, in order.
+    pub coordinates: &'static [&'static str],
+    /// Names of the quasi-velocities u_a (components of v in the basis e_a).
+    pub velocities: &'static [&'static str],
+    pub params: &'static [ParamInfo],
+    /// n and k.
+    pub n: usize,
+    pub k: usize,
+    /// The Lagrangian, as a formula.
+    pub lagrangian: &'static str,
+    /// The constraint covectors mu^a, one string each.
+    pub constraints: &'static [&'static str],
+    /// The basis e_a of D, one string each.
+    pub basis: &'static [&'static str],
+    /// Known first integrals of the continuous flow (formulas), possibly empty.
+    pub invariants: &'static [&'static str],
+    /// The scene with validated parameter values (every parameter resolved to a value).
+    pub build: fn(&Params) -> Result<AnyScene, Error>,
+}
+
+/// Parameter values handed to a scene's constructor: the given ones, else the defaults.
+pub struct Params<'a> {
+    info: &'static SceneInfo,
+    given: &'a [(String, f64)],
+}
+
+impl Params<'_> {
+    /// The value of parameter `name` (the last one given, else its default).
+    ///
+    /// Panics if the scene declares no such parameter (a bug in the scene file).
+    pub fn get(&self, name: &str) -> f64 {
+        self.given
+            .iter()
+            .rev()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| *v)
+            .or_else(|| {
+                self.info
+                    .params
+                    .iter()
+                    .find(|p| p.name == name)
+                    .map(|p| p.default)
+            })
+            .unwrap_or_else(|| panic!("scene `{}` declares no `{name}`", self.info.name))
+    }
+
+    /// `get(name)`, required to be > 0 (an input error otherwise).
+    pub fn positive(&self, name: &str) -> Result<f64, Error> {
+        let v = self.get(name);
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(Error::input(format!(
+                "{} needs {name} > 0 (got {v})",
+                self.info.name
+            )))
+        }
+    }
 }
 
 /// A scene chosen by name at run time, with its parameters fixed.
@@ -42,24 +135,48 @@ pub enum AnyScene {
     Particle(Particle),
     Knife(Knife),
     KnifeEps(KnifeEps),
+    RollingDisk(RollingDisk),
+    Sleigh(Sleigh),
+    ContactOscillator(ContactOscillator),
 }
 
-/// Description of a scene parameter: name and default.
-pub struct ParamInfo {
-    pub name: &'static str,
-    pub default: f64,
+/// Every scene the crate knows, in the order `dalembert scenes` lists them.
+pub const SCENES: &[&SceneInfo] = &[
+    &particle::INFO,
+    &knife::KNIFE_INFO,
+    &knife::KNIFE_EPS_INFO,
+    &rolling_disk::INFO,
+    &sleigh::INFO,
+    &contact_oscillator::INFO,
+    &contact_oscillator::NR_INFO,
+];
+
+/// The names of every scene, in the contract's spelling.
+pub fn scene_names() -> Vec<&'static str> {
+    SCENES.iter().map(|s| s.name).collect()
 }
 
-/// Every scene the crate knows, in the contract's spelling.
-pub const SCENE_NAMES: [&str; 3] = ["particle", "knife", "knife-eps"];
+/// The scene description called `name`.
+pub fn info_of(name: &str) -> Result<&'static SceneInfo, Error> {
+    SCENES
+        .iter()
+        .copied()
+        .find(|s| s.name == name)
+        .ok_or_else(|| {
+            Error::input(format!(
+                "unknown scene `{name}` (known: {})",
+                scene_names().join(", ")
+            ))
+        })
+}
 
 impl AnyScene {
     /// The scene `name` with parameters `params` (name, exact f64 value); unknown names,
-    /// unknown parameters and non-finite values are input errors.
+    /// unknown parameters, non-finite values and values the scene rejects are input errors.
     pub fn new(name: &str, params: &[(String, f64)]) -> Result<AnyScene, Error> {
-        let allowed = Self::params_of(name)?;
+        let info = info_of(name)?;
         for (k, v) in params {
-            if !allowed.iter().any(|p| p.name == k) {
+            if !info.params.iter().any(|p| p.name == k) {
                 return Err(Error::input(format!(
                     "scene `{name}` has no parameter `{k}`"
                 )));
@@ -68,50 +185,23 @@ impl AnyScene {
                 return Err(Error::input(format!("parameter `{k}` must be finite")));
             }
         }
-        let get = |p: &str, d: f64| {
-            params
-                .iter()
-                .rev()
-                .find(|(k, _)| k == p)
-                .map(|(_, v)| *v)
-                .unwrap_or(d)
-        };
-        Ok(match name {
-            "particle" => AnyScene::Particle(Particle),
-            "knife" => AnyScene::Knife(Knife),
-            _ => {
-                let eps = get("eps", 0.1);
-                if eps.abs() >= 1.0 {
-                    return Err(Error::input(format!(
-                        "knife-eps needs |eps| < 1 (got {eps}); at |eps| >= 1 the basis of D degenerates"
-                    )));
-                }
-                AnyScene::KnifeEps(KnifeEps { eps })
-            }
+        (info.build)(&Params {
+            info,
+            given: params,
         })
     }
 
     /// The parameters a scene takes, with defaults.
-    pub fn params_of(name: &str) -> Result<Vec<ParamInfo>, Error> {
-        match name {
-            "particle" | "knife" => Ok(vec![]),
-            "knife-eps" => Ok(vec![ParamInfo {
-                name: "eps",
-                default: 0.1,
-            }]),
-            _ => Err(Error::input(format!(
-                "unknown scene `{name}` (known: {})",
-                SCENE_NAMES.join(", ")
-            ))),
-        }
+    pub fn params_of(name: &str) -> Result<&'static [ParamInfo], Error> {
+        Ok(info_of(name)?.params)
+    }
+
+    pub fn info(&self) -> &'static SceneInfo {
+        crate::with_scene!(self, s => s.info())
     }
 
     pub fn name(&self) -> &'static str {
-        match self {
-            AnyScene::Particle(_) => "particle",
-            AnyScene::Knife(_) => "knife",
-            AnyScene::KnifeEps(_) => "knife-eps",
-        }
+        self.info().name
     }
 }
 
@@ -123,6 +213,9 @@ macro_rules! with_scene {
             $crate::scene::AnyScene::Particle($s) => $body,
             $crate::scene::AnyScene::Knife($s) => $body,
             $crate::scene::AnyScene::KnifeEps($s) => $body,
+            $crate::scene::AnyScene::RollingDisk($s) => $body,
+            $crate::scene::AnyScene::Sleigh($s) => $body,
+            $crate::scene::AnyScene::ContactOscillator($s) => $body,
         }
     };
 }
@@ -136,4 +229,69 @@ pub fn identity<S: Scalar>(n: usize) -> Mat<S> {
                 .collect()
         })
         .collect()
+}
+
+/// The n x n diagonal matrix with the exact constants `d` (a constant mass matrix).
+pub fn diagonal<S: Scalar>(d: &[f64]) -> Mat<S> {
+    let n = d.len();
+    (0..n)
+        .map(|i| {
+            (0..n)
+                .map(|j| if i == j { S::cst(d[i]) } else { S::zero() })
+                .collect()
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::{dot, Geometry};
+
+    /// Every scene's declared data agree with what it computes: n, k, the lengths of its
+    /// strings, mu e_a = 0 at a few points, a symmetric mass matrix, and defaults that build.
+    #[test]
+    fn every_scene_is_consistent_with_its_description() {
+        let pts: [[f64; 4]; 3] = [[0.3, -1.2, 0.9, 2.1], [0.0; 4], [-2.5, 0.7, -0.4, -1.3]];
+        for info in SCENES {
+            let sc = AnyScene::new(info.name, &[]).unwrap();
+            assert_eq!(sc.name(), info.name);
+            crate::with_scene!(&sc, s => {
+                assert_eq!((s.dim(), s.n_constraints()), (info.n, info.k), "{}", info.name);
+                for p in &pts {
+                    let g = Geometry::at(s, &p[..info.n]);
+                    assert_eq!(g.mu.len(), info.k);
+                    assert_eq!(g.basis.len(), info.n - info.k);
+                    for mu in &g.mu {
+                        for e in &g.basis {
+                            assert!(dot(mu, e).abs() < 1e-15, "{}: mu e != 0", info.name);
+                        }
+                    }
+                    for i in 0..info.n {
+                        for j in 0..info.n {
+                            assert_eq!(g.mass[i][j], g.mass[j][i], "{}", info.name);
+                        }
+                    }
+                }
+            });
+            assert_eq!(info.coordinates.len(), info.n, "{}", info.name);
+            assert_eq!(info.velocities.len(), info.n - info.k, "{}", info.name);
+            assert_eq!(info.constraints.len(), info.k, "{}", info.name);
+            assert_eq!(info.basis.len(), info.n - info.k, "{}", info.name);
+        }
+        let mut names = scene_names();
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), SCENES.len(), "scene names must be unique");
+    }
+
+    #[test]
+    fn unknown_scenes_and_parameters_are_input_errors() {
+        let e = AnyScene::new("nope", &[]).unwrap_err();
+        assert!(e.message().contains("rolling-disk"), "{e}");
+        assert!(AnyScene::new("knife", &[("eps".into(), 0.1)]).is_err());
+        assert!(AnyScene::new("sleigh", &[("m".into(), f64::NAN)]).is_err());
+        assert!(AnyScene::new("sleigh", &[("m".into(), -1.0)]).is_err());
+        assert!(AnyScene::new("rolling-disk", &[("R".into(), 0.0)]).is_err());
+    }
 }
