@@ -390,8 +390,10 @@ pub fn float_flow_c1(
             xv.extend((0..d).map(|j| if i == j { 1.0 } else { 0.0 }));
         }
         let c = sys.field_var.ode_taylor::<f64>(&xv, p)?;
-        let xc: Vec<Vec<f64>> = c.iter().map(|ck| ck[..d].to_vec()).collect();
-        let h = step_size(&xc, p, &x).min(t - done);
+        // The step rule (5.8) on the state AND the variational series: the Jacobian's series
+        // can have a smaller radius of convergence than the state's (e.g. the particle with
+        // u1 = 0: x(t) stays 0 while D x / D u1 = asinh(u2 t) / u2 is singular at t = i/u2).
+        let h = step_size(&c, p, &xv).min(t - done);
         let poly = |i: usize| c.iter().rev().fold(0.0, |acc, ck| acc * h + ck[i]);
         x = (0..d).map(poly).collect();
         let v = DMatrix::from_fn(d, d, |i, j| poly(d + i * d + j));
