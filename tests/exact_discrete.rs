@@ -899,7 +899,11 @@ fn float_jacobian_when_only_the_variational_series_limits_the_step() {
     for y in [2.0, -2.0] {
         let r = exact::retract(&m, &pts(&[0.0; 3]), &pts(&[0.0, y, 0.0]), 0.5, &opts())
             .unwrap_or_else(|e| panic!("y1 = {y}: {e}"));
-        assert!(r.u0[0].contains(0.0) && r.u0[1].contains(2.0 * y), "{:?}", r.u0);
+        assert!(
+            r.u0[0].contains(0.0) && r.u0[1].contains(2.0 * y),
+            "{:?}",
+            r.u0
+        );
         assert!(r.s[0].contains(0.0) && r.s[0].wid() < 1e-12, "{:?}", r.s);
     }
 }
