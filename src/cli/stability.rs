@@ -15,7 +15,7 @@ fn scene(r: &Row) -> String {
         .case
         .params
         .iter()
-        .map(|(k, v)| format!("{k}={v}"))
+        .map(|(k, v)| format!("{k}={}", number(*v)))
         .collect();
     if params.is_empty() {
         r.case.scene.clone()

@@ -40,7 +40,7 @@ impl Settings {
             wp_time: 8.0,
             wp_scheme_h: (1..=9).map(|i| 0.5f64.powi(i)).collect(),
             wp_orders: vec![6, 10, 15, 20, 30],
-            wp_flow_h: (0..=6).map(|i| 0.5f64.powi(i)).collect(),
+            wp_flow_h: (2..=7).map(|i| 0.5f64.powi(i)).collect(),
             wp_min_seconds: 0.05,
         }
     }
