@@ -349,3 +349,21 @@ fn stability_names_every_outcome() {
     assert_eq!(text.trim_end().lines().count(), rows.len() + 2, "{text}");
     assert!(text.lines().all(|l| l.starts_with('|') && l.ends_with('|')));
 }
+
+/// The README's proptest example is `tests/readme_proptest.rs`, verbatim (so it compiles and
+/// passes), and the README embeds every figure that `figures` writes.
+#[test]
+fn readme_shows_the_tested_example_and_the_figures() {
+    let readme = include_str!("../README.md");
+    assert!(
+        readme.contains(include_str!("readme_proptest.rs")),
+        "README.md does not contain tests/readme_proptest.rs verbatim"
+    );
+    for name in SVGS {
+        let link = format!("(docs/figures/{name}.svg)");
+        assert!(readme.contains(&link), "README.md does not embed {link}");
+        let svg = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("docs/figures/{name}.svg"));
+        let (polylines, _, _) = read_svg(&svg);
+        assert!(polylines >= 1, "{svg:?}");
+    }
+}
