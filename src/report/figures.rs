@@ -228,7 +228,7 @@ pub fn particle(steps: usize, progress: Progress) -> Result<Vec<Figure>, Error> 
             .map(|(k, x)| (k as f64, x.sup()))
             .collect()
     };
-    let width = ex.q.iter().map(|q| max_width(q)).fold(0.0, f64::max);
+    let width = ex.q.iter().map(max_width).fold(0.0, f64::max);
     figs.push(Figure {
         name: "particle_error".into(),
         caption: format!(
