@@ -17,6 +17,7 @@ pub mod integrator;
 pub mod model;
 pub mod oracle;
 pub mod protocol;
+pub mod report;
 pub mod scalar;
 pub mod scene;
 pub mod tape;

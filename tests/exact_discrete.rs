@@ -875,3 +875,35 @@ fn tightness_long_trajectory() {
     );
     assert!(wq < 1e-8 && wp < 1e-8, "widths q {wq:e} p {wp:e}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// Regression, found by `dalembert figures` (the M_h^{e,nh} figure at y1 = +-2): the float
+// Newton guess of the retraction sized its Taylor steps on the state's series alone. With
+// u1 = 0 those are polynomials (x = z = 0, y = u2 t), while D x / D u1 = asinh(u2 t) / u2 has
+// radius of convergence 1/|u2| < h: one step of size h gave a wrong float Jacobian, hence a
+// bad Krawczyk matrix C, and `retract` refused (exit 3) a regular pair.
+
+#[test]
+fn float_jacobian_when_only_the_variational_series_limits_the_step() {
+    let m = model("particle");
+    // (x, y, z, u1, u2) = (0, 0, 0, 0, 4), h = 0.5: sqrt(1 + y^2) xd is constant, y = 4 t, so
+    // D x(h)/D u1 = asinh(2)/4 and D z(h)/D u1 = (sqrt(5) - 1)/4.
+    let (x, jac) =
+        dalembert::enclosure::float_flow_c1(&m.dynamics, &[0.0, 0.0, 0.0, 0.0, 4.0], 0.5, &opts())
+            .unwrap();
+    assert_eq!(&x[..3], &[0.0, 2.0, 0.0]);
+    let (dx, dz) = (2f64.asinh() / 4.0, (5f64.sqrt() - 1.0) / 4.0);
+    assert!((jac[(0, 3)] - dx).abs() < 1e-12, "{} vs {dx}", jac[(0, 3)]);
+    assert!((jac[(2, 3)] - dz).abs() < 1e-12, "{} vs {dz}", jac[(2, 3)]);
+    // The pair (0, (0, +-2, 0)) lies on M_h^{e,nh} with u0 = (0, +-4): certified.
+    for y in [2.0, -2.0] {
+        let r = exact::retract(&m, &pts(&[0.0; 3]), &pts(&[0.0, y, 0.0]), 0.5, &opts())
+            .unwrap_or_else(|e| panic!("y1 = {y}: {e}"));
+        assert!(
+            r.u0[0].contains(0.0) && r.u0[1].contains(2.0 * y),
+            "{:?}",
+            r.u0
+        );
+        assert!(r.s[0].contains(0.0) && r.s[0].wid() < 1e-12, "{:?}", r.s);
+    }
+}

@@ -4,8 +4,12 @@
 mod batch;
 mod check;
 pub mod demo;
+mod figures;
 pub mod json;
+mod progress;
+mod render;
 mod scenes;
+mod stability;
 
 use clap::{Parser, Subcommand};
 use dalembert::protocol::{self, Pair, Query, SceneSpec, Session};
@@ -127,6 +131,25 @@ pub enum Cmd {
         #[arg(long)]
         json: bool,
     },
+    /// Write the paper's figures and a work-precision diagram (SVG and CSV) into --out
+    Figures {
+        /// Output directory (created when missing)
+        #[arg(long)]
+        out: String,
+        /// A small setting that runs in seconds, instead of the paper's
+        #[arg(long)]
+        quick: bool,
+        /// Print one JSON object (the files written)
+        #[arg(long)]
+        json: bool,
+    },
+    /// Stability at the extremes of h, coordinates, phi and eps: certified step and Newton
+    /// solves of DLA and MLA (Markdown table unless --json)
+    Stability {
+        /// Print one JSON object
+        #[arg(long)]
+        json: bool,
+    },
     /// JSON lines in, JSON lines out (one answer per query, in order)
     Batch {
         /// Worker threads
@@ -179,6 +202,8 @@ pub fn run(args: Vec<String>) -> i32 {
             }
             Err(e) => Err(e),
         },
+        Some(Cmd::Figures { out, quick, json }) => figures::run(&out, quick, json).map(Some),
+        Some(Cmd::Stability { json }) => stability::run(json).map(Some),
         Some(cmd) => execute(cmd).map(Some),
     };
     match result {
@@ -250,9 +275,11 @@ fn execute(cmd: Cmd) -> Result<String, Error> {
             };
             (query, a.json, true)
         }
-        Cmd::Batch { .. } | Cmd::Check { .. } | Cmd::Scenes { .. } => {
-            return Err(Error::input("not a single query"))
-        }
+        Cmd::Batch { .. }
+        | Cmd::Check { .. }
+        | Cmd::Scenes { .. }
+        | Cmd::Figures { .. }
+        | Cmd::Stability { .. } => return Err(Error::input("not a single query")),
     };
     let answer: Value = Session::default().answer(&query)?;
     Ok(match (as_json, csv) {

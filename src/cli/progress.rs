@@ -1,0 +1,63 @@
+//! A tiny progress bar on stderr. It is drawn only when stderr is a terminal and the work
+//! has run for more than a second, so that programs reading stderr still see, on exit 2 or 3,
+//! exactly one `error:` line (contract.md); [`Bar::clear`] erases it before such a line.
+
+use std::io::{IsTerminal, Write};
+use std::time::{Duration, Instant};
+
+pub struct Bar {
+    start: Instant,
+    last: Option<Instant>,
+    terminal: bool,
+}
+
+impl Bar {
+    pub fn new() -> Self {
+        Bar {
+            start: Instant::now(),
+            last: None,
+            terminal: std::io::stderr().is_terminal(),
+        }
+    }
+
+    /// Show `what [#####     ] done/total` (at most ten times a second).
+    pub fn update(&mut self, what: &str, done: usize, total: usize) {
+        let now = Instant::now();
+        if !self.terminal || now - self.start < Duration::from_secs(1) {
+            return;
+        }
+        if self
+            .last
+            .is_some_and(|t| now - t < Duration::from_millis(100))
+            && done < total
+        {
+            return;
+        }
+        self.last = Some(now);
+        const WIDTH: usize = 30;
+        let filled = (done * WIDTH)
+            .checked_div(total)
+            .unwrap_or(WIDTH)
+            .min(WIDTH);
+        let bar: String = "#".repeat(filled) + &" ".repeat(WIDTH - filled);
+        let secs = (now - self.start).as_secs();
+        let mut err = std::io::stderr().lock();
+        let _ = write!(err, "\r\x1b[2K{what} [{bar}] {done}/{total} {secs} s");
+        let _ = err.flush();
+    }
+
+    /// Erase the bar if it was drawn.
+    pub fn clear(&mut self) {
+        if self.last.take().is_some() {
+            let mut err = std::io::stderr().lock();
+            let _ = write!(err, "\r\x1b[2K");
+            let _ = err.flush();
+        }
+    }
+}
+
+impl Drop for Bar {
+    fn drop(&mut self) {
+        self.clear();
+    }
+}

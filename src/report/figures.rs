@@ -1,0 +1,495 @@
+//! The paper's figures (section 5 examples), reproduced from this crate's own runs, and a
+//! work-precision diagram (spec/09-report.md, (9.1)-(9.4)).
+
+use super::{max_width, points, Figure, Panel, Progress, Series, Style, Table};
+use crate::exact;
+use crate::integrator::{NewtonOptions, Scheme, SchemeKind, Trajectory};
+use crate::oracle::distance;
+use crate::scalar::point;
+use crate::{flow, AnyScene, Error, FlowOptions, Model};
+use inari::Interval;
+use std::time::Instant;
+
+/// Sizes of the runs. [`Settings::paper`] is the paper's; [`Settings::quick`] a small
+/// setting that runs in a few seconds (for tests).
+#[derive(Clone, Debug)]
+pub struct Settings {
+    /// Steps of the particle runs (paper: 1200).
+    pub particle_steps: usize,
+    /// Steps of the knife runs (paper: 600).
+    pub knife_steps: usize,
+    /// Abscissae x1 and ordinates y1 of the M_h^{e,nh} figure.
+    pub space_x: Vec<f64>,
+    pub space_y: Vec<f64>,
+    /// Work-precision: final time, scheme step sizes, Taylor orders and fixed steps of the
+    /// certified flow, and the least measured time per point (seconds).
+    pub wp_time: f64,
+    pub wp_scheme_h: Vec<f64>,
+    pub wp_orders: Vec<usize>,
+    pub wp_flow_h: Vec<f64>,
+    pub wp_min_seconds: f64,
+}
+
+impl Settings {
+    pub fn paper() -> Self {
+        Settings {
+            particle_steps: 1200,
+            knife_steps: 600,
+            space_x: (0..=20).map(|i| 0.05 * i as f64).collect(),
+            space_y: vec![-2.0, -1.0, -0.5, 0.5, 1.0, 2.0],
+            wp_time: 8.0,
+            wp_scheme_h: (1..=9).map(|i| 0.5f64.powi(i)).collect(),
+            wp_orders: vec![6, 10, 15, 20, 30],
+            wp_flow_h: (2..=7).map(|i| 0.5f64.powi(i)).collect(),
+            wp_min_seconds: 0.05,
+        }
+    }
+    pub fn quick() -> Self {
+        Settings {
+            particle_steps: 30,
+            knife_steps: 20,
+            space_x: vec![0.0, 0.5, 1.0],
+            space_y: vec![-1.0, 1.0],
+            wp_time: 1.0,
+            wp_scheme_h: vec![0.5, 0.25],
+            wp_orders: vec![10, 20],
+            wp_flow_h: vec![0.5, 0.25],
+            wp_min_seconds: 0.0,
+        }
+    }
+}
+
+/// The paper's time step.
+const H: f64 = 0.5;
+
+fn model(name: &str, params: &[(String, f64)]) -> Result<Model, Error> {
+    Ok(Model::new(AnyScene::new(name, params)?))
+}
+
+fn run_scheme(
+    model: &Model,
+    kind: SchemeKind,
+    q0: &[f64],
+    q1: &[f64],
+    h: f64,
+    n: usize,
+) -> Result<Trajectory, Error> {
+    Ok(Scheme::new(model, kind).integrate(q0, q1, h, n, &NewtonOptions::default())?)
+}
+
+/// `E_L(q, v)` enclosed (the energy of the exact trajectory through `(q, v)`).
+fn energy(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Interval, Error> {
+    let x: Vec<Interval> = q.iter().chain(v).copied().collect();
+    model
+        .energy
+        .eval_checked(&x)
+        .map(|e| e[0])
+        .ok_or_else(|| Error::uncertified("energy enclosure not finite"))
+}
+
+/// An upper bound of `|e - E|` over the interval `E`.
+fn above(e: f64, exact: Interval) -> f64 {
+    (point(e) - exact).abs().sup()
+}
+
+/// Energy panels of DLA and MLA from the same `(q0, q1)` against the exact energy (9.1).
+fn energy_figure(
+    name: &str,
+    title: &str,
+    dla: &Trajectory,
+    mla: &Trajectory,
+    exact_energy: Interval,
+) -> Figure {
+    let n = dla.energy.len();
+    let k = |i: usize| i as f64;
+    let along = |e: &[f64]| e.iter().enumerate().map(|(i, x)| (k(i), *x)).collect();
+    let error = |e: &[f64]| {
+        e.iter()
+            .enumerate()
+            .map(|(i, x)| (k(i), above(*x, exact_energy)))
+            .collect()
+    };
+    let mid = exact_energy.mid();
+    let mut table = Table::new(
+        "",
+        &[
+            "k",
+            "energy_dla",
+            "energy_mla",
+            "exact_energy_lo",
+            "exact_energy_hi",
+        ],
+    );
+    for i in 0..n {
+        table.rows.push(vec![
+            k(i),
+            dla.energy[i],
+            mla.energy[i],
+            exact_energy.inf(),
+            exact_energy.sup(),
+        ]);
+    }
+    Figure {
+        name: name.to_string(),
+        caption: format!(
+            "{title}: H|D*(q_k, p_k) along DLA and MLA (h = {H}, N = {}), and the certified \
+             energy E_L of the exact trajectory through (q_0, q_1) (an interval of width \
+             {:.1e}); right: an upper bound of |H|D*(q_k, p_k) - E_L|.",
+            n - 1,
+            exact_energy.wid()
+        ),
+        panels: vec![
+            Panel {
+                title: format!("{title}: energy H|D*"),
+                x_label: "step k".into(),
+                y_label: "H|D*".into(),
+                x_log: false,
+                y_log: false,
+                series: vec![
+                    Series::new("DLA", Style::Line, along(&dla.energy)),
+                    Series::new("MLA", Style::Line, along(&mla.energy)),
+                    Series::new(
+                        "exact (certified)",
+                        Style::Dashed,
+                        vec![(0.0, mid), (k(n - 1), mid)],
+                    ),
+                ],
+            },
+            Panel {
+                title: format!("{title}: energy error"),
+                x_label: "step k".into(),
+                y_label: "|H|D* - E_exact|".into(),
+                x_log: false,
+                y_log: true,
+                series: vec![
+                    Series::new("DLA", Style::Line, error(&dla.energy)),
+                    Series::new("MLA", Style::Line, error(&mla.energy)),
+                ],
+            },
+        ],
+        tables: vec![table],
+    }
+}
+
+/// The particle (paper Example 5.1): energy of DLA and MLA, and their certified distance to
+/// the exact discrete flow (9.1), (9.2). q0 = 0, q1 = (0.4, 0.4, z1) with z1 from M_h^d.
+pub fn particle(steps: usize, progress: Progress) -> Result<Vec<Figure>, Error> {
+    let m = model("particle", &[])?;
+    let q0 = [0.0; 3];
+    progress("particle: DLA and MLA", 0, 3);
+    let dla = run_scheme(&m, SchemeKind::Dla, &q0, &[0.4, 0.4, 0.0], H, steps)?;
+    let mla = run_scheme(&m, SchemeKind::Mla, &q0, &[0.4, 0.4, 0.0], H, steps)?;
+    progress("particle: certified exact discrete flow", 1, 3);
+    // Both schemes start from the same pair (q_0, q_1 on M_h^d).
+    let ex = exact::trajectory(
+        &m,
+        &points(&q0),
+        &points(&mla.q[1]),
+        H,
+        steps,
+        &FlowOptions::default(),
+    )?;
+    progress("particle: figures", 2, 3);
+    let e = energy(&m, &ex.q[0], &ex.v[0])?;
+    let mut figs = vec![energy_figure("particle_energy", "Particle", &dla, &mla, e)];
+    // Certified distances |q_k - q(kh)|_inf (spec Theorem 8.1).
+    let dist = |tr: &Trajectory| -> Vec<Interval> {
+        tr.q.iter()
+            .zip(&ex.q)
+            .map(|(a, b)| distance(a, b))
+            .collect()
+    };
+    let (dd, dm) = (dist(&dla), dist(&mla));
+    let mut table = Table::new(
+        "",
+        &[
+            "k",
+            "distance_dla_lo",
+            "distance_dla_hi",
+            "distance_mla_lo",
+            "distance_mla_hi",
+            "exact_width",
+        ],
+    );
+    for k in 0..=steps {
+        table.rows.push(vec![
+            k as f64,
+            dd[k].inf(),
+            dd[k].sup(),
+            dm[k].inf(),
+            dm[k].sup(),
+            max_width(&ex.q[k]),
+        ]);
+    }
+    let upper = |d: &[Interval]| {
+        d.iter()
+            .enumerate()
+            .skip(1)
+            .map(|(k, x)| (k as f64, x.sup()))
+            .collect()
+    };
+    let width = ex.q.iter().map(max_width).fold(0.0, f64::max);
+    figs.push(Figure {
+        name: "particle_error".into(),
+        caption: format!(
+            "Particle: certified upper bound of |q_k - q(kh)|_inf, the distance of DLA's and \
+             MLA's q_k to the exact discrete flow from the same (q_0, q_1) (spec Theorem 8.1; \
+             h = {H}, N = {steps}; the exact flow's enclosures are at most {width:.1e} wide)."
+        ),
+        panels: vec![Panel {
+            title: "Particle: distance to the exact discrete flow".into(),
+            x_label: "step k".into(),
+            y_label: "|q_k - q(kh)|_inf".into(),
+            x_log: false,
+            y_log: true,
+            series: vec![
+                Series::new("DLA", Style::Line, upper(&dd)),
+                Series::new("MLA", Style::Line, upper(&dm)),
+            ],
+        }],
+        tables: vec![table],
+    });
+    progress("particle", 3, 3);
+    Ok(figs)
+}
+
+/// The knife edge (eps = None) or the perturbed knife edge (paper Examples 5.2, 5.3):
+/// energies of DLA and MLA (9.1). q0 = 0, x1 = phi1 = 0.4, y1 from M_h^d (the paper's
+/// q1 = (0.4, 0.4, y1) in its coordinates (x, phi, y); tests/schemes.rs).
+pub fn knife(eps: Option<f64>, steps: usize, progress: Progress) -> Result<Figure, Error> {
+    let (scene, params, title, name) = match eps {
+        None => ("knife", vec![], "Knife edge".to_string(), "knife_energy"),
+        Some(e) => (
+            "knife-eps",
+            vec![("eps".to_string(), e)],
+            format!("Perturbed knife edge (eps = {e})"),
+            "knife_eps_energy",
+        ),
+    };
+    progress(&format!("{scene}: DLA and MLA"), 0, 1);
+    let m = model(scene, &params)?;
+    let e = eps.unwrap_or(0.0);
+    let q0 = [0.0; 3];
+    let q1 = [0.4, 0.4 * 0.2f64.sin() / (0.2f64.cos() - e), 0.4];
+    let dla = run_scheme(&m, SchemeKind::Dla, &q0, &q1, H, steps)?;
+    let mla = run_scheme(&m, SchemeKind::Mla, &q0, &q1, H, steps)?;
+    let r = exact::retract(
+        &m,
+        &points(&q0),
+        &points(&mla.q[1]),
+        H,
+        &FlowOptions::default(),
+    )?;
+    let exact_energy = energy(&m, &points(&q0), &r.v0)?;
+    progress(scene, 1, 1);
+    Ok(energy_figure(name, &title, &dla, &mla, exact_energy))
+}
+
+/// The exact discrete space M_h^{e,nh} of the particle beside M_h^d, from q0 = 0 (9.3).
+pub fn discrete_space(xs: &[f64], ys: &[f64], progress: Progress) -> Result<Figure, Error> {
+    let m = model("particle", &[])?;
+    let q0 = points(&[0.0; 3]);
+    let opts = FlowOptions::default();
+    let mut table = Table::new(
+        "",
+        &["y1", "x1", "z1_exact", "width", "z1_discrete", "difference"],
+    );
+    let (mut exact_s, mut discrete_s, mut diff_s) = (vec![], vec![], vec![]);
+    let total = xs.len() * ys.len();
+    for (j, &y) in ys.iter().enumerate() {
+        let (mut ex, mut di, mut df) = (vec![], vec![], vec![]);
+        for (i, &x) in xs.iter().enumerate() {
+            progress("M_h^{e,nh}: retractions", j * xs.len() + i, total);
+            // Start on M_h^d; the retraction moves the point along N = (-y, 0, 1) onto
+            // M_h^{e,nh}: y is kept, x and z move (spec eq. (6.2)).
+            let r = exact::retract(&m, &q0, &points(&[x, y, x * y / 2.0]), H, &opts)?;
+            let (x1, z1) = (r.q1[0].mid(), r.q1[2].mid());
+            let w = r.q1[0].wid().max(r.q1[2].wid());
+            let zd = x1 * y / 2.0;
+            table.rows.push(vec![y, x1, z1, w, zd, z1 - zd]);
+            ex.push((x1, z1));
+            di.push((x1, zd));
+            df.push((x1, z1 - zd));
+        }
+        exact_s.push(Series::new(format!("y1 = {y}"), Style::LineMarkers, ex).color(j));
+        // One legend entry per slice: the dashed twin has none.
+        discrete_s.push(Series::new("", Style::Dashed, di).color(j));
+        diff_s.push(Series::new(format!("y1 = {y}"), Style::LineMarkers, df).color(j));
+    }
+    progress("M_h^{e,nh}: retractions", total, total);
+    let width = table.rows.iter().map(|r| r[3]).fold(0.0, f64::max);
+    exact_s.extend(discrete_s);
+    Ok(Figure {
+        name: "discrete_space".into(),
+        caption: format!(
+            "Particle, q0 = 0, h = {H}: z1 as a function of x1 on slices y1 = const (both \
+             spaces are symmetric under (x1, z1) -> (-x1, -z1)). Solid: the \
+             exact discrete space M_h^(e,nh) (midpoints of the certified points q(h) = Q1 + \
+             N(Q1) s of the retraction, enclosures at most {width:.1e} wide); dashed: M_h^d, \
+             z1 = x1 y1 / 2. Right: z1(M_h^(e,nh)) - z1(M_h^d) at the same (x1, y1)."
+        ),
+        panels: vec![
+            Panel {
+                title: "M_h^(e,nh) (solid) and M_h^d (dashed)".into(),
+                x_label: "x1".into(),
+                y_label: "z1".into(),
+                x_log: false,
+                y_log: false,
+                series: exact_s,
+            },
+            Panel {
+                title: "z1 exact - z1 discrete".into(),
+                x_label: "x1".into(),
+                y_label: "difference in z1".into(),
+                x_log: false,
+                y_log: false,
+                series: diff_s,
+            },
+        ],
+        tables: vec![table],
+    })
+}
+
+/// The shortest time of a call of `f` (seconds) over repetitions that go on until
+/// `min_seconds` have passed, at least three when `min_seconds > 0` (the minimum is the
+/// least disturbed by other work on the machine), and the last result.
+fn timed<T>(min_seconds: f64, mut f: impl FnMut() -> T) -> (T, f64) {
+    let start = Instant::now();
+    let mut best = f64::INFINITY;
+    let mut reps = 0;
+    loop {
+        let t0 = Instant::now();
+        let out = f();
+        best = best.min(t0.elapsed().as_secs_f64());
+        reps += 1;
+        if start.elapsed().as_secs_f64() >= min_seconds && (reps >= 3 || min_seconds <= 0.0) {
+            return (out, best);
+        }
+    }
+}
+
+/// Work-precision diagram on the knife edge (9.4): DLA and MLA error at time T against the
+/// certified flow, and the certified flow's width, against the cost per unit time.
+pub fn work_precision(s: &Settings, progress: Progress) -> Result<Figure, Error> {
+    let m = model("knife", &[])?;
+    let (q0, u0, t) = ([0.1, -0.2, 0.3], [0.7, 0.9], s.wp_time);
+    let reference = flow(&m, &q0, &u0, t, &FlowOptions::default())?;
+    let total = s.wp_scheme_h.len() + s.wp_orders.len() * (s.wp_flow_h.len() + 1);
+    let mut done = 0;
+    let mut schemes = Table::new(
+        "schemes",
+        &["h", "cost_dla", "error_dla", "cost_mla", "error_mla"],
+    );
+    let (mut dla_s, mut mla_s) = (vec![], vec![]);
+    for &h in &s.wp_scheme_h {
+        progress("work-precision: DLA and MLA", done, total);
+        done += 1;
+        let q1: Vec<f64> = flow(&m, &q0, &u0, h, &FlowOptions::default())?
+            .q
+            .iter()
+            .map(|x| x.mid())
+            .collect();
+        let n = (t / h).round() as usize;
+        let mut row = vec![h];
+        for (kind, series) in [(SchemeKind::Dla, &mut dla_s), (SchemeKind::Mla, &mut mla_s)] {
+            let scheme = Scheme::new(&m, kind);
+            let (tr, secs) = timed(s.wp_min_seconds, || {
+                scheme.integrate(&q0, &q1, h, n, &NewtonOptions::default())
+            });
+            let tr = tr?;
+            let err = distance(&tr.q[n], &reference.q).sup();
+            let cost = secs / t;
+            row.extend([cost, err]);
+            series.push((cost, err));
+        }
+        schemes.rows.push(row);
+    }
+    let mut certified = Table::new("certified", &["order", "h", "cost", "width", "steps"]);
+    let mut panel_series = vec![
+        Series::new("DLA (error)", Style::LineMarkers, dla_s),
+        Series::new("MLA (error)", Style::LineMarkers, mla_s),
+    ];
+    let mut automatic = vec![];
+    let mut failed = 0;
+    for &p in &s.wp_orders {
+        let mut pts = vec![];
+        // Fixed steps (spec eq. (5.13)), then the automatic rule (5.8) (h = 0 in the table).
+        for &h in s.wp_flow_h.iter().chain(&[0.0]) {
+            progress("work-precision: certified flow", done, total);
+            done += 1;
+            let opts = FlowOptions {
+                order: p,
+                step: h,
+                ..FlowOptions::default()
+            };
+            let (e, secs) = timed(s.wp_min_seconds, || flow(&m, &q0, &u0, t, &opts));
+            let Ok(e) = e else {
+                failed += 1;
+                continue;
+            };
+            let (cost, width) = (secs / t, max_width(&e.q));
+            certified
+                .rows
+                .push(vec![p as f64, h, cost, width, e.stats.steps as f64]);
+            if h == 0.0 {
+                automatic.push((cost, width));
+            } else {
+                pts.push((cost, width));
+            }
+        }
+        panel_series.push(Series::new(
+            format!("certified, order {p} (width)"),
+            Style::LineMarkers,
+            pts,
+        ));
+    }
+    panel_series.push(Series::new(
+        "certified, automatic steps (width)",
+        Style::Markers,
+        automatic,
+    ));
+    progress("work-precision", total, total);
+    let fmt_list = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    Ok(Figure {
+        name: "work_precision".into(),
+        caption: format!(
+            "Knife edge, q0 = (0.1, -0.2, 0.3), u0 = (0.7, 0.9), T = {t}. Schemes: upper bound \
+             of |q_N - q(T)|_inf against the certified flow, q1 = q(h), h = {}. Certified \
+             flow: width of the enclosure of q(T), Taylor orders {:?}, fixed steps {} (each \
+             order one line) and the automatic step rule (markers){}. Cost: wall time per \
+             unit of simulated time on this machine.",
+            fmt_list(&s.wp_scheme_h),
+            s.wp_orders,
+            fmt_list(&s.wp_flow_h),
+            if failed > 0 {
+                format!("; {failed} runs could not be certified and are not shown")
+            } else {
+                String::new()
+            }
+        ),
+        panels: vec![Panel {
+            title: "Work-precision, knife edge".into(),
+            x_label: "seconds per unit time".into(),
+            y_label: "error (schemes) / width (certified)".into(),
+            x_log: true,
+            y_log: true,
+            series: panel_series,
+        }],
+        tables: vec![schemes, certified],
+    })
+}
+
+/// All figures.
+pub fn all(s: &Settings, progress: Progress) -> Result<Vec<Figure>, Error> {
+    let mut figs = particle(s.particle_steps, progress)?;
+    figs.push(discrete_space(&s.space_x, &s.space_y, progress)?);
+    figs.push(knife(None, s.knife_steps, progress)?);
+    figs.push(knife(Some(0.1), s.knife_steps, progress)?);
+    figs.push(work_precision(s, progress)?);
+    Ok(figs)
+}

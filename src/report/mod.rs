@@ -1,0 +1,101 @@
+//! Data for the figures and the stability table (`dalembert figures`, `dalembert stability`;
+//! spec/09-report.md). This module only computes: the command line renders the data
+//! (`src/cli/render.rs` writes SVG with plotters and CSV; `src/cli/stability.rs` prints the
+//! Markdown table or JSON). Long computations report progress through a callback.
+
+pub mod figures;
+pub mod stability;
+
+use crate::scalar::point;
+use inari::Interval;
+
+/// Called as `progress(what, done, total)` while a long computation runs.
+pub type Progress<'a> = &'a mut dyn FnMut(&str, usize, usize);
+
+/// A progress callback that ignores everything.
+pub fn no_progress(_: &str, _: usize, _: usize) {}
+
+/// A figure: one or more panels side by side, and the data as tables (one CSV file each).
+#[derive(Clone, Debug)]
+pub struct Figure {
+    /// File stem: `<name>.svg`, and `<name>.csv` or `<name>_<table>.csv`.
+    pub name: String,
+    /// What is plotted, in words (shown under the panels).
+    pub caption: String,
+    pub panels: Vec<Panel>,
+    pub tables: Vec<Table>,
+}
+
+/// One chart.
+#[derive(Clone, Debug)]
+pub struct Panel {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub x_log: bool,
+    pub y_log: bool,
+    pub series: Vec<Series>,
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Style {
+    Line,
+    Dashed,
+    Markers,
+    LineMarkers,
+}
+
+/// A named list of points `(x, y)`.
+#[derive(Clone, Debug)]
+pub struct Series {
+    pub label: String,
+    pub style: Style,
+    pub points: Vec<(f64, f64)>,
+    /// Index into the renderer's palette (default: the series' position in its panel).
+    pub color: Option<usize>,
+}
+
+/// Numbers with a header; `name` is empty for a figure's only table.
+#[derive(Clone, Debug)]
+pub struct Table {
+    pub name: String,
+    pub header: Vec<String>,
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl Series {
+    pub fn new(label: impl Into<String>, style: Style, points: Vec<(f64, f64)>) -> Self {
+        Series {
+            label: label.into(),
+            style,
+            points,
+            color: None,
+        }
+    }
+    /// The same colour as another series (e.g. two forms of one curve).
+    pub fn color(mut self, index: usize) -> Self {
+        self.color = Some(index);
+        self
+    }
+}
+
+impl Table {
+    pub fn new(name: &str, header: &[&str]) -> Self {
+        Table {
+            name: name.to_string(),
+            header: header.iter().map(|s| s.to_string()).collect(),
+            rows: Vec::new(),
+        }
+    }
+}
+
+/// Points of f64 values as thin intervals.
+pub(crate) fn points(v: &[f64]) -> Vec<Interval> {
+    v.iter().map(|x| point(*x)).collect()
+}
+
+/// The largest width of a list of intervals.
+pub(crate) fn max_width<'a>(v: impl IntoIterator<Item = &'a Interval>) -> f64 {
+    v.into_iter().fold(0.0, |a, x| a.max(x.wid()))
+}
