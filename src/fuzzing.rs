@@ -24,16 +24,27 @@ fn budget() -> FlowOptions {
 
 const EPS: [f64; 5] = [0.1, 0.5, -0.3, 0.9, 0.99];
 
+/// The scenes added after the first three targets' corpora were made, fuzzed by
+/// [`scenes_step`] (the older targets keep their decoding, so their corpora stay valid).
+const NEW_SCENES: [&str; 4] = [
+    "rolling-disk",
+    "sleigh",
+    "contact-oscillator",
+    "contact-oscillator-nr",
+];
+const FIRST_NEW: usize = 2 + EPS.len();
+
 thread_local! {
     static MODELS: RefCell<Vec<Option<(Model, Scheme, Scheme)>>> =
-        RefCell::new((0..2 + EPS.len()).map(|_| None).collect());
+        RefCell::new((0..FIRST_NEW + NEW_SCENES.len()).map(|_| None).collect());
 }
 
 fn scene_of(i: usize) -> AnyScene {
     match i {
         0 => AnyScene::Particle(Particle),
         1 => AnyScene::Knife(Knife),
-        j => AnyScene::KnifeEps(KnifeEps { eps: EPS[j - 2] }),
+        j if j < FIRST_NEW => AnyScene::KnifeEps(KnifeEps { eps: EPS[j - 2] }),
+        j => AnyScene::new(NEW_SCENES[j - FIRST_NEW], &[]).expect("registered scene"),
     }
 }
 
@@ -92,20 +103,24 @@ pub fn newton_step(data: &[u8]) {
     })() else {
         return;
     };
+    newton_invariant(scene, mla, &qm, &qk, h);
+}
+
+fn newton_invariant(scene: usize, mla: bool, qm: &[f64], qk: &[f64], h: f64) {
     with_model(scene, |_, dla, mla_s| {
         let s = if mla { mla_s } else { dla };
         let opts = NewtonOptions::default();
-        if let Ok(tr) = s.integrate(&qm, &qk, h, 2, &opts) {
+        if let Ok(tr) = s.integrate(qm, qk, h, 2, &opts) {
             assert!(
                 tr.q.iter().flatten().all(|x| x.is_finite()),
                 "non-finite state"
             );
             assert!(tr.max_residual.is_finite());
         }
-        if !(h.is_finite() && h > 0.0) || qm.iter().chain(&qk).any(|x| !x.is_finite()) {
+        if !(h.is_finite() && h > 0.0) || qm.iter().chain(qk).any(|x| !x.is_finite()) {
             return;
         }
-        if let Ok((next, _, reported)) = s.step(&qm, &qk, h, &opts) {
+        if let Ok((next, _, reported)) = s.step(qm, qk, h, &opts) {
             assert!(next.iter().all(|x| x.is_finite()), "non-finite step");
             let kind = if mla {
                 SchemeKind::Mla
@@ -113,13 +128,13 @@ pub fn newton_step(data: &[u8]) {
                 SchemeKind::Dla
             };
             let r = crate::with_scene!(&scene_of(scene), sc => {
-                step_residual::<_, f64>(sc, kind, &qm, &qk, &next, &h)
+                step_residual::<_, f64>(sc, kind, qm, qk, &next, &h)
             });
             let norm = r.iter().fold(0.0f64, |a, x| a.max(x.abs()));
             // the same residual evaluated again: identical up to nothing (same tape path
             // apart from the generic evaluation), allow rounding of the recomputation
             assert!(
-                !norm.is_nan() && norm <= 4.0 * reported + 1e-9 * (1.0 + scale(&next, &qk, h)),
+                !norm.is_nan() && norm <= 4.0 * reported + 1e-9 * (1.0 + scale(&next, qk, h)),
                 "residual {norm:e} against reported {reported:e}"
             );
         }
@@ -146,9 +161,13 @@ pub fn retraction(data: &[u8]) {
     })() else {
         return;
     };
+    retraction_invariant(scene, &q0, &q1, h);
+}
+
+fn retraction_invariant(scene: usize, q0: &[f64], q1: &[f64], h: f64) {
     with_model(scene, |model, _, _| {
         let pts = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
-        match exact::retract(model, &pts(&q0), &pts(&q1), h, &budget()) {
+        match exact::retract(model, &pts(q0), &pts(q1), h, &budget()) {
             Err(Error::Input(_)) | Err(Error::Uncertified(_)) => {}
             Ok(r) => {
                 let all =
@@ -158,7 +177,7 @@ pub fn retraction(data: &[u8]) {
                         .chain(&r.v1)
                         .chain(&r.q1);
                 assert!(all.clone().all(|x| finite(*x)), "non-finite success");
-                let x0: Vec<_> = pts(&q0).into_iter().chain(r.u0.iter().copied()).collect();
+                let x0: Vec<_> = pts(q0).into_iter().chain(r.u0.iter().copied()).collect();
                 if let Ok((set, _)) =
                     flow_set(&model.dynamics, LohnerSet::from_box(&x0), h, &budget())
                 {
@@ -173,6 +192,36 @@ pub fn retraction(data: &[u8]) {
             }
         }
     });
+}
+
+/// Invariant: on the newer scenes (two constraints, a mass matrix depending on q, a
+/// one-form in L), the invariants of [`newton_step`] and, when asked, of [`retraction`].
+pub fn scenes_step(data: &[u8]) {
+    let mut u = Unstructured::new(data);
+    let Ok((scene, mla, retract)) = (|| -> arbitrary::Result<_> {
+        Ok((
+            FIRST_NEW + u.int_in_range(0..=NEW_SCENES.len() - 1)?,
+            bool::arbitrary(&mut u)?,
+            bool::arbitrary(&mut u)?,
+        ))
+    })() else {
+        return;
+    };
+    let n = with_model(scene, |model, _, _| model.n);
+    let Ok((qm, qk, h)) = (|| -> arbitrary::Result<_> {
+        let v = |u: &mut Unstructured| {
+            (0..n)
+                .map(|_| num(u))
+                .collect::<arbitrary::Result<Vec<_>>>()
+        };
+        Ok((v(&mut u)?, v(&mut u)?, num(&mut u)?))
+    })() else {
+        return;
+    };
+    newton_invariant(scene, mla, &qm, &qk, h.abs());
+    if retract {
+        retraction_invariant(scene, &qm, &qk, h);
+    }
 }
 
 /// Invariant: any bytes given to the batch protocol produce at most one line, which is a

@@ -44,3 +44,8 @@ fn retraction_corpus() {
 fn batch_line_corpus() {
     replay("batch_line", dalembert::fuzzing::batch_line);
 }
+
+#[test]
+fn scenes_step_corpus() {
+    replay("scenes_step", dalembert::fuzzing::scenes_step);
+}
