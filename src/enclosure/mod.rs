@@ -384,6 +384,17 @@ pub fn float_flow_c1(
     t: f64,
     opts: &FlowOptions,
 ) -> Option<(Vec<f64>, DMatrix<f64>)> {
+    float_flow_c1_counted(sys, x0, t, opts).map(|(x, j, _)| (x, j))
+}
+
+/// As [`float_flow_c1`], also returning the number of Taylor steps taken (the work, for
+/// callers that bound their total work).
+pub fn float_flow_c1_counted(
+    sys: &System,
+    x0: &[f64],
+    t: f64,
+    opts: &FlowOptions,
+) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
     let d = x0.len();
     let p = if opts.order == 0 {
         DEFAULT_ORDER
@@ -393,9 +404,9 @@ pub fn float_flow_c1(
     let mut x = x0.to_vec();
     let mut jac = DMatrix::<f64>::identity(d, d);
     let mut done = 0.0;
-    for _ in 0..opts.max_steps {
+    for steps in 0..opts.max_steps {
         if done >= t {
-            return Some((x, jac));
+            return Some((x, jac, steps));
         }
         let mut xv = x.clone();
         for i in 0..d {

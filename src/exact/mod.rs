@@ -5,7 +5,7 @@
 mod krawczyk;
 
 use crate::enclosure::linalg::{self, IMat};
-use crate::enclosure::{float_flow_c1, flow_set, flow_set_c1, FlowOptions, LohnerSet};
+use crate::enclosure::{float_flow_c1_counted, flow_set, flow_set_c1, FlowOptions, LohnerSet};
 use crate::integrator::newton::{self, NewtonFailure, NewtonOptions, NewtonOutcome};
 use crate::model::Model;
 use crate::scalar::point;
@@ -213,6 +213,9 @@ fn check_pair(model: &Model, q0: &[Interval], q1: &[Interval], h: f64) -> Result
 /// `E(Q0)^T u ~ (Q1 - Q0)/h`, s = 0, on a float Taylor integration of the flow and its
 /// variational equation. It only chooses the centre of the Krawczyk box and the matrix C;
 /// returns the point and the float Jacobian of G there.
+/// Work bound of the retraction's float Newton, in multiples of `FlowOptions::max_steps`.
+const NEWTON_WORK: usize = 4;
+
 fn newton_guess(
     model: &Model,
     q0: &[Interval],
@@ -244,9 +247,23 @@ fn newton_guess(
         .solve(&(&e * rhs))
         .ok_or_else(|| Error::uncertified("basis of D is degenerate at q0"))?;
     let mu = model.constraints.eval::<f64>(&b);
+    // The total number of float Taylor steps over all evaluations is bounded by
+    // NEWTON_WORK * max_steps, so that no input makes the retraction slow (a fuzz finding:
+    // a far sleigh pair took 13 s in 180 evaluations of up to max_steps steps each).
+    let work = std::cell::Cell::new(0usize);
+    let budget = NEWTON_WORK * opts.max_steps;
     let shoot = |z: &DVector<f64>| -> Option<(DVector<f64>, DMatrix<f64>)> {
         let x0: Vec<f64> = a.iter().copied().chain(z.iter().take(m).copied()).collect();
-        let (x, jx) = float_flow_c1(&model.dynamics, &x0, h, opts)?;
+        let left = budget.checked_sub(work.get()).filter(|l| *l > 0)?;
+        let capped = FlowOptions {
+            max_steps: left.min(opts.max_steps),
+            ..opts.clone()
+        };
+        let Some((x, jx, steps)) = float_flow_c1_counted(&model.dynamics, &x0, h, &capped) else {
+            work.set(budget);
+            return None;
+        };
+        work.set(work.get() + steps);
         let g = DVector::from_fn(n, |i, _| {
             x[i] - b[i] - (0..k).map(|c| mu[c * n + i] * z[m + c]).sum::<f64>()
         });
