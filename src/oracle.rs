@@ -58,7 +58,8 @@ pub fn distance(a: &[f64], b: &[Interval]) -> Interval {
         .fold(point(0.0), |m, d| m.max(d))
 }
 
-fn energy(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Interval, Error> {
+/// `E_L(q, v)` enclosed over the boxes (the energy of the exact trajectory through `(q, v)`).
+pub(crate) fn energy(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Interval, Error> {
     let x: Vec<Interval> = q.iter().chain(v).copied().collect();
     model
         .energy

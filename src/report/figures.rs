@@ -4,7 +4,7 @@
 use super::{max_width, points, Figure, Panel, Progress, Series, Style, Table};
 use crate::exact;
 use crate::integrator::{NewtonOptions, Scheme, SchemeKind, Trajectory};
-use crate::oracle::distance;
+use crate::oracle::{distance, energy};
 use crate::scalar::point;
 use crate::{flow, AnyScene, Error, FlowOptions, Model};
 use inari::Interval;
@@ -75,16 +75,6 @@ fn run_scheme(
     n: usize,
 ) -> Result<Trajectory, Error> {
     Ok(Scheme::new(model, kind).integrate(q0, q1, h, n, &NewtonOptions::default())?)
-}
-
-/// `E_L(q, v)` enclosed (the energy of the exact trajectory through `(q, v)`).
-fn energy(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Interval, Error> {
-    let x: Vec<Interval> = q.iter().chain(v).copied().collect();
-    model
-        .energy
-        .eval_checked(&x)
-        .map(|e| e[0])
-        .ok_or_else(|| Error::uncertified("energy enclosure not finite"))
 }
 
 /// An upper bound of `|e - E|` over the interval `E`.
