@@ -281,7 +281,20 @@ fn execute(cmd: Cmd) -> Result<String, Error> {
         | Cmd::Figures { .. }
         | Cmd::Stability { .. } => return Err(Error::input("not a single query")),
     };
-    let answer: Value = Session::default().answer(&query)?;
+    let mut session = Session::default();
+    if matches!(query, Query::Flow { .. }) {
+        // a long flow draws a bar on a terminal (erased when the session is dropped)
+        let bar = std::sync::Mutex::new(progress::Bar::new());
+        session.flow.progress = Some(dalembert::enclosure::Progress(std::sync::Arc::new(
+            move |f: f64| {
+                if let Ok(mut b) = bar.lock() {
+                    b.update("flow", (f * 1000.0) as usize, 1000);
+                }
+            },
+        )));
+    }
+    let answer: Value = session.answer(&query)?;
+    drop(session);
     Ok(match (as_json, csv) {
         (true, _) => answer.to_string(),
         (false, true) => json::trajectory_csv(&answer),

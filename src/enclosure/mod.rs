@@ -101,6 +101,19 @@ pub struct FlowOptions {
     /// (rounded down to three significant bits) without the width tolerances of (5.8); a
     /// step whose a priori enclosure fails is retried smaller as in (5.8) (spec eq. (5.13)).
     pub step: f64,
+    /// Told the fraction of the time span done after each accepted step (for a progress
+    /// display; it sees nothing else and cannot change the result).
+    pub progress: Option<Progress>,
+}
+
+/// A progress callback (see [`FlowOptions::progress`]).
+#[derive(Clone)]
+pub struct Progress(pub std::sync::Arc<dyn Fn(f64) + Send + Sync>);
+
+impl std::fmt::Debug for Progress {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Progress")
+    }
 }
 
 impl Default for FlowOptions {
@@ -109,6 +122,7 @@ impl Default for FlowOptions {
             order: 0,
             max_steps: 20_000,
             step: 0.0,
+            progress: None,
         }
     }
 }
@@ -293,6 +307,9 @@ fn flow_set_general(
                     stats.steps += 1;
                     stats.h_min = stats.h_min.min(hi.inf());
                     stats.h_max = stats.h_max.max(hi.sup());
+                    if let Some(p) = &opts.progress {
+                        (p.0)(if last { 1.0 } else { done.sup() / t });
+                    }
                     // refuse early when the steps now taken would not reach t in time
                     let left = (t - done.sup()) / hi.sup();
                     if !last && stats.steps as f64 + left > 4.0 * opts.max_steps as f64 {
@@ -687,6 +704,26 @@ fn inflate(x: &[Interval]) -> Vec<Interval> {
 mod tests {
     use super::*;
     use crate::scene::AnyScene;
+
+    #[test]
+    fn progress_is_told_a_rising_fraction_ending_at_one_and_changes_nothing() {
+        use std::sync::{Arc, Mutex};
+        let model = Model::new(AnyScene::new("knife", &[]).unwrap());
+        let seen = Arc::new(Mutex::new(Vec::new()));
+        let s2 = seen.clone();
+        let opts = FlowOptions {
+            progress: Some(Progress(Arc::new(move |f| s2.lock().unwrap().push(f)))),
+            ..FlowOptions::default()
+        };
+        let (q, u) = ([0.0, 0.0, 0.0], [0.8, 0.8]);
+        let with = flow(&model, &q, &u, 5.0, &opts).unwrap();
+        let without = flow(&model, &q, &u, 5.0, &FlowOptions::default()).unwrap();
+        assert_eq!(with.q, without.q);
+        let seen = seen.lock().unwrap();
+        assert_eq!(seen.len(), with.stats.steps);
+        assert!(seen.windows(2).all(|w| w[0] <= w[1]) && seen[0] > 0.0);
+        assert_eq!(*seen.last().unwrap(), 1.0);
+    }
 
     #[test]
     fn particle_with_zero_y_speed_moves_on_a_line() {
