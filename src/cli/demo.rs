@@ -80,5 +80,30 @@ pub fn run() -> Result<(), Error> {
             v.max_distance.sup()
         );
     }
+    every_scene()
+}
+
+/// 4. The same certified flow on every scene the crate knows (default parameters).
+fn every_scene() -> Result<(), Error> {
+    println!(
+        "\n4. Every scene (`dalembert scenes`): certified flow to t = 5 from q = 0, u = (0.8, 0.8)"
+    );
+    println!(
+        "{:>22} {:>3} {:>3} {:>10} {:>6} {:>9}",
+        "scene", "n", "k", "max width", "steps", "ms"
+    );
+    for info in dalembert::scene::SCENES {
+        let model = Model::new(AnyScene::new(info.name, &[])?);
+        let (q, u) = (vec![0.0; model.n], vec![0.8; model.n - model.k]);
+        let start = Instant::now();
+        let e = dalembert::flow(&model, &q, &u, 5.0, &FlowOptions::default())?;
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        let w = e.q.iter().chain(&e.v).map(|x| x.wid()).fold(0.0, f64::max);
+        println!(
+            "{:>22} {:>3} {:>3} {w:>10.2e} {:>6} {ms:>9.1}",
+            info.name, model.n, model.k, e.stats.steps
+        );
+    }
+    println!("\nMore: dalembert --help; `dalembert figures --out DIR` and `dalembert stability` (README).");
     Ok(())
 }
