@@ -695,6 +695,13 @@ fn no_arguments_runs_the_demo_and_help_works() {
     let r = run(&[]);
     assert_eq!(r.code, 0, "{r:?}");
     assert!(!r.stdout.trim().is_empty(), "the demo prints something");
+    for info in dalembert::scene::SCENES {
+        assert!(
+            r.stdout.contains(info.name),
+            "the demo's tour of the scenes misses {}",
+            info.name
+        );
+    }
     for args in [&["--help"][..], &["-h"], &["flow", "--help"]] {
         let r = run(args);
         assert_eq!(r.code, 0, "{args:?}: {r:?}");
