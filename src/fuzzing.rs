@@ -39,27 +39,32 @@ thread_local! {
         RefCell::new((0..FIRST_NEW + NEW_SCENES.len()).map(|_| None).collect());
 }
 
-fn scene_of(i: usize) -> AnyScene {
-    match i {
+fn scene_of(i: usize) -> Result<AnyScene, Error> {
+    Ok(match i {
         0 => AnyScene::Particle(Particle),
         1 => AnyScene::Knife(Knife),
         j if j < FIRST_NEW => AnyScene::KnifeEps(KnifeEps { eps: EPS[j - 2] }),
-        j => AnyScene::new(NEW_SCENES[j - FIRST_NEW], &[]).expect("registered scene"),
-    }
+        j => AnyScene::new(NEW_SCENES[j - FIRST_NEW], &[])?,
+    })
 }
 
-fn with_model<R>(i: usize, f: impl FnOnce(&Model, &Scheme, &Scheme) -> R) -> R {
+/// `f` on the (cached) model and schemes of scene `i`; `None` when the scene cannot be
+/// built (not expected: every registered scene builds with its defaults, as
+/// `scene::tests::every_scene_is_consistent_with_its_description` checks).
+fn with_model<R>(i: usize, f: impl FnOnce(&Model, &Scheme, &Scheme) -> R) -> Option<R> {
     MODELS.with(|m| {
         let mut m = m.borrow_mut();
         let slot = &mut m[i];
-        if slot.is_none() {
-            let model = Model::new(scene_of(i));
-            let dla = Scheme::new(&model, SchemeKind::Dla);
-            let mla = Scheme::new(&model, SchemeKind::Mla);
-            *slot = Some((model, dla, mla));
-        }
-        let (model, dla, mla) = slot.as_ref().expect("slot filled above");
-        f(model, dla, mla)
+        let (model, dla, mla) = match slot {
+            Some(entry) => &*entry,
+            None => {
+                let model = Model::new(scene_of(i).ok()?);
+                let dla = Scheme::new(&model, SchemeKind::Dla);
+                let mla = Scheme::new(&model, SchemeKind::Mla);
+                &*slot.insert((model, dla, mla))
+            }
+        };
+        Some(f(model, dla, mla))
     })
 }
 
@@ -107,7 +112,7 @@ pub fn newton_step(data: &[u8]) {
 }
 
 fn newton_invariant(scene: usize, mla: bool, qm: &[f64], qk: &[f64], h: f64) {
-    with_model(scene, |_, dla, mla_s| {
+    with_model(scene, |model, dla, mla_s| {
         let s = if mla { mla_s } else { dla };
         let opts = NewtonOptions::default();
         if let Ok(tr) = s.integrate(qm, qk, h, 2, &opts) {
@@ -127,7 +132,7 @@ fn newton_invariant(scene: usize, mla: bool, qm: &[f64], qk: &[f64], h: f64) {
             } else {
                 SchemeKind::Dla
             };
-            let r = crate::with_scene!(&scene_of(scene), sc => {
+            let r = crate::with_scene!(&model.scene, sc => {
                 step_residual::<_, f64>(sc, kind, qm, qk, &next, &h)
             });
             let norm = r.iter().fold(0.0f64, |a, x| a.max(x.abs()));
@@ -207,7 +212,9 @@ pub fn scenes_step(data: &[u8]) {
     })() else {
         return;
     };
-    let n = with_model(scene, |model, _, _| model.n);
+    let Some(n) = with_model(scene, |model, _, _| model.n) else {
+        return;
+    };
     let Ok((qm, qk, h)) = (|| -> arbitrary::Result<_> {
         let v = |u: &mut Unstructured| {
             (0..n)

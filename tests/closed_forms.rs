@@ -54,7 +54,7 @@
 
 mod common;
 
-use common::{describe, hex, model, run, show, SplitMix64};
+use common::{describe, hex, model, rk4, run, show, SplitMix64};
 use dalembert::scalar::{iv, point as pt};
 use dalembert::{Error, FlowEnclosure, Model};
 use inari::Interval;
@@ -328,28 +328,6 @@ impl Scene {
 
 // ---------------------------------------------------------------------------------------
 // The reference itself, checked against RK4 in f64.
-
-fn rk4(f: impl Fn(&[f64; 5]) -> [f64; 5], x0: [f64; 5], t: f64, n: usize) -> [f64; 5] {
-    let h = t / n as f64;
-    let mut x = x0;
-    let add = |x: &[f64; 5], k: &[f64; 5], c: f64| -> [f64; 5] {
-        let mut y = *x;
-        for i in 0..5 {
-            y[i] += c * k[i];
-        }
-        y
-    };
-    for _ in 0..n {
-        let k1 = f(&x);
-        let k2 = f(&add(&x, &k1, h / 2.0));
-        let k3 = f(&add(&x, &k2, h / 2.0));
-        let k4 = f(&add(&x, &k3, h));
-        for i in 0..5 {
-            x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-        }
-    }
-    x
-}
 
 /// Equations of motion as first-order systems on (q, u), from the contract.
 fn particle_field(x: &[f64; 5]) -> [f64; 5] {

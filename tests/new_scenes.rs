@@ -23,7 +23,7 @@
 
 mod common;
 
-use common::{describe, model, run, show, SplitMix64};
+use common::{describe, model, rk4, run, show, SplitMix64};
 use dalembert::dynamics::Geometry;
 use dalembert::scalar::{iv, point as pt};
 use dalembert::scene::{Scene, Sleigh};
@@ -94,33 +94,6 @@ fn check_against(
         }
     }
     (wf, wr)
-}
-
-fn rk4<const D: usize>(
-    f: impl Fn(&[f64; D]) -> [f64; D],
-    x0: [f64; D],
-    t: f64,
-    n: usize,
-) -> [f64; D] {
-    let h = t / n as f64;
-    let mut x = x0;
-    let add = |x: &[f64; D], k: &[f64; D], c: f64| -> [f64; D] {
-        let mut y = *x;
-        for i in 0..D {
-            y[i] += c * k[i];
-        }
-        y
-    };
-    for _ in 0..n {
-        let k1 = f(&x);
-        let k2 = f(&add(&x, &k1, h / 2.0));
-        let k3 = f(&add(&x, &k2, h / 2.0));
-        let k4 = f(&add(&x, &k3, h));
-        for i in 0..D {
-            x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-        }
-    }
-    x
 }
 
 // ---------------------------------------------------------------------------------------

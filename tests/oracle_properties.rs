@@ -87,6 +87,9 @@
 //! proptest: fixed ChaCha seeds, no failure persistence; quickcheck: `Gen::from_size_and_seed`
 //! with inputs built from generated u64 words mapped into the ranges.
 
+#[path = "exact_common/mod.rs"]
+mod exact_common;
+
 use dalembert::exact::{self, ExactStep};
 use dalembert::integrator::newton::{self, NewtonOutcome};
 use dalembert::integrator::{
@@ -97,6 +100,7 @@ use dalembert::oracle::{check_trajectory, CheckOptions, Verdict};
 use dalembert::scalar::{point, Dual, Scalar};
 use dalembert::scene::{Knife, Particle, Scene};
 use dalembert::{flow, AnyScene, FlowOptions, Model};
+use exact_common::{gap, overlap};
 use inari::Interval;
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
@@ -145,21 +149,6 @@ fn pts(v: &[f64]) -> Vec<Interval> {
 
 fn mids(v: &[Interval]) -> Vec<f64> {
     v.iter().map(|x| x.mid()).collect()
-}
-
-fn overlap(a: &[Interval], b: &[Interval]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| !x.disjoint(*y))
-}
-
-/// Distance between two intervals (0 when they intersect).
-fn gap(a: Interval, b: Interval) -> f64 {
-    if !a.disjoint(b) {
-        0.0
-    } else if a.sup() < b.inf() {
-        b.inf() - a.sup()
-    } else {
-        a.inf() - b.sup()
-    }
 }
 
 fn max_wid(v: &[Interval]) -> f64 {

@@ -59,23 +59,29 @@ fn pair(model: &Model, h: f64, q0: Vec<f64>) -> (Vec<f64>, Vec<f64>) {
     (q0, q1)
 }
 
-fn case(scene: &str, params: &[(&str, f64)], family: &str, h: f64, q0: Vec<f64>) -> Case {
+fn case(
+    scene: &str,
+    params: &[(&str, f64)],
+    family: &str,
+    h: f64,
+    q0: Vec<f64>,
+) -> Result<Case, Error> {
     let params: Vec<(String, f64)> = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    let model = Model::new(AnyScene::new(scene, &params).expect("known scene"));
+    let model = Model::new(AnyScene::new(scene, &params)?);
     let (q0, q1) = pair(&model, h, q0);
-    Case {
+    Ok(Case {
         scene: scene.to_string(),
         params,
         family: family.to_string(),
         h,
         q0,
         q1,
-    }
+    })
 }
 
 /// The cases (9.5): h from 1e-8 to 4; coordinates from 1e-300 to 1e150; phi near pi/2;
 /// eps from 0 to 0.99.
-pub fn cases() -> Vec<Case> {
+pub fn cases() -> Result<Vec<Case>, Error> {
     use std::f64::consts::FRAC_PI_2;
     let mut families: Vec<Vec<Case>> = vec![];
     for scene in ["particle", "knife"] {
@@ -83,13 +89,13 @@ pub fn cases() -> Vec<Case> {
             [1e-8, 1e-4, 0.1, 0.5, 1.0, 2.0, 4.0]
                 .iter()
                 .map(|&h| case(scene, &[], "h", h, vec![0.0; 3]))
-                .collect(),
+                .collect::<Result<_, _>>()?,
         );
         families.push(
             [1e-300, 1e-8, 1e4, 1e8, 1e50, 1e150]
                 .iter()
                 .map(|&c| case(scene, &[], "coordinates", 0.5, vec![c; 3]))
-                .collect(),
+                .collect::<Result<_, _>>()?,
         );
     }
     for (scene, params) in [("knife", vec![]), ("knife-eps", vec![("eps", 0.1)])] {
@@ -102,16 +108,16 @@ pub fn cases() -> Vec<Case> {
             ]
             .iter()
             .map(|&phi| case(scene, &params, "phi", 0.5, vec![0.0, 0.0, phi]))
-            .collect(),
+            .collect::<Result<_, _>>()?,
         );
     }
     families.push(
         [0.0, 1e-8, 0.1, 0.5, 0.9, 0.99]
             .iter()
             .map(|&e| case("knife-eps", &[("eps", e)], "eps", 0.5, vec![0.0; 3]))
-            .collect(),
+            .collect::<Result<_, _>>()?,
     );
-    families.concat()
+    Ok(families.concat())
 }
 
 fn certified(model: &Model, c: &Case) -> Certified {
@@ -181,7 +187,7 @@ pub fn run(c: &Case) -> Result<Row, Error> {
 
 /// Run all cases.
 pub fn table(progress: Progress) -> Result<Vec<Row>, Error> {
-    let cs = cases();
+    let cs = cases()?;
     let mut rows = Vec::with_capacity(cs.len());
     for (i, c) in cs.iter().enumerate() {
         progress("stability cases", i, cs.len());

@@ -80,15 +80,15 @@ pub const NR_INFO: SceneInfo = SceneInfo {
 
 fn build_plain(p: &Params) -> Result<AnyScene, Error> {
     Ok(AnyScene::ContactOscillator(ContactOscillator {
-        eps: p.get("eps"),
+        eps: p.get("eps")?,
         delta: None,
     }))
 }
 
 fn build_nr(p: &Params) -> Result<AnyScene, Error> {
     Ok(AnyScene::ContactOscillator(ContactOscillator {
-        eps: p.get("eps"),
-        delta: Some(p.get("delta")),
+        eps: p.get("eps")?,
+        delta: Some(p.get("delta")?),
     }))
 }
 
@@ -98,12 +98,6 @@ impl Scene for ContactOscillator {
             None => &INFO,
             Some(_) => &NR_INFO,
         }
-    }
-    fn dim(&self) -> usize {
-        3
-    }
-    fn n_constraints(&self) -> usize {
-        1
     }
     fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
         identity(3)

@@ -81,7 +81,7 @@ fn build_knife(_: &Params) -> Result<AnyScene, Error> {
 }
 
 fn build_knife_eps(p: &Params) -> Result<AnyScene, Error> {
-    let eps = p.get("eps");
+    let eps = p.get("eps")?;
     if eps.abs() >= 1.0 {
         return Err(Error::input(format!(
             "knife-eps needs |eps| < 1 (got {eps}); at |eps| >= 1 the basis of D degenerates"
@@ -93,12 +93,6 @@ fn build_knife_eps(p: &Params) -> Result<AnyScene, Error> {
 impl Scene for Knife {
     fn info(&self) -> &'static SceneInfo {
         &KNIFE_INFO
-    }
-    fn dim(&self) -> usize {
-        3
-    }
-    fn n_constraints(&self) -> usize {
-        1
     }
     fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
         identity(3)
@@ -117,12 +111,6 @@ impl Scene for Knife {
 impl Scene for KnifeEps {
     fn info(&self) -> &'static SceneInfo {
         &KNIFE_EPS_INFO
-    }
-    fn dim(&self) -> usize {
-        3
-    }
-    fn n_constraints(&self) -> usize {
-        1
     }
     fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
         identity(3)

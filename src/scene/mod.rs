@@ -34,10 +34,14 @@ pub type Mat<S> = Vec<Vec<S>>;
 pub trait Scene {
     /// What the scene's file says about it (name, coordinates, parameters, formulas).
     fn info(&self) -> &'static SceneInfo;
-    /// Number of coordinates n.
-    fn dim(&self) -> usize;
+    /// Number of coordinates n (declared once, in the scene's [`SceneInfo`]).
+    fn dim(&self) -> usize {
+        self.info().n
+    }
     /// Number of constraints k (the rank of D is n - k).
-    fn n_constraints(&self) -> usize;
+    fn n_constraints(&self) -> usize {
+        self.info().k
+    }
     /// Mass matrix M(q), n x n, symmetric positive definite.
     fn mass<S: Scalar>(&self, q: &[S]) -> Mat<S>;
     /// Potential V(q).
@@ -96,10 +100,9 @@ pub struct Params<'a> {
 }
 
 impl Params<'_> {
-    /// The value of parameter `name` (the last one given, else its default).
-    ///
-    /// Panics if the scene declares no such parameter (a bug in the scene file).
-    pub fn get(&self, name: &str) -> f64 {
+    /// The value of parameter `name` (the last one given, else its default); an error if
+    /// the scene declares no such parameter (a bug in the scene file, named, not a panic).
+    pub fn get(&self, name: &str) -> Result<f64, Error> {
         self.given
             .iter()
             .rev()
@@ -112,12 +115,17 @@ impl Params<'_> {
                     .find(|p| p.name == name)
                     .map(|p| p.default)
             })
-            .unwrap_or_else(|| panic!("scene `{}` declares no `{name}`", self.info.name))
+            .ok_or_else(|| {
+                Error::uncertified(format!(
+                    "internal: scene `{}` reads an undeclared parameter `{name}`",
+                    self.info.name
+                ))
+            })
     }
 
     /// `get(name)`, required to be > 0 (an input error otherwise).
     pub fn positive(&self, name: &str) -> Result<f64, Error> {
-        let v = self.get(name);
+        let v = self.get(name)?;
         if v > 0.0 {
             Ok(v)
         } else {

@@ -32,12 +32,6 @@ impl Scene for Particle {
     fn info(&self) -> &'static SceneInfo {
         &INFO
     }
-    fn dim(&self) -> usize {
-        3
-    }
-    fn n_constraints(&self) -> usize {
-        1
-    }
     fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
         identity(3)
     }

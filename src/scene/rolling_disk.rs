@@ -81,12 +81,6 @@ impl Scene for RollingDisk {
     fn info(&self) -> &'static SceneInfo {
         &INFO
     }
-    fn dim(&self) -> usize {
-        4
-    }
-    fn n_constraints(&self) -> usize {
-        2
-    }
     fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
         diagonal(&[self.m, self.m, self.i, self.j])
     }

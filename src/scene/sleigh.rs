@@ -61,19 +61,13 @@ fn build(p: &Params) -> Result<AnyScene, Error> {
     Ok(AnyScene::Sleigh(Sleigh {
         m: p.positive("m")?,
         i: p.positive("I")?,
-        a: p.get("a"),
+        a: p.get("a")?,
     }))
 }
 
 impl Scene for Sleigh {
     fn info(&self) -> &'static SceneInfo {
         &INFO
-    }
-    fn dim(&self) -> usize {
-        3
-    }
-    fn n_constraints(&self) -> usize {
-        1
     }
     /// M(q) = [[m, 0, -m a sin th], [0, m, m a cos th], [-m a sin th, m a cos th, I + m a^2]].
     fn mass<S: Scalar>(&self, q: &[S]) -> Mat<S> {
