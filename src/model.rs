@@ -8,33 +8,45 @@ use crate::scene::{AnyScene, Scene};
 use crate::tape::{Tape, Tracer};
 use crate::with_scene;
 
-/// An autonomous ODE `x' = F(x)` as tapes: `field: x -> F(x)` and
-/// `field_var: (x, V) -> (F(x), DF(x) V)`, V a d x d matrix row-major (spec eq. (5.6)).
+/// An autonomous ODE `x' = F(x)` as tapes: `field: x -> F(x)`,
+/// `field_var: (x, V) -> (F(x), DF(x) V)`, V a d x d matrix row-major (spec eq. (5.6)), and
+/// `field_var_tail`, the same for a d x `tail` matrix W: the derivatives with respect to
+/// the last `tail` components of the initial state only (the shooting Jacobian of the
+/// retraction needs D x / D u0, not D x / D q0).
 pub struct System {
     pub field: Tape,
     pub field_var: Tape,
+    pub field_var_tail: Tape,
+    pub tail: usize,
 }
 
 impl System {
     /// Record `f` and its variational equation, f written once over any scalar.
     fn record(
         d: usize,
+        tail: usize,
         f: impl Fn(&[Tracer]) -> Vec<Tracer>,
         fd: impl Fn(&[Dual<Tracer>]) -> Vec<Dual<Tracer>>,
     ) -> System {
-        let field = Tape::record(d, f);
-        let field_var = Tape::record(d + d * d, |xv| {
-            let x: Vec<Dual<Tracer>> = (0..d)
-                .map(|i| Dual::new(xv[i], xv[d + i * d..d + (i + 1) * d].to_vec()))
-                .collect();
-            let f = fd(&x);
-            let mut out: Vec<Tracer> = f.iter().map(|fi| fi.v).collect();
-            for fi in &f {
-                out.extend((0..d).map(|j| fi.der(j)));
-            }
-            out
-        });
-        System { field, field_var }
+        let var = |c: usize| {
+            Tape::record(d + d * c, |xv| {
+                let x: Vec<Dual<Tracer>> = (0..d)
+                    .map(|i| Dual::new(xv[i], xv[d + i * c..d + (i + 1) * c].to_vec()))
+                    .collect();
+                let f = fd(&x);
+                let mut out: Vec<Tracer> = f.iter().map(|fi| fi.v).collect();
+                for fi in &f {
+                    out.extend((0..c).map(|j| fi.der(j)));
+                }
+                out
+            })
+        };
+        System {
+            field: Tape::record(d, f),
+            field_var: var(d),
+            field_var_tail: var(tail),
+            tail,
+        }
     }
 }
 
@@ -85,9 +97,10 @@ impl Model {
     pub fn new(scene: AnyScene) -> Model {
         let (n, k) = with_scene!(&scene, s => (s.dim(), s.n_constraints()));
         let d = 2 * n - k;
-        let dynamics = with_scene!(&scene, s => System::record(d, |x| reduced_field(s, x), |x| reduced_field(s, x)));
+        let dynamics = with_scene!(&scene, s => System::record(d, n - k, |x| reduced_field(s, x), |x| reduced_field(s, x)));
         let with_action = with_scene!(&scene, s => System::record(
             d + 1,
+            0,
             |x| field_with_action(s, x),
             |x| field_with_action(s, x),
         ));

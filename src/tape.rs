@@ -18,6 +18,7 @@ use inari::Interval;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::ops::{Add, Div, Mul, Neg, Sub};
+use std::thread::LocalKey;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Op {
@@ -382,14 +383,16 @@ fn remap(op: &Op, m: &[u32]) -> Op {
     }
 }
 
-/// Storage of the Taylor coefficients of every node, node-major.
-struct Series<T> {
+/// Storage of the Taylor coefficients of every node, node-major. The storage is a per-thread
+/// scratch buffer, reused from one evaluation to the next (it is zeroed first).
+struct Series<T: Coef> {
     n: usize,
     /// False once a singular operation (divisor or sqrt argument not proved safe) was met.
     ok: bool,
+    /// The coefficients of node i at `i n ..`, then the companion series (cos for a Sin
+    /// node, sin for a Cos node) of node i at `(nodes + i) n ..`.
     c: Vec<T>,
-    /// Companion series: cos for a Sin node, sin for a Cos node.
-    aux: Vec<T>,
+    aux_at: usize,
     /// Per node, the first and last index of a coefficient (or companion) not exactly 0
     /// so far; `(usize::MAX, 0)` while all are 0.
     nz: Vec<(usize, usize)>,
@@ -397,12 +400,14 @@ struct Series<T> {
 
 impl<T: Coef> Series<T> {
     fn new(nodes: usize, n: usize) -> Self {
-        let z = T::zero();
+        let mut c = T::scratch().with(|s| s.take());
+        c.clear();
+        c.resize(2 * nodes * n, T::zero());
         Series {
             n,
             ok: true,
-            c: vec![z; nodes * n],
-            aux: vec![z; nodes * n],
+            c,
+            aux_at: nodes * n,
             nz: vec![(usize::MAX, 0); nodes],
         }
     }
@@ -410,7 +415,7 @@ impl<T: Coef> Series<T> {
         self.c[node as usize * self.n + k]
     }
     fn aux(&self, node: u32, k: usize) -> T {
-        self.aux[node as usize * self.n + k]
+        self.c[self.aux_at + node as usize * self.n + k]
     }
 
     /// Coefficient k of every node, given all coefficients below k (spec eq. (2.3)-(2.7)).
@@ -429,7 +434,7 @@ impl<T: Coef> Series<T> {
                     // (2.3) w_k = sum_{j=0..k} a_j b_{k-j}
                     let mut acc = zero;
                     for j in self.terms(a, b, k, 0, k) {
-                        acc = acc + self.get(a, j) * self.get(b, k - j);
+                        acc = acc.mul_acc(self.get(a, j), self.get(b, k - j));
                     }
                     (acc, zero)
                 }
@@ -437,7 +442,7 @@ impl<T: Coef> Series<T> {
                     // (2.4) w_k = (a_k - sum_{j=1..k} b_j w_{k-j}) / b_0
                     let mut acc = self.get(a, k);
                     for j in self.terms(b, idx as u32, k, 1, k) {
-                        acc = acc - self.get(b, j) * self.get(idx as u32, k - j);
+                        acc = acc.mul_acc(-self.get(b, j), self.get(idx as u32, k - j));
                     }
                     let b0 = self.get(b, 0);
                     if !b0.safe_divisor() {
@@ -457,7 +462,7 @@ impl<T: Coef> Series<T> {
                         let me = idx as u32;
                         let mut acc = self.get(a, k);
                         for j in self.terms(me, me, k, 1, k - 1) {
-                            acc = acc - self.get(me, j) * self.get(me, k - j);
+                            acc = acc.mul_acc(-self.get(me, j), self.get(me, k - j));
                         }
                         let w0 = self.get(me, 0);
                         (acc / (w0 + w0), zero)
@@ -480,8 +485,8 @@ impl<T: Coef> Series<T> {
                             } else {
                                 (self.aux(me, k - j), self.get(me, k - j))
                             };
-                            s = s + ju * cp;
-                            c = c - ju * sp;
+                            s = s.mul_acc(ju, cp);
+                            c = c.mul_acc(-ju, sp);
                         }
                         (s / kf, c / kf)
                     };
@@ -493,7 +498,7 @@ impl<T: Coef> Series<T> {
                 }
             };
             self.c[idx * self.n + k] = val;
-            self.aux[idx * self.n + k] = aux;
+            self.c[self.aux_at + idx * self.n + k] = aux;
             if !(val.is_exact_zero() && aux.is_exact_zero()) {
                 let e = &mut self.nz[idx];
                 e.0 = e.0.min(k);
@@ -522,9 +527,23 @@ impl<T: Coef> Series<T> {
     }
 }
 
+impl<T: Coef> Drop for Series<T> {
+    fn drop(&mut self) {
+        let c = std::mem::take(&mut self.c);
+        T::scratch().with(|s| s.replace(c));
+    }
+}
+
+thread_local! {
+    static SCRATCH_INTERVAL: RefCell<Vec<Interval>> = const { RefCell::new(Vec::new()) };
+    static SCRATCH_F64: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
+}
+
 /// A coefficient type for the Taylor recurrences: intervals (rigorous, with the domain
 /// checks of spec eq. (2.8)) or f64 (only to *choose* things, e.g. Newton guesses).
-pub trait Coef: Scalar + Copy {
+pub trait Coef: Scalar + Copy + 'static {
+    /// The per-thread storage reused by [`Series`].
+    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>>;
     /// Exactly 0 (terms with such a factor are skipped).
     fn is_exact_zero(&self) -> bool;
     /// Proved non-zero (Interval: 0 not in it).
@@ -532,9 +551,15 @@ pub trait Coef: Scalar + Copy {
     /// Proved positive.
     fn safe_sqrt_arg(&self) -> bool;
     fn is_finite_coef(&self) -> bool;
+    /// `self + a b`; for intervals fused (one outward rounding, inari's `mul_add`), which
+    /// encloses the exact value as the unfused form does, and is tighter and faster.
+    fn mul_acc(self, a: Self, b: Self) -> Self;
 }
 
 impl Coef for Interval {
+    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>> {
+        &SCRATCH_INTERVAL
+    }
     fn is_exact_zero(&self) -> bool {
         self.inf() == 0.0 && self.sup() == 0.0
     }
@@ -547,9 +572,15 @@ impl Coef for Interval {
     fn is_finite_coef(&self) -> bool {
         finite(*self)
     }
+    fn mul_acc(self, a: Self, b: Self) -> Self {
+        a.mul_add(b, self)
+    }
 }
 
 impl Coef for f64 {
+    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>> {
+        &SCRATCH_F64
+    }
     fn is_exact_zero(&self) -> bool {
         *self == 0.0
     }
@@ -561,6 +592,9 @@ impl Coef for f64 {
     }
     fn is_finite_coef(&self) -> bool {
         self.is_finite()
+    }
+    fn mul_acc(self, a: Self, b: Self) -> Self {
+        self + a * b
     }
 }
 

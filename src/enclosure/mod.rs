@@ -21,6 +21,17 @@ pub struct LohnerSet {
     pub b: DMatrix<f64>,
     pub r: Vec<Interval>,
     pub boxed: Vec<Interval>,
+    /// A marked subset `{ m + B r : r in sub.r } ∩ sub.boxed` carried along with the same
+    /// centre, basis and Jacobians (spec eq. (5.14)): e.g. the image of the initial centre,
+    /// which the Krawczyk test needs beside the image of the whole box.
+    pub sub: Option<SubSet>,
+}
+
+/// The marked subset of a [`LohnerSet`]: its own `[r]` (inside the set's) and box.
+#[derive(Clone, Debug)]
+pub struct SubSet {
+    pub r: Vec<Interval>,
+    pub boxed: Vec<Interval>,
 }
 
 impl LohnerSet {
@@ -31,6 +42,7 @@ impl LohnerSet {
             b: DMatrix::identity(x.len(), x.len()),
             r: vec![point(0.0); x.len()],
             boxed: x.iter().map(|v| point(*v)).collect(),
+            sub: None,
         }
     }
     /// A box, as centre plus radius.
@@ -42,16 +54,39 @@ impl LohnerSet {
             b: DMatrix::identity(x.len(), x.len()),
             r,
             boxed: x.to_vec(),
+            sub: None,
+        }
+    }
+    /// The box `x` with centre `m` (a point of `x`) and the marked subset `sub` (a box
+    /// inside `x`, e.g. a single point).
+    pub fn with_subset(m: &[f64], x: &[Interval], sub: &[Interval]) -> Self {
+        let rel = |b: &[Interval]| b.iter().zip(m).map(|(v, c)| *v - point(*c)).collect();
+        LohnerSet {
+            m: m.to_vec(),
+            b: DMatrix::identity(x.len(), x.len()),
+            r: rel(x),
+            boxed: x.to_vec(),
+            sub: Some(SubSet {
+                r: rel(sub),
+                boxed: sub.to_vec(),
+            }),
         }
     }
     /// An interval box containing the set (spec eq. (5.2)): the parallelepiped's hull
     /// intersected with the box (both contain the set, so the intersection is not empty).
     pub fn hull(&self) -> Vec<Interval> {
-        let br = linalg::mul_vec(&linalg::imat(&self.b), &self.r);
+        self.hull_of(&self.r, &self.boxed)
+    }
+    /// A box containing the marked subset, if there is one.
+    pub fn sub_hull(&self) -> Option<Vec<Interval>> {
+        self.sub.as_ref().map(|s| self.hull_of(&s.r, &s.boxed))
+    }
+    fn hull_of(&self, r: &[Interval], boxed: &[Interval]) -> Vec<Interval> {
+        let br = linalg::mul_vec(&linalg::imat(&self.b), r);
         self.m
             .iter()
             .zip(br)
-            .zip(&self.boxed)
+            .zip(boxed)
             .map(|((c, x), bx)| {
                 let p = point(*c) + x;
                 let both = p.intersection(*bx);
@@ -276,19 +311,29 @@ fn flow_set_general(
             return Err(too_many(opts.max_steps, t));
         }
         let rem = (total - done).intersection(iv(0.0, f64::MAX));
+        // (5.3) Taylor coefficients at the centre, for every try of this step.
+        let centre: Vec<Interval> = set.m.iter().map(|x| point(*x)).collect();
+        let c = sys
+            .field
+            .ode_taylor(&centre, p)
+            .ok_or_else(|| Error::uncertified("vector field not defined at the state"))?;
         // A fixed step (spec eq. (5.13)) or the rule of (5.8).
         let fixed = opts.step > 0.0;
         let mut h = if fixed {
             round_step(opts.step)
         } else {
-            round_step(suggest_step(sys, &set, p)? * factor)
+            let mid: Vec<Vec<f64>> = c
+                .iter()
+                .map(|ck| ck.iter().map(|x| x.mid()).collect())
+                .collect();
+            round_step(step_size(&mid, p, &set.m) * factor)
         }
         .min(rem.inf());
         let mut last = h >= rem.inf();
         let mut tries = 0;
         loop {
             let hi = if last { rem } else { point(h) };
-            match lohner_step(sys, &set, hi, p, !fixed && tries < 12, c1) {
+            match lohner_step(sys, &set, &c, hi, p, !fixed && tries < 12, c1) {
                 Ok((next, step_jac)) => {
                     set = next;
                     if let Some(j) = step_jac {
@@ -363,16 +408,6 @@ fn round_step(h: f64) -> f64 {
     base * quarters / 4.0
 }
 
-/// Step size from the Taylor coefficients at the centre (spec eq. (5.8)): the last two
-/// terms of the series should be below the rounding level of the state.
-fn suggest_step(sys: &System, set: &LohnerSet, p: usize) -> Result<f64, Error> {
-    let c = sys
-        .field
-        .ode_taylor::<f64>(&set.m, p)
-        .ok_or_else(|| Error::uncertified("vector field not defined at the state"))?;
-    Ok(step_size(&c, p, &set.m))
-}
-
 /// The step-size rule of spec eq. (5.8) from float Taylor coefficients at the state `x`.
 fn step_size(c: &[Vec<f64>], p: usize, x: &[f64]) -> f64 {
     let scale = x.iter().fold(1.0f64, |a, v| a.max(v.abs()));
@@ -401,61 +436,93 @@ pub fn float_flow_c1(
     t: f64,
     opts: &FlowOptions,
 ) -> Option<(Vec<f64>, DMatrix<f64>)> {
-    float_flow_c1_counted(sys, x0, t, opts).map(|(x, j, _)| (x, j))
+    let d = x0.len();
+    float_flow_var(&sys.field_var, x0, DMatrix::identity(d, d), t, opts).map(|(x, j, _)| (x, j))
 }
 
-/// As [`float_flow_c1`], also returning the number of Taylor steps taken (the work, for
-/// callers that bound their total work).
-pub fn float_flow_c1_counted(
+/// As [`float_flow_c1`] for the derivatives with respect to the last `sys.tail` components
+/// of `x0` only (`D x(t) / D x0[d - tail..]`, d x tail), also returning the number of Taylor
+/// steps taken (the work, for callers that bound their total work).
+pub fn float_flow_tail_counted(
     sys: &System,
     x0: &[f64],
     t: f64,
     opts: &FlowOptions,
 ) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
-    let d = x0.len();
+    let (d, c) = (x0.len(), sys.tail);
+    let w0 = DMatrix::from_fn(d, c, |i, j| if i + c == d + j { 1.0 } else { 0.0 });
+    float_flow_var(&sys.field_var_tail, x0, w0, t, opts)
+}
+
+/// A float Taylor integration of `x' = F(x)` alone over time `t` (the state at `t` and the
+/// number of steps taken); not rigorous, as [`float_flow_c1`].
+pub fn float_flow_counted(
+    sys: &System,
+    x0: &[f64],
+    t: f64,
+    opts: &FlowOptions,
+) -> Option<(Vec<f64>, usize)> {
+    let w0 = DMatrix::zeros(x0.len(), 0);
+    float_flow_var(&sys.field, x0, w0, t, opts).map(|(x, _, steps)| (x, steps))
+}
+
+/// Float Taylor integration of `(x, W)' = (F(x), DF(x) W)` from `(x0, w0)`; `tape` is the
+/// variational tape for `w0.ncols()` columns. W(t) = D x(t)/D x0 * w0.
+fn float_flow_var(
+    tape: &crate::tape::Tape,
+    x0: &[f64],
+    w0: DMatrix<f64>,
+    t: f64,
+    opts: &FlowOptions,
+) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
+    let (d, cols) = (x0.len(), w0.ncols());
     let p = if opts.order == 0 {
         DEFAULT_ORDER
     } else {
         opts.order
     };
-    let mut x = x0.to_vec();
-    let mut jac = DMatrix::<f64>::identity(d, d);
+    let mut xw: Vec<f64> = x0.to_vec();
+    xw.extend(
+        (0..d)
+            .flat_map(|i| (0..cols).map(move |j| (i, j)))
+            .map(|(i, j)| w0[(i, j)]),
+    );
     let mut done = 0.0;
     for steps in 0..opts.max_steps {
         if done >= t {
-            return Some((x, jac, steps));
+            let w = DMatrix::from_fn(d, cols, |i, j| xw[d + i * cols + j]);
+            return Some((xw[..d].to_vec(), w, steps));
         }
-        let mut xv = x.clone();
-        for i in 0..d {
-            xv.extend((0..d).map(|j| if i == j { 1.0 } else { 0.0 }));
-        }
-        let c = sys.field_var.ode_taylor::<f64>(&xv, p)?;
+        let c = tape.ode_taylor::<f64>(&xw, p)?;
         // The step rule (5.8) on the state AND the variational series: the Jacobian's series
         // can have a smaller radius of convergence than the state's (e.g. the particle with
         // u1 = 0: x(t) stays 0 while D x / D u1 = asinh(u2 t) / u2 is singular at t = i/u2).
-        let h = step_size(&c, p, &xv).min(t - done);
-        let poly = |i: usize| c.iter().rev().fold(0.0, |acc, ck| acc * h + ck[i]);
-        x = (0..d).map(poly).collect();
-        let v = DMatrix::from_fn(d, d, |i, j| poly(d + i * d + j));
-        jac = v * jac;
+        let h = step_size(&c, p, &xw).min(t - done);
+        xw = (0..xw.len())
+            .map(|i| c.iter().rev().fold(0.0, |acc, ck| acc * h + ck[i]))
+            .collect();
         done = if h >= t - done { t } else { done + h };
-        if !x.iter().all(|v| v.is_finite()) {
+        if !xw.iter().all(|v| v.is_finite()) {
             return None;
         }
     }
     None
 }
 
-/// Horner's scheme in intervals: encloses `sum_i c_i t^i` for every `t` in `h` and every
-/// choice of coefficients in the enclosures `c_i`.
-fn horner(c: &[Interval], h: Interval) -> Interval {
-    c.iter().rev().fold(point(0.0), |acc, ci| acc * h + *ci)
+/// Horner's scheme in intervals: encloses `sum_{i<n} c_i t^i` for every `t` in `h` and every
+/// choice of coefficients in the enclosures `c_i = coef(i)` (fused multiply-adds, each
+/// outward rounded by inari).
+fn horner(n: usize, coef: impl Fn(usize) -> Interval, h: Interval) -> Interval {
+    (0..n)
+        .rev()
+        .fold(point(0.0), |acc, i| acc.mul_add(h, coef(i)))
 }
 
-/// One step of the method (spec eqs. (5.3)-(5.6), (5.9)-(5.10)).
+/// One step of the method (spec eqs. (5.3)-(5.6), (5.9)-(5.12)).
 fn lohner_step(
     sys: &System,
     set: &LohnerSet,
+    c: &[Vec<Interval>],
     h: Interval,
     p: usize,
     strict: bool,
@@ -466,138 +533,41 @@ fn lohner_step(
     if !set.r.iter().all(|r| r.contains(0.0)) {
         return Err(fatal("internal invariant broken: 0 not in r"));
     }
-    let xbox = set.hull();
-    // (5.3) Taylor coefficients at the centre.
-    let centre: Vec<Interval> = set.m.iter().map(|x| point(*x)).collect();
-    let c = sys
-        .field
-        .ode_taylor(&centre, p)
-        .ok_or_else(|| fatal("vector field not defined at the state"))?;
-    // (5.6) coefficients of the solution and of the variational equation over the box. For
-    // a point set (r = 0) without C^1 output, the box is the centre and J is not needed
-    // (J B r = 0): the centre's coefficients serve, with J = 0.
-    let point_set = !c1 && set.r.iter().all(|r| r.is_exact_zero());
-    let cv = if point_set {
-        c.iter()
-            .map(|ck| {
-                let mut v = ck.clone();
-                v.resize(d + d * d, point(0.0));
-                v
-            })
-            .collect()
-    } else {
-        let mut xv = xbox.clone();
-        for i in 0..d {
-            xv.extend((0..d).map(|j| point(if i == j { 1.0 } else { 0.0 })));
-        }
-        sys.field_var.ode_taylor(&xv, p).ok_or(StepFail::Shrink)?
-    };
-    // (5.4) a priori enclosure on [0, h]: Z = sum_{i<p} Tb_i [0,h]^i + T_p(Y) [0,h]^p in Y.
-    let h0 = iv(0.0, h.sup());
-    let coef = |k: usize, i: usize| cv[k][i];
-    let guess: Vec<Interval> = (0..d)
-        .map(|i| horner(&(0..=p).map(|k| coef(k, i)).collect::<Vec<_>>(), h0))
-        .collect();
-    let mut y = inflate(&guess);
-    let mut remainder = None;
-    for _ in 0..4 {
-        let ty = match sys.field.ode_taylor(&y, p + 1) {
-            Some(ty) => ty,
-            None => return Err(StepFail::Shrink),
-        };
-        let z: Vec<Interval> = (0..d)
-            .map(|i| {
-                let mut cs: Vec<Interval> = (0..p).map(|k| coef(k, i)).collect();
-                cs.push(ty[p][i]);
-                horner(&cs, h0)
-            })
-            .collect();
-        if z.iter().zip(&y).all(|(a, b)| a.subset(*b)) {
-            // (5.5) Lagrange remainder T_{p+1}(x(xi)) h^{p+1} with x(xi) in Y; when that is
-            // too wide, x(xi) in the enclosure of one of SLICES sub-intervals of [0, h]
-            // (narrower boxes than Y: less dependency in the high-order coefficients).
-            let hp = (0..=p).fold(point(1.0), |a, _| a * h);
-            let scale = set.m.iter().fold(1.0f64, |a, x| a.max(x.abs()));
-            let wide = ty[p + 1]
-                .iter()
-                .any(|t| (*t * hp).wid() > scale * REMAINDER_TOL);
-            let mut hull: Option<Vec<Interval>> = None;
-            for j in 0..if wide { SLICES } else { 0 } {
-                let lo = h.sup() * j as f64 / SLICES as f64;
-                let hi = if j + 1 == SLICES {
-                    h.sup()
-                } else {
-                    h.sup() * (j + 1) as f64 / SLICES as f64
-                };
-                let tj = iv(lo, hi);
-                let yj: Vec<Interval> = (0..d)
-                    .map(|i| {
-                        let mut cs: Vec<Interval> = (0..p).map(|k| coef(k, i)).collect();
-                        cs.push(ty[p][i]);
-                        horner(&cs, tj).intersection(y[i])
-                    })
-                    .collect();
-                let tj = sys.field.ode_taylor(&yj, p + 1).ok_or(StepFail::Shrink)?;
-                hull = Some(match hull {
-                    None => tj[p + 1].clone(),
-                    Some(hh) => hh
-                        .iter()
-                        .zip(&tj[p + 1])
-                        .map(|(a, b)| a.convex_hull(*b))
-                        .collect(),
-                });
-            }
-            let t_rem = hull.unwrap_or_else(|| ty[p + 1].clone());
-            remainder = Some(t_rem.iter().map(|t| *t * hp).collect::<Vec<_>>());
-            break;
-        }
-        y = inflate(
-            &z.iter()
-                .zip(&y)
-                .map(|(a, b)| a.convex_hull(*b))
-                .collect::<Vec<_>>(),
-        );
+    let scale = set.m.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+    let too_wide = |x: &[Interval], tol: f64| x.iter().any(|x| x.wid() > scale * tol);
+    // (5.3) the Taylor polynomial at the centre (coefficients `c`)
+    let phi: Vec<Interval> = (0..d).map(|i| horner(c.len(), |k| c[k][i], h)).collect();
+    if strict && too_wide(&phi, 16.0 * f64::EPSILON) {
+        return Err(StepFail::Shrink);
     }
-    let remainder = remainder.ok_or(StepFail::Shrink)?;
-    // (5.8) step-size control on the proved remainder, not only on the estimate.
-    // (5.3) z = phi(m) + R
-    let phi: Vec<Interval> = (0..d)
-        .map(|i| horner(&c.iter().map(|ck| ck[i]).collect::<Vec<_>>(), h))
-        .collect();
-    if strict {
-        let scale = set.m.iter().fold(1.0f64, |a, x| a.max(x.abs()));
-        let too_wide = |x: &Interval, tol: f64| x.wid() > scale * tol;
-        if remainder.iter().any(|x| too_wide(x, REMAINDER_TOL))
-            || phi.iter().any(|x| too_wide(x, 16.0 * f64::EPSILON))
-        {
+    let xbox = set.hull();
+    let spread = set.r.iter().fold(0.0f64, |a, x| a.max(x.mag()));
+    let point_set = set.r.iter().all(|r| r.is_exact_zero());
+    // z encloses x(h; m); x(h; x0) lies in z + J (x0 - m) for every x0 in the set.
+    let thin = point_set || spread <= THIN * f64::EPSILON * scale;
+    let centre_step = if thin {
+        // (5.4)-(5.5) for the trajectory from the centre alone
+        let (rem, _) = remainder(sys, c, h, p, scale, THIN_SLICES, strict)?;
+        if strict && too_wide(&rem, REMAINDER_TOL) {
             return Err(StepFail::Shrink);
         }
-    }
-    let z: Vec<Interval> = phi.iter().zip(&remainder).map(|(a, b)| *a + *b).collect();
-    // (5.6) J = sum_k V_k h^k, A = J B
-    let jac: IMat = (0..d)
-        .map(|i| {
-            (0..d)
-                .map(|j| {
-                    horner(
-                        &cv.iter().map(|ck| ck[d + i * d + j]).collect::<Vec<_>>(),
-                        h,
-                    )
-                })
-                .collect()
-        })
-        .collect();
-    // (5.11) the derivative of the step map over the whole set, with its own remainder.
-    let step_jac = if c1 {
-        let rem = variational_remainder(sys, &y, &cv, h, p)?;
-        Some(
-            jac.iter()
-                .zip(&rem)
-                .map(|(a, b)| a.iter().zip(b).map(|(x, y)| *x + *y).collect())
-                .collect(),
-        )
+        let z: Vec<Interval> = phi.iter().zip(&rem).map(|(a, b)| *a + *b).collect();
+        if point_set && !c1 {
+            // a point set needs no Jacobian (J B r = 0 for r = 0)
+            return Ok((point_image(set, z), None));
+        }
+        // (5.6') the flow's Jacobian at a low order, if its remainder is negligible here
+        thin_jacobian(sys, &xbox, h, scale, spread).map(|jac| (z, jac))
     } else {
         None
+    };
+    let (z, jac) = match centre_step {
+        Some(zj) => zj,
+        None => {
+            // (5.4)-(5.6) over the whole set: Taylor coefficients over the hull
+            let (z, jac) = box_enclosure(sys, &xbox, &phi, h, p, scale, strict, c1)?;
+            (z, jac)
+        }
     };
     let a = linalg::mul(&jac, &linalg::imat(&set.b));
     if !z.iter().all(|x| finite(*x)) || !linalg::all_finite(&a) {
@@ -613,32 +583,256 @@ fn lohner_step(
         Some(inv) => (q, inv),
         None => (DMatrix::identity(d, d), linalg::identity(d)),
     };
-    let r_new: Vec<Interval> = {
-        let ba = linalg::mul(&b_inv, &a);
-        let part = linalg::mul_vec(&ba, &set.r);
-        let shift = linalg::mul_vec(&b_inv, &zc);
-        part.iter().zip(shift).map(|(x, y)| *x + y).collect()
+    let ba = linalg::mul(&b_inv, &a);
+    let shift = linalg::mul_vec(&b_inv, &zc);
+    let image_r = |r: &[Interval]| -> Vec<Interval> {
+        let part = linalg::mul_vec(&ba, r);
+        part.iter().zip(&shift).map(|(x, y)| *x + *y).collect()
     };
-    if !r_new.iter().all(|x| finite(*x)) {
+    // The box method beside the parallelepiped: x(h) in z + [J] ([X] - m) (spec eq. (5.12)).
+    let image_box = |hull: &[Interval]| -> Vec<Interval> {
+        let dx: Vec<Interval> = hull
+            .iter()
+            .zip(&set.m)
+            .map(|(x, c)| *x - point(*c))
+            .collect();
+        let jdx = linalg::mul_vec(&jac, &dx);
+        z.iter().zip(jdx).map(|(a, b)| *a + b).collect()
+    };
+    let r_new = image_r(&set.r);
+    let sub = set.sub.as_ref().map(|sb| SubSet {
+        r: image_r(&sb.r),
+        boxed: image_box(&set.hull_of(&sb.r, &sb.boxed)),
+    });
+    let unbounded = |r: &[Interval]| !r.iter().all(|x| finite(*x));
+    if unbounded(&r_new) || sub.as_ref().is_some_and(|sb| unbounded(&sb.r)) {
         return Err(fatal("enclosure became unbounded"));
     }
-    // The box method beside the parallelepiped: x(h) in z + [J] ([X] - m) (spec eq. (5.6)).
-    let dx: Vec<Interval> = xbox
-        .iter()
-        .zip(&set.m)
-        .map(|(x, c)| *x - point(*c))
-        .collect();
-    let jdx = linalg::mul_vec(&jac, &dx);
-    let boxed = z.iter().zip(jdx).map(|(a, b)| *a + b).collect();
     Ok((
         LohnerSet {
             m: m_new,
             b: b_new,
             r: r_new,
-            boxed,
+            boxed: image_box(&xbox),
+            sub,
         },
-        step_jac,
+        c1.then_some(jac),
     ))
+}
+
+/// A set whose spread `[r]` is below this many ulps of its scale is "thin": its step uses
+/// the trajectory of the centre and a low-order Jacobian of the flow (spec eq. (5.6')).
+const THIN: f64 = 1024.0;
+
+/// Slices of the remainder on a thin set: a step is cheap there, so a much too wide
+/// remainder is better met by a smaller step than by many slices.
+const THIN_SLICES: usize = 8;
+
+/// Order of the Taylor series of the variational equation on a thin set (spec eq. (5.6')).
+const THIN_ORDER: usize = 3;
+
+/// The image of a point set (r = 0): the box z, recentred.
+fn point_image(set: &LohnerSet, z: Vec<Interval>) -> LohnerSet {
+    let d = z.len();
+    let m: Vec<f64> = z.iter().map(|x| x.mid()).collect();
+    let r: Vec<Interval> = z.iter().zip(&m).map(|(x, c)| *x - point(*c)).collect();
+    // the subset of a point is the point
+    let sub = set.sub.as_ref().map(|_| SubSet {
+        r: r.clone(),
+        boxed: z.clone(),
+    });
+    LohnerSet {
+        m,
+        b: DMatrix::identity(d, d),
+        r,
+        boxed: z,
+        sub,
+    }
+}
+
+/// (5.4)-(5.6) over the whole set (Lohner's original step): `z = phi(m) + [R]` with the
+/// remainder over an a priori box of every trajectory from the hull, and `[J] = D phi([X])`
+/// from the variational Taylor coefficients over the hull; for C^1 output, `[J]` plus the
+/// variational remainder (5.11).
+#[allow(clippy::too_many_arguments)]
+fn box_enclosure(
+    sys: &System,
+    xbox: &[Interval],
+    phi: &[Interval],
+    h: Interval,
+    p: usize,
+    scale: f64,
+    strict: bool,
+    c1: bool,
+) -> Result<(Vec<Interval>, IMat), StepFail> {
+    let d = xbox.len();
+    let mut xv = xbox.to_vec();
+    for i in 0..d {
+        xv.extend((0..d).map(|j| point(if i == j { 1.0 } else { 0.0 })));
+    }
+    let cv = sys.field_var.ode_taylor(&xv, p).ok_or(StepFail::Shrink)?;
+    let b: Vec<Vec<Interval>> = cv.iter().map(|ck| ck[..d].to_vec()).collect();
+    let (rem, y) = remainder(sys, &b, h, p, scale, SLICES, strict)?;
+    if strict && rem.iter().any(|x| x.wid() > scale * REMAINDER_TOL) {
+        return Err(StepFail::Shrink);
+    }
+    let z = phi.iter().zip(&rem).map(|(a, b)| *a + *b).collect();
+    let mut jac: IMat = (0..d)
+        .map(|i| {
+            (0..d)
+                .map(|j| horner(cv.len(), |k| cv[k][d + i * d + j], h))
+                .collect()
+        })
+        .collect();
+    if c1 {
+        let vrem = variational_remainder(sys, &y, &cv, h, p)?;
+        for (row, vr) in jac.iter_mut().zip(&vrem) {
+            for (x, r) in row.iter_mut().zip(vr) {
+                *x += *r;
+            }
+        }
+    }
+    Ok((z, jac))
+}
+
+/// The Picard-Lindelof test in the high-order form of Corliss and Rihm (spec eq. (5.4)):
+/// with `b` the Taylor coefficients `0..=q` at the initial set, find a box `Y` with
+/// `sum_{i<q} b_i [0,h]^i + T_q(Y) [0,h]^q  in  Y`. Returns `Y` and the coefficients
+/// `T_0..T_{q+1}` over `Y` (the last one for the Lagrange remainder). The first trial box
+/// is the Taylor range over `[0, h]` widened by 10%; after a failed trial, the hull of `Y`
+/// and `Z` widened by 10% and by `widen` times the excess of `Z` over `Y` (up to three times).
+fn a_priori(
+    tape: &crate::tape::Tape,
+    b: &[Vec<Interval>],
+    h: Interval,
+    q: usize,
+    widen: f64,
+) -> Result<(Vec<Interval>, Vec<Vec<Interval>>), StepFail> {
+    let h0 = iv(0.0, h.sup());
+    let dim = b[0].len();
+    let series = |i: usize, top: Interval| horner(q + 1, |k| if k < q { b[k][i] } else { top }, h0);
+    let mut y = inflate(&(0..dim).map(|i| series(i, b[q][i])).collect::<Vec<_>>());
+    for _ in 0..4 {
+        let ty = tape.ode_taylor(&y, q + 1).ok_or(StepFail::Shrink)?;
+        let z: Vec<Interval> = (0..dim).map(|i| series(i, ty[q][i])).collect();
+        if z.iter().zip(&y).all(|(a, b)| a.subset(*b)) {
+            return Ok((y, ty));
+        }
+        // the hull of both, widened by 10% and by a multiple of the excess of Z over Y (a
+        // component whose range is nearly a point grows by tiny amounts otherwise)
+        y = z
+            .iter()
+            .zip(&y)
+            .map(|(a, b)| {
+                let excess = (b.inf() - a.inf()).max(a.sup() - b.sup()).max(0.0);
+                let hull = a.convex_hull(*b);
+                let w = hull.wid() * 0.1 + excess * widen + hull.mag() * 1e-15 + 1e-300;
+                iv(hull.inf() - w, hull.sup() + w)
+            })
+            .collect();
+    }
+    Err(StepFail::Shrink)
+}
+
+/// (5.4)-(5.5): with `b` the Taylor coefficients at the initial set (its centre, or its
+/// hull), proves that every trajectory from it exists on `[0, h]` and returns `[R]` with
+/// `x(h) - phi(x0) in [R]`, and the a priori box `Y`. When `T_{p+1}(Y) h^{p+1}` is wide,
+/// `x(xi)` is taken in the enclosures of SLICES sub-intervals of `[0, h]` (narrower boxes
+/// than Y: less dependency in the high-order coefficients).
+fn remainder(
+    sys: &System,
+    b: &[Vec<Interval>],
+    h: Interval,
+    p: usize,
+    scale: f64,
+    slices: usize,
+    strict: bool,
+) -> Result<(Vec<Interval>, Vec<Interval>), StepFail> {
+    let d = b[0].len();
+    let (y, ty) = a_priori(&sys.field, b, h, p, 0.0)?;
+    let hp = (0..=p).fold(point(1.0), |a, _| a * h);
+    let wide = slices > 1
+        && ty[p + 1]
+            .iter()
+            .any(|t| (*t * hp).wid() > scale * REMAINDER_TOL);
+    let mut t_rem = ty[p + 1].clone();
+    if wide {
+        for j in 0..slices {
+            let lo = h.sup() * j as f64 / slices as f64;
+            let hi = if j + 1 == slices {
+                h.sup()
+            } else {
+                h.sup() * (j + 1) as f64 / slices as f64
+            };
+            let tj = iv(lo, hi);
+            let yj: Vec<Interval> = (0..d)
+                .map(|i| {
+                    horner(p + 1, |k| if k < p { b[k][i] } else { ty[p][i] }, tj).intersection(y[i])
+                })
+                .collect();
+            let tj = sys.field.ode_taylor(&yj, p + 1).ok_or(StepFail::Shrink)?;
+            let part = &tj[p + 1];
+            // The hull over the slices is at least as wide as this slice: in strict mode a
+            // slice already over the tolerance decides the rejection, without the others.
+            if strict && part.iter().any(|t| (*t * hp).wid() > scale * REMAINDER_TOL) {
+                return Err(StepFail::Shrink);
+            }
+            t_rem = if j == 0 {
+                part.clone()
+            } else {
+                t_rem
+                    .iter()
+                    .zip(part)
+                    .map(|(a, b)| a.convex_hull(*b))
+                    .collect()
+            };
+        }
+    }
+    Ok((t_rem.iter().map(|t| *t * hp).collect(), y))
+}
+
+/// (5.6') On a thin set: an interval matrix containing `D x(h; x0) / D x0` for every `x0`
+/// in the hull `[X]`, from the Taylor series of order THIN_ORDER of the variational equation
+/// `V' = DF(x) V, V(0) = I`, with the Lagrange remainder over an a priori box of the
+/// extended system `(x, V)`. `None` when that a priori box is not found or the remainder's
+/// share of the new set's width (`wid(remainder) |r| d`) exceeds the rounding level of the
+/// state: the step is then taken over the whole set (`box_enclosure`).
+fn thin_jacobian(
+    sys: &System,
+    xbox: &[Interval],
+    h: Interval,
+    scale: f64,
+    spread: f64,
+) -> Option<IMat> {
+    let (d, q) = (xbox.len(), THIN_ORDER);
+    let mut xv = xbox.to_vec();
+    for i in 0..d {
+        xv.extend((0..d).map(|j| point(if i == j { 1.0 } else { 0.0 })));
+    }
+    let w = sys.field_var.ode_taylor(&xv, q)?;
+    // At a low order the Picard test over boxes converges slowly for components whose
+    // range is nearly a point (e.g. D u1 / D u1 = 1 for the knife): widen generously.
+    let (_, tw) = a_priori(&sys.field_var, &w, h, q, 4.0).ok()?;
+    let hq = (0..=q).fold(point(1.0), |a, _| a * h);
+    let rem: Vec<Interval> = (0..d * d).map(|k| tw[q + 1][d + k] * hq).collect();
+    let widest = rem.iter().fold(0.0f64, |a, x| a.max(x.wid()));
+    // (NaN fails the test too)
+    let negligible = widest * spread * d as f64 <= scale * f64::EPSILON;
+    if !negligible {
+        return None;
+    }
+    Some(
+        (0..d)
+            .map(|i| {
+                (0..d)
+                    .map(|j| {
+                        let k = d + i * d + j;
+                        horner(w.len(), |t| w[t][k], h) + rem[i * d + j]
+                    })
+                    .collect()
+            })
+            .collect(),
+    )
 }
 
 /// (5.11) Remainder of the variational equation over one step: with `Y` the proved a priori
@@ -655,9 +849,15 @@ fn variational_remainder(
     let d = y.len();
     let h0 = iv(0.0, h.sup());
     let series = |k_max: usize, i: usize, top: Option<Interval>| {
-        let mut cs: Vec<Interval> = (0..k_max).map(|k| cv[k][d + i]).collect();
-        cs.extend(top);
-        horner(&cs, h0)
+        let n = k_max + usize::from(top.is_some());
+        horner(
+            n,
+            |k| match top {
+                Some(t) if k == k_max => t,
+                _ => cv[k][d + i],
+            },
+            h0,
+        )
     };
     let mut yv = inflate(
         &(0..d * d)

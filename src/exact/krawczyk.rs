@@ -7,11 +7,12 @@ use crate::Error;
 use inari::Interval;
 use nalgebra::DMatrix;
 
-/// A box containing the unique zero of `g` near `guess`, with `c` any float matrix
+/// A box containing the unique zero of `G` near `guess`, with `c` any float matrix
 /// (best an approximate inverse of `DG(guess)`).
 ///
-/// `g(z)` must enclose `G` at the points of the box `z` (for every parameter value), and
-/// `dg(z)` must enclose `DG` over the box `z`.
+/// `gd(X)` must return an enclosure of `G(guess)` (for every parameter value) and one of
+/// `DG` over the box `X` (one call: a flow of the box `X` gives both, spec eq. (6.3)).
+/// `rad` is the first radius tried: about twice the expected Newton correction.
 ///
 /// # Containment
 /// If `K(X) = z~ - C G(z~) + (I - C DG(X)) (X - z~)` lies in the interior of `X` (checked
@@ -21,33 +22,32 @@ use nalgebra::DMatrix;
 pub fn krawczyk(
     guess: &[f64],
     c: &DMatrix<f64>,
-    g: impl Fn(&[Interval]) -> Result<Vec<Interval>, Error>,
-    dg: impl Fn(&[Interval]) -> Result<IMat, Error>,
+    rad: &[f64],
+    gd: impl Fn(&[Interval]) -> Result<(Vec<Interval>, IMat), Error>,
 ) -> Result<Vec<Interval>, Error> {
     let n = guess.len();
     let zt: Vec<Interval> = guess.iter().map(|x| point(*x)).collect();
-    let gz = g(&zt)?;
     let ci = linalg::imat(c);
-    let cg = linalg::mul_vec(&ci, &gz);
-    if !cg.iter().all(|x| finite(*x)) {
-        return Err(Error::uncertified(
-            "shooting map not finite at the Newton point",
-        ));
-    }
-    // Initial radius: twice the Newton correction plus a few ulps of the solution's scale
-    // (not of the component itself: a component that is exactly 0 needs room too, since
-    // the coupling through I - C DG moves it by about eps times the other components).
+    // A floor of a few ulps of the solution's scale (not of the component itself: a
+    // component that is exactly 0 needs room too, since the coupling through I - C DG moves
+    // it by about eps times the other components).
     let scale = guess.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let floor = 2.0 * f64::EPSILON * scale + 1e-300;
     let mut rad: Vec<f64> = (0..n)
-        .map(|i| 2.0 * cg[i].mag() + 8.0 * f64::EPSILON * guess[i].abs() + floor)
+        .map(|i| rad[i].abs() + 8.0 * f64::EPSILON * guess[i].abs() + floor)
         .collect();
     for _ in 0..8 {
         let x: Vec<Interval> = (0..n).map(|i| zt[i] + iv(-rad[i], rad[i])).collect();
         if !x.iter().all(|v| finite(*v)) {
             break;
         }
-        let d = dg(&x)?;
+        let (gz, d) = gd(&x)?;
+        let cg = linalg::mul_vec(&ci, &gz);
+        if !cg.iter().all(|x| finite(*x)) {
+            return Err(Error::uncertified(
+                "shooting map not finite at the Newton point",
+            ));
+        }
         let cd = linalg::mul(&ci, &d);
         let i_minus_cd: IMat = (0..n)
             .map(|i| {
@@ -59,13 +59,27 @@ pub fn krawczyk(
         let dx: Vec<Interval> = (0..n).map(|i| x[i] - zt[i]).collect();
         let lin = linalg::mul_vec(&i_minus_cd, &dx);
         let k: Vec<Interval> = (0..n).map(|i| zt[i] - cg[i] + lin[i]).collect();
+        if std::env::var("DBGK").is_ok() {
+            eprintln!(
+                "rad {:?}\n gz {:?}\n cg {:?}\n icd {:?}\n k {:?}",
+                rad,
+                gz.iter().map(|x| x.wid()).collect::<Vec<_>>(),
+                cg.iter().map(|x| x.wid()).collect::<Vec<_>>(),
+                i_minus_cd
+                    .iter()
+                    .map(|r| r.iter().map(|x| x.mag()).fold(0.0f64, f64::max))
+                    .collect::<Vec<_>>(),
+                k.iter().map(|x| x.wid()).collect::<Vec<_>>()
+            );
+        }
         if k.iter().zip(&x).all(|(a, b)| finite(*a) && a.interior(*b)) {
             return Ok(k);
         }
-        // epsilon-inflation: grow the box towards K(X)
+        // epsilon-inflation: grow the box towards K(X), and at least to twice the Newton
+        // correction C G(z~)
         for i in 0..n {
             let reach = (k[i] - zt[i]).mag();
-            rad[i] = (rad[i] * 2.0).max(reach * 2.0) + floor;
+            rad[i] = (rad[i] * 2.0).max(reach * 2.0).max(2.0 * cg[i].mag()) + floor;
         }
     }
     Err(Error::uncertified(
@@ -80,17 +94,21 @@ mod tests {
     #[test]
     fn encloses_sqrt2_and_refuses_a_double_root() {
         // G(z) = z^2 - 2
-        let g = |z: &[Interval]| Ok(vec![z[0] * z[0] - point(2.0)]);
-        let dg = |z: &[Interval]| Ok(vec![vec![point(2.0) * z[0]]]);
+        let r2 = point(std::f64::consts::SQRT_2);
+        let gd = |z: &[Interval]| Ok((vec![r2 * r2 - point(2.0)], vec![vec![point(2.0) * z[0]]]));
         let c = DMatrix::from_element(1, 1, 1.0 / (2.0 * std::f64::consts::SQRT_2));
-        let r = krawczyk(&[std::f64::consts::SQRT_2], &c, g, dg).unwrap();
+        let r = krawczyk(&[std::f64::consts::SQRT_2], &c, &[0.0], gd).unwrap();
         assert!(r[0].contains(std::f64::consts::SQRT_2));
         assert!(r[0].wid() < 1e-15);
         assert!(r[0].interior(iv(1.0, 2.0)));
         // G(z) = z^2 has a double root at 0: no uniqueness proof possible
-        let g = |z: &[Interval]| Ok(vec![z[0] * z[0]]);
-        let dg = |z: &[Interval]| Ok(vec![vec![point(2.0) * z[0]]]);
+        let gd = |z: &[Interval]| {
+            Ok((
+                vec![point(1e-9) * point(1e-9)],
+                vec![vec![point(2.0) * z[0]]],
+            ))
+        };
         let c = DMatrix::from_element(1, 1, 1.0 / 2e-9);
-        assert!(krawczyk(&[1e-9], &c, g, dg).is_err());
+        assert!(krawczyk(&[1e-9], &c, &[0.0], gd).is_err());
     }
 }

@@ -5,7 +5,9 @@
 mod krawczyk;
 
 use crate::enclosure::linalg::{self, IMat};
-use crate::enclosure::{float_flow_c1_counted, flow_set, flow_set_c1, FlowOptions, LohnerSet};
+use crate::enclosure::{
+    float_flow_counted, float_flow_tail_counted, flow_set, flow_set_c1, FlowOptions, LohnerSet,
+};
 use crate::integrator::newton::{self, NewtonFailure, NewtonOptions, NewtonOutcome};
 use crate::model::Model;
 use crate::scalar::point;
@@ -124,45 +126,53 @@ pub fn retract(
     let (n, k) = (model.n, model.k);
     let m = n - k;
     let nq1 = normal_matrix(model, q1)?;
-    let (guess, jac) = newton_guess(model, q0, q1, h, opts)?;
+    let (guess, jac, residual) = newton_guess(model, q0, q1, h, opts)?;
     let c = jac
+        .clone()
         .try_inverse()
         .ok_or_else(|| Error::uncertified("singular Jacobian of the shooting map"))?;
     // The state set at time h from the last Krawczyk box (it contains the answer's).
     let last_set = std::cell::RefCell::new(None);
     let x0_of = |u: &[Interval]| q0.iter().chain(u).copied().collect::<Vec<_>>();
-    // G(z~; Q0, Q1) = q(h; Q0, u~) - Q1 - N(Q1) s~ at the point z~ (C^0 suffices).
-    let g = |z: &[Interval]| -> Result<Vec<Interval>, Error> {
-        let (set, _) = flow_set(
-            &model.dynamics,
-            LohnerSet::from_box(&x0_of(&z[..m])),
-            h,
-            opts,
-        )?;
-        let qh = set.hull();
-        let ns = linalg::mul_vec(&nq1, &z[m..]);
-        Ok((0..n).map(|i| qh[i] - q1[i] - ns[i]).collect())
-    };
-    // DG = [D_u q(h) | -N(Q1)] over the box z.
-    let dg = |z: &[Interval]| -> Result<IMat, Error> {
-        let e = exponential(model, q0, &z[..m], h, opts)?;
-        *last_set.borrow_mut() = Some(e.set);
-        Ok((0..n)
+    // One C^1 flow of the box X = (Q0, U) with the point (Q0, u~) marked (spec eq. (6.3)):
+    // G(z~; Q0, Q1) = q(h; Q0, u~) - Q1 - N(Q1) s~ from the marked subset, and
+    // DG = [D_u q(h) | -N(Q1)] over the box.
+    let centre: Vec<f64> = q0
+        .iter()
+        .map(|x| x.mid())
+        .chain(guess[..m].iter().copied())
+        .collect();
+    let gd = |z: &[Interval]| -> Result<(Vec<Interval>, IMat), Error> {
+        let at_guess: Vec<Interval> = guess[..m].iter().map(|x| point(*x)).collect();
+        let set = LohnerSet::with_subset(&centre, &x0_of(&z[..m]), &x0_of(&at_guess));
+        let (set, jac, _) = flow_set_c1(&model.dynamics, set, h, opts)?;
+        let qh = set
+            .sub_hull()
+            .ok_or_else(|| Error::uncertified("internal: the marked point was lost"))?;
+        let s_guess: Vec<Interval> = guess[m..].iter().map(|x| point(*x)).collect();
+        let ns = linalg::mul_vec(&nq1, &s_guess);
+        let g = (0..n).map(|i| qh[i] - q1[i] - ns[i]).collect();
+        let dg = (0..n)
             .map(|i| {
-                e.dq_du[i]
+                jac[i][n..]
                     .iter()
                     .copied()
                     .chain(nq1[i].iter().map(|x| -*x))
                     .collect()
             })
-            .collect())
+            .collect();
+        *last_set.borrow_mut() = Some(set);
+        Ok((g, dg))
     };
-    let z = krawczyk(&guess, &c, g, dg)?;
+    // first radius: twice the float Newton correction still left at the guess
+    let rad: Vec<f64> = (&c * residual).iter().map(|x| 2.0 * x.abs()).collect();
+    let z = krawczyk(&guess, &c, &rad, gd)?;
     let (u0, s) = (z[..m].to_vec(), z[m..].to_vec());
     let v0 = velocity(model, &x0_of(&u0))?;
-    let set = last_set
+    let mut set = last_set
         .into_inner()
         .ok_or_else(|| Error::uncertified("internal: no state set from the Krawczyk box"))?;
+    set.sub = None;
     let hull = set.hull();
     let v1 = set_velocity(model, &set)?;
     // q(h) is enclosed twice: by the flow and by Q1 + N(Q1) s (spec eq. (6.4)).
@@ -209,20 +219,23 @@ fn check_pair(model: &Model, q0: &[Interval], q1: &[Interval], h: f64) -> Result
     Ok(())
 }
 
-/// A float Newton iteration for (u0, s), started from the least-squares velocity
-/// `E(Q0)^T u ~ (Q1 - Q0)/h`, s = 0, on a float Taylor integration of the flow and its
-/// variational equation. It only chooses the centre of the Krawczyk box and the matrix C;
-/// returns the point and the float Jacobian of G there.
+/// The float Newton's point, the float Jacobian of G there and the float residual G.
+type NewtonGuess = (Vec<f64>, DMatrix<f64>, DVector<f64>);
+
 /// Work bound of the retraction's float Newton, in multiples of `FlowOptions::max_steps`.
 const NEWTON_WORK: usize = 4;
 
+/// A float Newton iteration for (u0, s), started from the least-squares velocity
+/// `E(Q0)^T u ~ (Q1 - Q0)/h`, s = 0, on a float Taylor integration of the flow and its
+/// variational equation in u0. It only chooses the centre of the Krawczyk box and the
+/// matrix C; returns the point, the float Jacobian of G there and the float residual G.
 fn newton_guess(
     model: &Model,
     q0: &[Interval],
     q1: &[Interval],
     h: f64,
     opts: &FlowOptions,
-) -> Result<(Vec<f64>, DMatrix<f64>), Error> {
+) -> Result<NewtonGuess, Error> {
     let (n, k) = (model.n, model.k);
     let m = n - k;
     let mid = |x: &[Interval]| x.iter().map(|v| v.mid()).collect::<Vec<f64>>();
@@ -252,29 +265,48 @@ fn newton_guess(
     // a far sleigh pair took 13 s in 180 evaluations of up to max_steps steps each).
     let work = std::cell::Cell::new(0usize);
     let budget = NEWTON_WORK * opts.max_steps;
-    let shoot = |z: &DVector<f64>| -> Option<(DVector<f64>, DMatrix<f64>)> {
-        let x0: Vec<f64> = a.iter().copied().chain(z.iter().take(m).copied()).collect();
+    // Work left for one more float integration, or None when the budget is spent.
+    let capped = || -> Option<FlowOptions> {
         let left = budget.checked_sub(work.get()).filter(|l| *l > 0)?;
-        let capped = FlowOptions {
+        Some(FlowOptions {
             max_steps: left.min(opts.max_steps),
             ..opts.clone()
-        };
-        let Some((x, jx, steps)) = float_flow_c1_counted(&model.dynamics, &x0, h, &capped) else {
+        })
+    };
+    let x0_of = |z: &DVector<f64>| -> Vec<f64> {
+        a.iter().copied().chain(z.iter().take(m).copied()).collect()
+    };
+    let g_of = |x: &[f64], z: &DVector<f64>| {
+        DVector::from_fn(n, |i, _| {
+            x[i] - b[i] - (0..k).map(|c| mu[c * n + i] * z[m + c]).sum::<f64>()
+        })
+    };
+    // G(z) and DG(z) by the flow and its variational equation in u0
+    let shoot = |z: &DVector<f64>| -> Option<(DVector<f64>, DMatrix<f64>)> {
+        let Some((x, jx, steps)) =
+            float_flow_tail_counted(&model.dynamics, &x0_of(z), h, &capped()?)
+        else {
             work.set(budget);
             return None;
         };
         work.set(work.get() + steps);
-        let g = DVector::from_fn(n, |i, _| {
-            x[i] - b[i] - (0..k).map(|c| mu[c * n + i] * z[m + c]).sum::<f64>()
-        });
         let j = DMatrix::from_fn(n, n, |i, c| {
             if c < m {
-                jx[(i, n + c)]
+                jx[(i, c)]
             } else {
                 -mu[(c - m) * n + i]
             }
         });
-        Some((g, j))
+        Some((g_of(&x, z), j))
+    };
+    // G(z) alone, by the flow of the state
+    let residual = |z: &DVector<f64>| -> Option<DVector<f64>> {
+        let Some((x, steps)) = float_flow_counted(&model.dynamics, &x0_of(z), h, &capped()?) else {
+            work.set(budget);
+            return None;
+        };
+        work.set(work.get() + steps);
+        Some(g_of(&x, z))
     };
     let mut z = DVector::from_fn(n, |i, _| if i < m { u[i] } else { 0.0 });
     let nan = || {
@@ -293,14 +325,46 @@ fn newton_guess(
         max_iter: 20,
         max_backtracks: 8,
     };
-    let outcome = newton::solve(&mut z, |z| shoot(z).unwrap_or_else(nan), &nopts);
+    // Fast path: one Newton step from the guess, checked by the flow of the state alone
+    // (a third of the work of a shot with the Jacobian). When the shooting map is nearly
+    // linear near the guess (for the particle it is linear in (u0, s)), this is the whole
+    // iteration, and DG at the guess serves for C.
+    let first = shoot(&z);
+    if let Some((g0, j0)) = &first {
+        if let Some(dz) = j0.clone().lu().solve(&(-g0)) {
+            let z1 = &z + dz;
+            if let Some(g1) = residual(&z1).filter(|g| g.amax() <= noise) {
+                return Ok((z1.iter().copied().collect(), j0.clone(), g1));
+            }
+        }
+    }
+    // Otherwise the damped Newton iteration (spec eq. (7.6)) from the guess. The last
+    // evaluation is kept: Newton ends at a point it has evaluated, whose Jacobian is the
+    // one wanted.
+    let last = std::cell::RefCell::new(Some((z.clone(), first)));
+    let outcome = newton::solve(
+        &mut z,
+        |z| {
+            let r = match last.borrow_mut().take() {
+                Some((at, r)) if at == *z => r,
+                _ => shoot(z),
+            };
+            *last.borrow_mut() = Some((z.clone(), r.clone()));
+            r.unwrap_or_else(nan)
+        },
+        &nopts,
+    );
     match outcome {
         NewtonOutcome::Converged { .. }
         | NewtonOutcome::Failed(NewtonFailure::Diverged | NewtonFailure::IterationLimit)
             if z.iter().all(|x| x.is_finite()) =>
         {
-            let (_, j) = shoot(&z).ok_or_else(not_converged)?;
-            Ok((z.iter().copied().collect(), j))
+            let (g, j) = match last.into_inner() {
+                Some((at, r)) if at == z => r,
+                _ => shoot(&z),
+            }
+            .ok_or_else(not_converged)?;
+            Ok((z.iter().copied().collect(), j, g))
         }
         NewtonOutcome::Failed(NewtonFailure::SingularJacobian) => {
             Err(Error::uncertified("singular Jacobian of the shooting map"))
