@@ -17,10 +17,16 @@ pub struct System {
     pub field: Tape,
     pub field_var: Tape,
     pub field_var_tail: Tape,
-    pub tail: usize,
 }
 
 impl System {
+    /// The number of columns of `field_var_tail` (its inputs are `d + d tail`).
+    pub fn tail(&self) -> usize {
+        let d = self.field.n_inputs();
+        (self.field_var_tail.n_inputs() - d)
+            .checked_div(d)
+            .unwrap_or(0)
+    }
     /// Record `f` and its variational equation, f written once over any scalar.
     fn record(
         d: usize,
@@ -45,7 +51,6 @@ impl System {
             field: Tape::record(d, f),
             field_var: var(d),
             field_var_tail: var(tail),
-            tail,
         }
     }
 }

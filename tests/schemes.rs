@@ -18,6 +18,9 @@
 //! q = (x, y, phi). The paper writes the knife as (x, phi, y), so its "q1 = (0.4, 0.4, y1)"
 //! is x1 = 0.4, phi1 = 0.4 here, with y1 fixed by M_h^d.
 
+mod common;
+
+use common::{exact_energy, integrate as run};
 use dalembert::integrator::{
     discrete_constraint, hamiltonian_d, legendre, step_residual, NewtonFailure, NewtonOptions,
     Scheme, SchemeError, SchemeKind, Trajectory,
@@ -405,22 +408,6 @@ fn projection_of_moderate_inputs_must_not_fail() {
 // 2. The paper's energy claims
 // ---------------------------------------------------------------------------------------
 
-fn run(m: &Model, kind: SchemeKind, q0: &[f64], q1: &[f64], h: f64, n: usize) -> Trajectory {
-    let s = Scheme::new(m, kind);
-    let tr = s
-        .integrate(q0, q1, h, n, &NewtonOptions::default())
-        .unwrap();
-    assert_eq!(tr.q.len(), n + 1);
-    assert_eq!(tr.energy.len(), n + 1);
-    assert!(tr
-        .q
-        .iter()
-        .flatten()
-        .chain(&tr.energy)
-        .all(|x| x.is_finite()));
-    tr
-}
-
 fn iteration_summary(tr: &Trajectory) -> String {
     let max = tr.iterations.iter().max().unwrap();
     let mean = tr.iterations.iter().sum::<usize>() as f64 / tr.iterations.len() as f64;
@@ -428,22 +415,6 @@ fn iteration_summary(tr: &Trajectory) -> String {
         "Newton iterations/step max {max} mean {mean:.3}, max residual {:.1e}",
         tr.max_residual
     )
-}
-
-/// The energy of the exact continuous trajectory through q0 with velocity
-/// R^{e-}_{h,nh}(q0, q1): E = 1/2 v0^T M v0 + V(q0) (M = I for all three scenes), v0 from
-/// the certified retraction (a box of width ~1e-15, whose midpoint we use).
-fn exact_energy(m: &Model, q0: &[f64], q1: &[f64], h: f64) -> f64 {
-    let r =
-        dalembert::exact::retract(m, &boxed(q0), &boxed(q1), h, &FlowOptions::default()).unwrap();
-    assert!(r.v0.iter().all(|x| x.wid() < 1e-12), "{:?}", r.v0);
-    let v0 = mid(&r.v0);
-    let kinetic = 0.5 * v0.iter().map(|v| v * v).sum::<f64>();
-    let potential = match m.scene {
-        AnyScene::Particle(_) => 0.0,
-        _ => -q0[0] / 2.0,
-    };
-    kinetic + potential
 }
 
 /// Paper, particle example: q0 = 0, q1 = (0.4, 0.4, z1) with z1 from M_h^d (z1 = 0.08),
@@ -482,7 +453,7 @@ fn particle_energy_claims() {
     .unwrap();
     let width = ex.q.iter().flatten().fold(0.0f64, |a, x| a.max(x.wid()));
     assert!(width < 1e-8, "exact trajectory too wide: {width:e}");
-    let e_exact = exact_energy(&m, &q0, &mla.q[1], h);
+    let e_exact = exact_energy(&m, &q0, &mla.q[1], h).mid();
     // The exact momenta of the certified trajectory give the same, constant, energy.
     let s = Scheme::new(&m, SchemeKind::Mla);
     for k in [0, 1, n / 2, n] {
@@ -558,7 +529,7 @@ fn knife_run(eps: f64) -> (Model, [f64; 3], Trajectory, Trajectory, f64) {
     let q1 = [0.4, 0.4 * 0.2f64.sin() / (0.2f64.cos() - eps), 0.4];
     let mla = run(&m, SchemeKind::Mla, &[0.0; 3], &q1, 0.5, 600);
     let dla = run(&m, SchemeKind::Dla, &[0.0; 3], &q1, 0.5, 600);
-    let e_exact = exact_energy(&m, &[0.0; 3], &mla.q[1], 0.5);
+    let e_exact = exact_energy(&m, &[0.0; 3], &mla.q[1], 0.5).mid();
     (m, q1, mla, dla, e_exact)
 }
 

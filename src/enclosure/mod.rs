@@ -34,6 +34,11 @@ pub struct SubSet {
     pub boxed: Vec<Interval>,
 }
 
+/// `x - m` in intervals.
+fn relative(x: &[Interval], m: &[f64]) -> Vec<Interval> {
+    x.iter().zip(m).map(|(v, c)| *v - point(*c)).collect()
+}
+
 impl LohnerSet {
     /// The single point `x` (exact f64 values).
     pub fn point(x: &[f64]) -> Self {
@@ -48,11 +53,14 @@ impl LohnerSet {
     /// A box, as centre plus radius.
     pub fn from_box(x: &[Interval]) -> Self {
         let m: Vec<f64> = x.iter().map(|v| v.mid()).collect();
-        let r = x.iter().zip(&m).map(|(v, c)| *v - point(*c)).collect();
+        Self::centred(&m, x)
+    }
+    /// The box `x` with centre `m` (a point of `x`).
+    fn centred(m: &[f64], x: &[Interval]) -> Self {
         LohnerSet {
-            m,
+            m: m.to_vec(),
             b: DMatrix::identity(x.len(), x.len()),
-            r,
+            r: relative(x, m),
             boxed: x.to_vec(),
             sub: None,
         }
@@ -60,16 +68,12 @@ impl LohnerSet {
     /// The box `x` with centre `m` (a point of `x`) and the marked subset `sub` (a box
     /// inside `x`, e.g. a single point).
     pub fn with_subset(m: &[f64], x: &[Interval], sub: &[Interval]) -> Self {
-        let rel = |b: &[Interval]| b.iter().zip(m).map(|(v, c)| *v - point(*c)).collect();
         LohnerSet {
-            m: m.to_vec(),
-            b: DMatrix::identity(x.len(), x.len()),
-            r: rel(x),
-            boxed: x.to_vec(),
             sub: Some(SubSet {
-                r: rel(sub),
+                r: relative(sub, m),
                 boxed: sub.to_vec(),
             }),
+            ..Self::centred(m, x)
         }
     }
     /// An interval box containing the set (spec eq. (5.2)): the parallelepiped's hull
@@ -440,7 +444,7 @@ pub fn float_flow_c1(
     float_flow_var(&sys.field_var, x0, DMatrix::identity(d, d), t, opts).map(|(x, j, _)| (x, j))
 }
 
-/// As [`float_flow_c1`] for the derivatives with respect to the last `sys.tail` components
+/// As [`float_flow_c1`] for the derivatives with respect to the last `sys.tail()` components
 /// of `x0` only (`D x(t) / D x0[d - tail..]`, d x tail), also returning the number of Taylor
 /// steps taken (the work, for callers that bound their total work).
 pub fn float_flow_tail_counted(
@@ -449,7 +453,7 @@ pub fn float_flow_tail_counted(
     t: f64,
     opts: &FlowOptions,
 ) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
-    let (d, c) = (x0.len(), sys.tail);
+    let (d, c) = (x0.len(), sys.tail());
     let w0 = DMatrix::from_fn(d, c, |i, j| if i + c == d + j { 1.0 } else { 0.0 });
     float_flow_var(&sys.field_var_tail, x0, w0, t, opts)
 }
@@ -534,40 +538,35 @@ fn lohner_step(
         return Err(fatal("internal invariant broken: 0 not in r"));
     }
     let scale = set.m.iter().fold(1.0f64, |a, x| a.max(x.abs()));
-    let too_wide = |x: &[Interval], tol: f64| x.iter().any(|x| x.wid() > scale * tol);
     // (5.3) the Taylor polynomial at the centre (coefficients `c`)
     let phi: Vec<Interval> = (0..d).map(|i| horner(c.len(), |k| c[k][i], h)).collect();
-    if strict && too_wide(&phi, 16.0 * f64::EPSILON) {
+    if strict && phi.iter().any(|x| x.wid() > scale * (16.0 * f64::EPSILON)) {
         return Err(StepFail::Shrink);
     }
-    let xbox = set.hull();
     let spread = set.r.iter().fold(0.0f64, |a, x| a.max(x.mag()));
     let point_set = set.r.iter().all(|r| r.is_exact_zero());
     // z encloses x(h; m); x(h; x0) lies in z + J (x0 - m) for every x0 in the set.
     let thin = point_set || spread <= THIN * f64::EPSILON * scale;
-    let centre_step = if thin {
+    let centre_z = if thin {
         // (5.4)-(5.5) for the trajectory from the centre alone
-        let (rem, _) = remainder(sys, c, h, p, scale, THIN_SLICES, strict)?;
-        if strict && too_wide(&rem, REMAINDER_TOL) {
-            return Err(StepFail::Shrink);
-        }
+        let (rem, _) = remainder(sys, c, h, p, scale, strict)?;
         let z: Vec<Interval> = phi.iter().zip(&rem).map(|(a, b)| *a + *b).collect();
         if point_set && !c1 {
             // a point set needs no Jacobian (J B r = 0 for r = 0)
             return Ok((point_image(set, z), None));
         }
-        // (5.6') the flow's Jacobian at a low order, if its remainder is negligible here
-        thin_jacobian(sys, &xbox, h, scale, spread).map(|jac| (z, jac))
+        Some(z)
     } else {
         None
     };
-    let (z, jac) = match centre_step {
+    let xbox = set.hull();
+    // (5.6) on a thin set, the flow's Jacobian at a low order if its remainder is negligible
+    // there; otherwise (5.6'') over the whole set.
+    let thin_step =
+        centre_z.and_then(|z| thin_jacobian(sys, &xbox, h, scale, spread).map(|jac| (z, jac)));
+    let (z, jac) = match thin_step {
         Some(zj) => zj,
-        None => {
-            // (5.4)-(5.6) over the whole set: Taylor coefficients over the hull
-            let (z, jac) = box_enclosure(sys, &xbox, &phi, h, p, scale, strict, c1)?;
-            (z, jac)
-        }
+        None => box_enclosure(sys, &xbox, &phi, h, p, scale, strict, c1)?,
     };
     let a = linalg::mul(&jac, &linalg::imat(&set.b));
     if !z.iter().all(|x| finite(*x)) || !linalg::all_finite(&a) {
@@ -577,7 +576,7 @@ fn lohner_step(
     // (by ||A_j|| wid(r_j)) was measured to be worse here: on the particle at t = 600 it
     // gave widths 1.7e-7 against 5.2e-11 unsorted (spec section 5.5).
     let m_new: Vec<f64> = z.iter().map(|x| x.mid()).collect();
-    let zc: Vec<Interval> = z.iter().zip(&m_new).map(|(x, c)| *x - point(*c)).collect();
+    let zc = relative(&z, &m_new);
     let q = linalg::mid(&a).qr().q();
     let (b_new, b_inv) = match linalg::enclose_inverse(&q, &q.transpose()) {
         Some(inv) => (q, inv),
@@ -621,39 +620,27 @@ fn lohner_step(
 }
 
 /// A set whose spread `[r]` is below this many ulps of its scale is "thin": its step uses
-/// the trajectory of the centre and a low-order Jacobian of the flow (spec eq. (5.6')).
+/// the trajectory of the centre and a low-order Jacobian of the flow (spec eq. (5.6)).
 const THIN: f64 = 1024.0;
 
-/// Slices of the remainder on a thin set: a step is cheap there, so a much too wide
-/// remainder is better met by a smaller step than by many slices.
-const THIN_SLICES: usize = 8;
-
-/// Order of the Taylor series of the variational equation on a thin set (spec eq. (5.6')).
+/// Order of the Taylor series of the variational equation on a thin set (spec eq. (5.6)).
 const THIN_ORDER: usize = 3;
 
 /// The image of a point set (r = 0): the box z, recentred.
 fn point_image(set: &LohnerSet, z: Vec<Interval>) -> LohnerSet {
-    let d = z.len();
-    let m: Vec<f64> = z.iter().map(|x| x.mid()).collect();
-    let r: Vec<Interval> = z.iter().zip(&m).map(|(x, c)| *x - point(*c)).collect();
-    // the subset of a point is the point
-    let sub = set.sub.as_ref().map(|_| SubSet {
-        r: r.clone(),
-        boxed: z.clone(),
-    });
-    LohnerSet {
-        m,
-        b: DMatrix::identity(d, d),
-        r,
-        boxed: z,
-        sub,
+    let image = LohnerSet::from_box(&z);
+    if set.sub.is_some() {
+        // the subset of a point is the point
+        LohnerSet::with_subset(&image.m, &z, &z)
+    } else {
+        image
     }
 }
 
-/// (5.4)-(5.6) over the whole set (Lohner's original step): `z = phi(m) + [R]` with the
-/// remainder over an a priori box of every trajectory from the hull, and `[J] = D phi([X])`
-/// from the variational Taylor coefficients over the hull; for C^1 output, `[J]` plus the
-/// variational remainder (5.11).
+/// (5.4)-(5.5), (5.6'') over the whole set (Lohner's original step): `z = phi(m) + [R]`
+/// with the remainder over an a priori box of every trajectory from the hull, and
+/// `[J] = D phi([X])` from the variational Taylor coefficients over the hull; for C^1
+/// output, `[J]` plus the variational remainder (5.11).
 #[allow(clippy::too_many_arguments)]
 fn box_enclosure(
     sys: &System,
@@ -666,24 +653,14 @@ fn box_enclosure(
     c1: bool,
 ) -> Result<(Vec<Interval>, IMat), StepFail> {
     let d = xbox.len();
-    let mut xv = xbox.to_vec();
-    for i in 0..d {
-        xv.extend((0..d).map(|j| point(if i == j { 1.0 } else { 0.0 })));
-    }
-    let cv = sys.field_var.ode_taylor(&xv, p).ok_or(StepFail::Shrink)?;
+    let cv = sys
+        .field_var
+        .ode_taylor(&with_identity(xbox), p)
+        .ok_or(StepFail::Shrink)?;
     let b: Vec<Vec<Interval>> = cv.iter().map(|ck| ck[..d].to_vec()).collect();
-    let (rem, y) = remainder(sys, &b, h, p, scale, SLICES, strict)?;
-    if strict && rem.iter().any(|x| x.wid() > scale * REMAINDER_TOL) {
-        return Err(StepFail::Shrink);
-    }
+    let (rem, y) = remainder(sys, &b, h, p, scale, strict)?;
     let z = phi.iter().zip(&rem).map(|(a, b)| *a + *b).collect();
-    let mut jac: IMat = (0..d)
-        .map(|i| {
-            (0..d)
-                .map(|j| horner(cv.len(), |k| cv[k][d + i * d + j], h))
-                .collect()
-        })
-        .collect();
+    let mut jac = variational_polynomial(&cv, d, h);
     if c1 {
         let vrem = variational_remainder(sys, &y, &cv, h, p)?;
         for (row, vr) in jac.iter_mut().zip(&vrem) {
@@ -738,31 +715,29 @@ fn a_priori(
 /// hull), proves that every trajectory from it exists on `[0, h]` and returns `[R]` with
 /// `x(h) - phi(x0) in [R]`, and the a priori box `Y`. When `T_{p+1}(Y) h^{p+1}` is wide,
 /// `x(xi)` is taken in the enclosures of SLICES sub-intervals of `[0, h]` (narrower boxes
-/// than Y: less dependency in the high-order coefficients).
+/// than Y: less dependency in the high-order coefficients). In strict mode (5.8) a
+/// remainder wider than the tolerance rejects the step.
 fn remainder(
     sys: &System,
     b: &[Vec<Interval>],
     h: Interval,
     p: usize,
     scale: f64,
-    slices: usize,
     strict: bool,
 ) -> Result<(Vec<Interval>, Vec<Interval>), StepFail> {
     let d = b[0].len();
     let (y, ty) = a_priori(&sys.field, b, h, p, 0.0)?;
     let hp = (0..=p).fold(point(1.0), |a, _| a * h);
-    let wide = slices > 1
-        && ty[p + 1]
-            .iter()
-            .any(|t| (*t * hp).wid() > scale * REMAINDER_TOL);
+    let too_wide = |t: &[Interval]| t.iter().any(|t| (*t * hp).wid() > scale * REMAINDER_TOL);
+    let wide = too_wide(&ty[p + 1]);
     let mut t_rem = ty[p + 1].clone();
     if wide {
-        for j in 0..slices {
-            let lo = h.sup() * j as f64 / slices as f64;
-            let hi = if j + 1 == slices {
+        for j in 0..SLICES {
+            let lo = h.sup() * j as f64 / SLICES as f64;
+            let hi = if j + 1 == SLICES {
                 h.sup()
             } else {
-                h.sup() * (j + 1) as f64 / slices as f64
+                h.sup() * (j + 1) as f64 / SLICES as f64
             };
             let tj = iv(lo, hi);
             let yj: Vec<Interval> = (0..d)
@@ -772,9 +747,9 @@ fn remainder(
                 .collect();
             let tj = sys.field.ode_taylor(&yj, p + 1).ok_or(StepFail::Shrink)?;
             let part = &tj[p + 1];
-            // The hull over the slices is at least as wide as this slice: in strict mode a
+            // The hull over the SLICES is at least as wide as this slice: in strict mode a
             // slice already over the tolerance decides the rejection, without the others.
-            if strict && part.iter().any(|t| (*t * hp).wid() > scale * REMAINDER_TOL) {
+            if strict && too_wide(part) {
                 return Err(StepFail::Shrink);
             }
             t_rem = if j == 0 {
@@ -788,10 +763,13 @@ fn remainder(
             };
         }
     }
+    if strict && too_wide(&t_rem) {
+        return Err(StepFail::Shrink);
+    }
     Ok((t_rem.iter().map(|t| *t * hp).collect(), y))
 }
 
-/// (5.6') On a thin set: an interval matrix containing `D x(h; x0) / D x0` for every `x0`
+/// (5.6) On a thin set: an interval matrix containing `D x(h; x0) / D x0` for every `x0`
 /// in the hull `[X]`, from the Taylor series of order THIN_ORDER of the variational equation
 /// `V' = DF(x) V, V(0) = I`, with the Lagrange remainder over an a priori box of the
 /// extended system `(x, V)`. `None` when that a priori box is not found or the remainder's
@@ -805,11 +783,7 @@ fn thin_jacobian(
     spread: f64,
 ) -> Option<IMat> {
     let (d, q) = (xbox.len(), THIN_ORDER);
-    let mut xv = xbox.to_vec();
-    for i in 0..d {
-        xv.extend((0..d).map(|j| point(if i == j { 1.0 } else { 0.0 })));
-    }
-    let w = sys.field_var.ode_taylor(&xv, q)?;
+    let w = sys.field_var.ode_taylor(&with_identity(xbox), q)?;
     // At a low order the Picard test over boxes converges slowly for components whose
     // range is nearly a point (e.g. D u1 / D u1 = 1 for the knife): widen generously.
     let (_, tw) = a_priori(&sys.field_var, &w, h, q, 4.0).ok()?;
@@ -821,18 +795,35 @@ fn thin_jacobian(
     if !negligible {
         return None;
     }
-    Some(
-        (0..d)
-            .map(|i| {
-                (0..d)
-                    .map(|j| {
-                        let k = d + i * d + j;
-                        horner(w.len(), |t| w[t][k], h) + rem[i * d + j]
-                    })
-                    .collect()
-            })
-            .collect(),
-    )
+    let mut jac = variational_polynomial(&w, d, h);
+    for (row, r) in jac.iter_mut().zip(rem.chunks(d)) {
+        for (x, r) in row.iter_mut().zip(r) {
+            *x += *r;
+        }
+    }
+    Some(jac)
+}
+
+/// `(x, I)`: a box with the identity seed of the variational equation (spec eq. (4.11)).
+fn with_identity(x: &[Interval]) -> Vec<Interval> {
+    let d = x.len();
+    let mut xv = x.to_vec();
+    for i in 0..d {
+        xv.extend((0..d).map(|j| point(if i == j { 1.0 } else { 0.0 })));
+    }
+    xv
+}
+
+/// `sum_k [V_k] h^k`: the Taylor polynomial of the variational part (components `d..`,
+/// row-major) of the coefficients `w` of the extended system.
+fn variational_polynomial(w: &[Vec<Interval>], d: usize, h: Interval) -> IMat {
+    (0..d)
+        .map(|i| {
+            (0..d)
+                .map(|j| horner(w.len(), |k| w[k][d + i * d + j], h))
+                .collect()
+        })
+        .collect()
 }
 
 /// (5.11) Remainder of the variational equation over one step: with `Y` the proved a priori

@@ -128,7 +128,6 @@ pub fn retract(
     let nq1 = normal_matrix(model, q1)?;
     let (guess, jac, residual) = newton_guess(model, q0, q1, h, opts)?;
     let c = jac
-        .clone()
         .try_inverse()
         .ok_or_else(|| Error::uncertified("singular Jacobian of the shooting map"))?;
     // The state set at time h from the last Krawczyk box (it contains the answer's).
@@ -142,16 +141,16 @@ pub fn retract(
         .map(|x| x.mid())
         .chain(guess[..m].iter().copied())
         .collect();
+    let at_guess: Vec<Interval> = guess.iter().map(|x| point(*x)).collect();
+    let marked = x0_of(&at_guess[..m]);
+    let ns_guess = linalg::mul_vec(&nq1, &at_guess[m..]);
     let gd = |z: &[Interval]| -> Result<(Vec<Interval>, IMat), Error> {
-        let at_guess: Vec<Interval> = guess[..m].iter().map(|x| point(*x)).collect();
-        let set = LohnerSet::with_subset(&centre, &x0_of(&z[..m]), &x0_of(&at_guess));
+        let set = LohnerSet::with_subset(&centre, &x0_of(&z[..m]), &marked);
         let (set, jac, _) = flow_set_c1(&model.dynamics, set, h, opts)?;
         let qh = set
             .sub_hull()
             .ok_or_else(|| Error::uncertified("internal: the marked point was lost"))?;
-        let s_guess: Vec<Interval> = guess[m..].iter().map(|x| point(*x)).collect();
-        let ns = linalg::mul_vec(&nq1, &s_guess);
-        let g = (0..n).map(|i| qh[i] - q1[i] - ns[i]).collect();
+        let g = (0..n).map(|i| qh[i] - q1[i] - ns_guess[i]).collect();
         let dg = (0..n)
             .map(|i| {
                 jac[i][n..]
@@ -281,15 +280,13 @@ fn newton_guess(
             x[i] - b[i] - (0..k).map(|c| mu[c * n + i] * z[m + c]).sum::<f64>()
         })
     };
+    // Charge the steps of one float integration to the budget (all of it on failure).
+    let spend = |steps: Option<usize>| work.set(steps.map_or(budget, |s| work.get() + s));
     // G(z) and DG(z) by the flow and its variational equation in u0
     let shoot = |z: &DVector<f64>| -> Option<(DVector<f64>, DMatrix<f64>)> {
-        let Some((x, jx, steps)) =
-            float_flow_tail_counted(&model.dynamics, &x0_of(z), h, &capped()?)
-        else {
-            work.set(budget);
-            return None;
-        };
-        work.set(work.get() + steps);
+        let flown = float_flow_tail_counted(&model.dynamics, &x0_of(z), h, &capped()?);
+        spend(flown.as_ref().map(|f| f.2));
+        let (x, jx, _) = flown?;
         let j = DMatrix::from_fn(n, n, |i, c| {
             if c < m {
                 jx[(i, c)]
@@ -301,12 +298,9 @@ fn newton_guess(
     };
     // G(z) alone, by the flow of the state
     let residual = |z: &DVector<f64>| -> Option<DVector<f64>> {
-        let Some((x, steps)) = float_flow_counted(&model.dynamics, &x0_of(z), h, &capped()?) else {
-            work.set(budget);
-            return None;
-        };
-        work.set(work.get() + steps);
-        Some(g_of(&x, z))
+        let flown = float_flow_counted(&model.dynamics, &x0_of(z), h, &capped()?);
+        spend(flown.as_ref().map(|f| f.1));
+        Some(g_of(&flown?.0, z))
     };
     let mut z = DVector::from_fn(n, |i, _| if i < m { u[i] } else { 0.0 });
     let nan = || {
@@ -342,28 +336,21 @@ fn newton_guess(
     // evaluation is kept: Newton ends at a point it has evaluated, whose Jacobian is the
     // one wanted.
     let last = std::cell::RefCell::new(Some((z.clone(), first)));
-    let outcome = newton::solve(
-        &mut z,
-        |z| {
-            let r = match last.borrow_mut().take() {
-                Some((at, r)) if at == *z => r,
-                _ => shoot(z),
-            };
-            *last.borrow_mut() = Some((z.clone(), r.clone()));
-            r.unwrap_or_else(nan)
-        },
-        &nopts,
-    );
+    let remembered_shoot = |z: &DVector<f64>| {
+        let r = match last.borrow_mut().take() {
+            Some((at, r)) if at == *z => r,
+            _ => shoot(z),
+        };
+        *last.borrow_mut() = Some((z.clone(), r.clone()));
+        r
+    };
+    let outcome = newton::solve(&mut z, |z| remembered_shoot(z).unwrap_or_else(nan), &nopts);
     match outcome {
         NewtonOutcome::Converged { .. }
         | NewtonOutcome::Failed(NewtonFailure::Diverged | NewtonFailure::IterationLimit)
             if z.iter().all(|x| x.is_finite()) =>
         {
-            let (g, j) = match last.into_inner() {
-                Some((at, r)) if at == z => r,
-                _ => shoot(&z),
-            }
-            .ok_or_else(not_converged)?;
+            let (g, j) = remembered_shoot(&z).ok_or_else(not_converged)?;
             Ok((z.iter().copied().collect(), j, g))
         }
         NewtonOutcome::Failed(NewtonFailure::SingularJacobian) => {

@@ -5,6 +5,8 @@
 // Each test binary uses a different subset of these helpers.
 #![allow(dead_code)]
 
+use dalembert::integrator::{NewtonOptions, Scheme, SchemeKind, Trajectory};
+use dalembert::scalar::point;
 use dalembert::{flow, AnyScene, Error, FlowEnclosure, FlowOptions, Model};
 use inari::Interval;
 
@@ -129,4 +131,38 @@ pub fn rk4<const D: usize>(
         }
     }
     x
+}
+
+/// `n` steps of a float scheme from `(q0, q1)`; every position and energy must be finite.
+pub fn integrate(
+    m: &Model,
+    kind: SchemeKind,
+    q0: &[f64],
+    q1: &[f64],
+    h: f64,
+    n: usize,
+) -> Trajectory {
+    let tr = Scheme::new(m, kind)
+        .integrate(q0, q1, h, n, &NewtonOptions::default())
+        .unwrap();
+    assert_eq!(tr.q.len(), n + 1);
+    assert_eq!(tr.energy.len(), n + 1);
+    assert!(tr
+        .q
+        .iter()
+        .flatten()
+        .chain(&tr.energy)
+        .all(|x| x.is_finite()));
+    tr
+}
+
+/// The energy E_L(q0, R^{e-}(q0, q1)) of the exact trajectory through (q0, q1), certified
+/// (the retraction's v0 and the model's energy tape in intervals), at most 1e-12 wide.
+pub fn exact_energy(m: &Model, q0: &[f64], q1: &[f64], h: f64) -> Interval {
+    let b = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
+    let r = dalembert::exact::retract(m, &b(q0), &b(q1), h, &FlowOptions::default()).unwrap();
+    let x: Vec<Interval> = b(q0).into_iter().chain(r.v0).collect();
+    let e = m.energy.eval_checked(&x).unwrap()[0];
+    assert!(e.wid() < 1e-12, "{e:?}");
+    e
 }
