@@ -14,7 +14,7 @@ const SCENES: [(&str, [f64; 3]); 3] = [
 ];
 
 fn model(name: &str) -> Model {
-    Model::new(AnyScene::new(name, &[]).expect("known scene"))
+    Model::new(&AnyScene::new(name, &[]).expect("known scene")).unwrap()
 }
 
 fn certified(c: &mut Criterion) {

@@ -289,20 +289,11 @@ mod tests {
     /// gives xdd = B yd, ydd = -B xd (spec eq. (4.3)), and p = v + A (eq. (4.8)).
     struct Charge(f64);
     impl Scene for Charge {
-        fn info(&self) -> &'static crate::scene::SceneInfo {
-            Particle.info() // test-only scene: no description of its own
+        fn name(&self) -> String {
+            "charge".into()
         }
         fn dim(&self) -> usize {
             3
-        }
-        fn n_constraints(&self) -> usize {
-            1
-        }
-        fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
-            crate::scene::identity(3)
-        }
-        fn potential<S: Scalar>(&self, _q: &[S]) -> S {
-            S::zero()
         }
         fn constraints<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
             vec![vec![S::zero(), S::zero(), S::one()]]

@@ -58,7 +58,7 @@ fn with_model<R>(i: usize, f: impl FnOnce(&Model, &Scheme, &Scheme) -> R) -> Opt
         let (model, dla, mla) = match slot {
             Some(entry) => &*entry,
             None => {
-                let model = Model::new(scene_of(i).ok()?);
+                let model = Model::new(&scene_of(i).ok()?).ok()?;
                 let dla = Scheme::new(&model, SchemeKind::Dla);
                 let mla = Scheme::new(&model, SchemeKind::Mla);
                 &*slot.insert((model, dla, mla))
@@ -132,9 +132,7 @@ fn newton_invariant(scene: usize, mla: bool, qm: &[f64], qk: &[f64], h: f64) {
             } else {
                 SchemeKind::Dla
             };
-            let r = crate::with_scene!(&model.scene, sc => {
-                step_residual::<_, f64>(sc, kind, qm, qk, &next, &h)
-            });
+            let r = step_residual::<_, f64>(&model.scene, kind, qm, qk, &next, &h);
             let norm = r.iter().fold(0.0f64, |a, x| a.max(x.abs()));
             // the same residual evaluated again: identical up to nothing (same tape path
             // apart from the generic evaluation), allow rounding of the recomputation

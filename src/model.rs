@@ -3,10 +3,11 @@
 //! interval computations run the same program.
 
 use crate::dynamics::Geometry;
-use crate::scalar::{Dual, Scalar};
-use crate::scene::{AnyScene, Scene};
-use crate::tape::{Tape, Tracer};
-use crate::with_scene;
+use crate::scalar::{point, Dual, Scalar};
+use crate::scene::{Description, Mat, Scene};
+use crate::tape::{finite, Tape, Tracer};
+use crate::Error;
+use inari::Interval;
 
 /// An autonomous ODE `x' = F(x)` as tapes: `field: x -> F(x)`,
 /// `field_var: (x, V) -> (F(x), DF(x) V)`, V a d x d matrix row-major (spec eq. (5.6)), and
@@ -68,7 +69,8 @@ pub fn field_with_action<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
 
 /// The reduced state x = (q, u): the dimension is n + (n - k).
 pub struct Model {
-    pub scene: AnyScene,
+    /// The scene's data recorded on tapes: every later computation reads the scene here.
+    pub scene: CompiledScene,
     /// Number of coordinates n.
     pub n: usize,
     /// Number of constraints k.
@@ -91,6 +93,297 @@ pub struct Model {
     pub nh_force: Tape,
 }
 
+/// Largest number of coordinates a scene may have.
+pub const MAX_DIM: usize = 64;
+
+/// A scene's data recorded once on tapes (spec eq. (3.16)): q -> M(q) (as given, row-major),
+/// V(q), A(q), mu(q), E(q). It is itself a [`Scene`] (replaying the tapes over any scalar),
+/// so everything downstream reads any scene, built-in, file or user type, the same way.
+/// The mass matrix it hands on is the given one's upper triangle mirrored (spec 3.6).
+#[derive(Clone, Debug)]
+pub struct CompiledScene {
+    description: Description,
+    n: usize,
+    k: usize,
+    mass: Tape,
+    potential: Tape,
+    one_form: Option<Tape>,
+    constraints: Tape,
+    basis: Tape,
+}
+
+fn rows<S: Clone>(flat: Vec<S>, r: usize, c: usize) -> Mat<S> {
+    (0..r).map(|i| flat[i * c..(i + 1) * c].to_vec()).collect()
+}
+
+impl Scene for CompiledScene {
+    fn name(&self) -> String {
+        self.description.name.clone()
+    }
+    fn dim(&self) -> usize {
+        self.n
+    }
+    fn n_constraints(&self) -> usize {
+        self.k
+    }
+    fn description(&self) -> Description {
+        self.description.clone()
+    }
+    fn constraints<S: Scalar>(&self, q: &[S]) -> Mat<S> {
+        rows(self.constraints.eval(q), self.k, self.n)
+    }
+    fn mass<S: Scalar>(&self, q: &[S]) -> Mat<S> {
+        let m = self.mass.eval(q);
+        let n = self.n;
+        (0..n)
+            .map(|i| (0..n).map(|j| m[i.min(j) * n + i.max(j)].clone()).collect())
+            .collect()
+    }
+    fn potential<S: Scalar>(&self, q: &[S]) -> S {
+        self.potential.eval(q).swap_remove(0)
+    }
+    fn one_form<S: Scalar>(&self, q: &[S]) -> Option<Vec<S>> {
+        self.one_form.as_ref().map(|t| t.eval(q))
+    }
+    fn basis<S: Scalar>(&self, q: &[S]) -> Mat<S> {
+        rows(self.basis.eval(q), self.n - self.k, self.n)
+    }
+}
+
+/// Fixed sample configurations at which [`CompiledScene::compile`] checks the structure
+/// (spec 3.6): components of varied sign and size, none a multiple of pi/2.
+fn samples(n: usize) -> Vec<Vec<f64>> {
+    let base = [
+        0.3125, -0.71875, 1.15625, -0.4375, 0.90625, -1.40625, 0.5625,
+    ];
+    (0..3)
+        .map(|s| {
+            (0..n)
+                .map(|i| base[(i + 2 * s) % base.len()] * (1.0 + s as f64 * 0.375))
+                .collect()
+        })
+        .collect()
+}
+
+fn fmt_q(q: &[Interval]) -> String {
+    let v: Vec<String> = q
+        .iter()
+        .map(|x| {
+            if x.inf() == x.sup() {
+                format!("{}", x.inf())
+            } else {
+                format!("[{}, {}]", x.inf(), x.sup())
+            }
+        })
+        .collect();
+    format!("({})", v.join(", "))
+}
+
+impl CompiledScene {
+    /// Record `sc`'s data on tapes and check its structure (spec 3.6): sizes, a mass
+    /// matrix symmetric (identical entries, or not proved different at the sample points),
+    /// basis rows in ker mu at the sample points. Input errors name what is wrong.
+    pub fn compile<Sc: Scene + ?Sized>(sc: &Sc) -> Result<CompiledScene, Error> {
+        let mut description = sc.description();
+        let name = description.name.clone();
+        let n = sc.dim();
+        if n == 0 || n > MAX_DIM {
+            return Err(Error::input(format!(
+                "scene `{name}`: {n} coordinates (1 to {MAX_DIM} allowed)"
+            )));
+        }
+        let mut sizes_ok = Ok(());
+        let mut k = 0;
+        let constraints = Tape::record(n, |q| {
+            let mu = sc.constraints(q);
+            k = mu.len();
+            if let Some((a, r)) = mu.iter().enumerate().find(|(_, r)| r.len() != n) {
+                sizes_ok = Err(format!(
+                    "constraint row {} has {} entries, not {n}",
+                    a + 1,
+                    r.len()
+                ));
+            }
+            mu.into_iter().flatten().collect()
+        });
+        let size_error = |m: String| Error::input(format!("scene `{name}`: {m}"));
+        sizes_ok.map_err(size_error)?;
+        if k == 0 || k >= n {
+            return Err(size_error(format!(
+                "{k} constraints for {n} coordinates (1 to n - 1 = {} allowed)",
+                n - 1
+            )));
+        }
+        let mut mass_ok = Ok(());
+        let mut mirror = Vec::new();
+        let mass = Tape::record(n, |q| {
+            let m = sc.mass(q);
+            if m.len() != n || m.iter().any(|r| r.len() != n) {
+                mass_ok = Err(format!("the mass matrix must be {n} x {n}"));
+                return vec![Tracer::zero(); n * n];
+            }
+            for i in 0..n {
+                for j in i + 1..n {
+                    if m[i][j].index() != m[j][i].index() {
+                        mirror.push((i, j));
+                    }
+                }
+            }
+            m.into_iter().flatten().collect()
+        });
+        mass_ok.map_err(size_error)?;
+        let potential = Tape::record(n, |q| vec![sc.potential(q)]);
+        let mut form_ok = Ok(());
+        let a = Tape::record(n, |q| match sc.one_form(q) {
+            Some(a) if a.len() != n => {
+                form_ok = Err(format!("the one-form has {} entries, not {n}", a.len()));
+                vec![]
+            }
+            Some(a) => a,
+            None => vec![],
+        });
+        form_ok.map_err(size_error)?;
+        let one_form = (a.n_outputs() == n).then_some(a);
+        let m = n - k;
+        let mut basis_ok = Ok(());
+        let basis = Tape::record(n, |q| {
+            let e = sc.basis(q);
+            if e.len() != m || e.iter().any(|r| r.len() != n) {
+                basis_ok = Err(format!(
+                    "the basis of D must be {m} rows of {n} entries (n - k = {m})"
+                ));
+                return vec![Tracer::zero(); m * n];
+            }
+            e.into_iter().flatten().collect()
+        });
+        basis_ok.map_err(size_error)?;
+        description.n = n;
+        description.k = k;
+        let c = CompiledScene {
+            description,
+            n,
+            k,
+            mass,
+            potential,
+            one_form,
+            constraints,
+            basis,
+        };
+        for q in samples(n) {
+            let q: Vec<Interval> = q.iter().map(|x| point(*x)).collect();
+            match c.violation_at(&q, &mirror) {
+                Some(Violation::Input(m)) => return Err(size_error(m)),
+                _ => continue,
+            }
+        }
+        Ok(c)
+    }
+
+    /// The first property of spec 3.6 found violated at the configuration box `q`, if any.
+    fn violation_at(&self, q: &[Interval], mirror: &[(usize, usize)]) -> Option<Violation> {
+        let (n, k) = (self.n, self.k);
+        let at = fmt_q(q);
+        let undefined = || {
+            Violation::Undefined(format!(
+                "the scene's data are not proved finite at q = {at} (a division by zero, or \
+                 a logarithm, square root or power outside its domain)"
+            ))
+        };
+        let Some(mass) = self.mass.eval_checked(q) else {
+            return Some(undefined());
+        };
+        let Some(mu) = self.constraints.eval_checked(q) else {
+            return Some(undefined());
+        };
+        let Some(e) = self.basis.eval_checked(q) else {
+            return Some(undefined());
+        };
+        for &(i, j) in mirror {
+            if mass[i * n + j].disjoint(mass[j * n + i]) {
+                return Some(Violation::Input(format!(
+                    "the mass matrix is not symmetric: entries ({}, {}) and ({}, {}) differ at q = {at}",
+                    i + 1,
+                    j + 1,
+                    j + 1,
+                    i + 1
+                )));
+            }
+        }
+        for a in 0..n - k {
+            for b in 0..k {
+                let r = (0..n).fold(point(0.0), |acc, i| {
+                    mu[b * n + i].mul_add(e[a * n + i], acc)
+                });
+                if !r.contains(0.0) {
+                    return Some(Violation::Input(format!(
+                        "basis row {} is not in ker mu: mu^{} . e_{} = [{:e}, {:e}] at q = {at}",
+                        a + 1,
+                        b + 1,
+                        a + 1,
+                        r.inf(),
+                        r.sup()
+                    )));
+                }
+            }
+        }
+        // Positive definite: Cholesky in interval arithmetic, every pivot proved > 0.
+        let mut l: Vec<Interval> = (0..n * n)
+            .map(|i| mass[(i / n).min(i % n) * n + (i / n).max(i % n)])
+            .collect();
+        for p in 0..n {
+            let d = l[p * n + p];
+            if !(finite(d) && d.inf() > 0.0) {
+                return Some(Violation::Input(format!(
+                    "the mass matrix is not proved positive definite at q = {at} (pivot {} of \
+                     its Cholesky factorization is [{:e}, {:e}])",
+                    p + 1,
+                    d.inf(),
+                    d.sup()
+                )));
+            }
+            for r in p + 1..n {
+                let f = l[r * n + p] / d;
+                for c in p + 1..n {
+                    l[r * n + c] = (-f).mul_add(l[p * n + c], l[r * n + c]);
+                }
+            }
+        }
+        // Full rank of [mu; E] (n x n): Gaussian elimination with pivots chosen by their
+        // smallest magnitude; a pivot containing 0 is no proof.
+        let mut a: Vec<Vec<Interval>> = (0..k)
+            .map(|b| mu[b * n..(b + 1) * n].to_vec())
+            .chain((0..n - k).map(|r| e[r * n..(r + 1) * n].to_vec()))
+            .collect();
+        for p in 0..n {
+            let best = (p..n).max_by(|&x, &y| a[x][p].mig().total_cmp(&a[y][p].mig()))?;
+            a.swap(p, best);
+            let d = a[p][p];
+            if d.contains(0.0) || !finite(d) {
+                return Some(Violation::Rank(format!(
+                    "the constraints and the basis of D are not proved of full rank at q = {at} \
+                     (where the basis is derived, its pivot block is singular or nearly so)"
+                )));
+            }
+            for r in p + 1..n {
+                let f = a[r][p] / d;
+                for c in p + 1..n {
+                    a[r][c] = (-f).mul_add(a[p][c], a[r][c]);
+                }
+            }
+        }
+        None
+    }
+}
+
+enum Violation {
+    /// A property the scene must have (exit 2).
+    Input(String),
+    /// Data not proved defined (exit 3).
+    Undefined(String),
+    /// Rank not proved (exit 3).
+    Rank(String),
+}
+
 /// The reduced vector field of spec eq. (4.4) at x = (q, u), generic over the scalar.
 pub fn reduced_field<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
     let n = sc.dim();
@@ -99,36 +392,30 @@ pub fn reduced_field<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
 }
 
 impl Model {
-    pub fn new(scene: AnyScene) -> Model {
-        let (n, k) = with_scene!(&scene, s => (s.dim(), s.n_constraints()));
+    /// Compile any scene (spec eq. (4.11)): record its data and check their structure
+    /// ([`CompiledScene::compile`]), then record the dynamics and the derived maps on tapes.
+    pub fn new<Sc: Scene + ?Sized>(scene: &Sc) -> Result<Model, Error> {
+        let s = &CompiledScene::compile(scene)?;
+        let (n, k) = (s.n, s.k);
         let d = 2 * n - k;
-        let dynamics = with_scene!(&scene, s => System::record(d, n - k, |x| reduced_field(s, x), |x| reduced_field(s, x)));
-        let with_action = with_scene!(&scene, s => System::record(
+        let dynamics = System::record(d, n - k, |x| reduced_field(s, x), |x| reduced_field(s, x));
+        let with_action = System::record(
             d + 1,
             0,
             |x| field_with_action(s, x),
             |x| field_with_action(s, x),
-        ));
-        let velocity = with_scene!(&scene, s => Tape::record(d, |x| {
-            Geometry::at(s, &x[..n]).velocity(&x[n..])
-        }));
-        let velocity_jac = with_scene!(&scene, s => Tape::record_with_jacobian(d, |x| {
-            Geometry::at(s, &x[..n]).velocity(&x[n..])
-        }));
-        let constraints = with_scene!(&scene, s => Tape::record(n, |q| {
-            s.constraints(q).into_iter().flatten().collect()
-        }));
-        let momentum_d = with_scene!(&scene, s => Tape::record(2 * n, |x| {
-            Geometry::at(s, &x[..n]).momentum_d(&x[n..])
-        }));
-        let energy = with_scene!(&scene, s => Tape::record(2 * n, |x| {
+        );
+        let velocity = Tape::record(d, |x| Geometry::at(s, &x[..n]).velocity(&x[n..]));
+        let velocity_jac =
+            Tape::record_with_jacobian(d, |x| Geometry::at(s, &x[..n]).velocity(&x[n..]));
+        let constraints = s.constraints.clone();
+        let momentum_d = Tape::record(2 * n, |x| Geometry::at(s, &x[..n]).momentum_d(&x[n..]));
+        let energy = Tape::record(2 * n, |x| {
             vec![crate::dynamics::energy(s, &x[..n], &x[n..])]
-        }));
-        let nh_force = with_scene!(&scene, s => Tape::record(2 * n, |x| {
-            Geometry::at(s, &x[..n]).nh_force(&x[n..])
-        }));
-        Model {
-            scene,
+        });
+        let nh_force = Tape::record(2 * n, |x| Geometry::at(s, &x[..n]).nh_force(&x[n..]));
+        Ok(Model {
+            scene: s.clone(),
             n,
             k,
             dynamics,
@@ -139,7 +426,38 @@ impl Model {
             momentum_d,
             energy,
             nh_force,
+        })
+    }
+
+    /// Check the scene at the configuration box `q` before it is used (spec 3.6): its data
+    /// finite there, a symmetric positive definite mass matrix, the basis rows in ker mu,
+    /// and [mu; E] of full rank. A property the scene lacks is an input error; data or a
+    /// rank not proved at `q` are uncertified (the motion may still be fine elsewhere).
+    pub fn check_at(&self, q: &[Interval]) -> Result<(), Error> {
+        if q.len() != self.n {
+            return Err(Error::input(format!(
+                "q has {} components, scene `{}` needs {}",
+                q.len(),
+                self.scene.description.name,
+                self.n
+            )));
         }
+        let mirror: Vec<(usize, usize)> = (0..self.n)
+            .flat_map(|i| (i + 1..self.n).map(move |j| (i, j)))
+            .collect();
+        let name = &self.scene.description.name;
+        match self.scene.violation_at(q, &mirror) {
+            None => Ok(()),
+            Some(Violation::Input(m)) => Err(Error::input(format!("scene `{name}`: {m}"))),
+            Some(Violation::Undefined(m) | Violation::Rank(m)) => {
+                Err(Error::uncertified(format!("scene `{name}`: {m}")))
+            }
+        }
+    }
+
+    /// The scene's name.
+    pub fn name(&self) -> &str {
+        &self.scene.description.name
     }
 
     /// Dimension of the reduced state, 2n - k.

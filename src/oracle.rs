@@ -3,7 +3,7 @@
 //!
 //! ```no_run
 //! # use dalembert::{AnyScene, Model, oracle};
-//! let model = Model::new(AnyScene::new("particle", &[]).unwrap());
+//! let model = Model::new(&AnyScene::new("particle", &[]).unwrap()).unwrap();
 //! let q: Vec<Vec<f64>> = vec![vec![0.0; 3], vec![0.4, 0.4, 0.08], vec![0.76, 0.8, 0.29]];
 //! let v = oracle::check_trajectory(&model, 0.5, &q, &oracle::CheckOptions::default()).unwrap();
 //! assert!(v.max_distance.sup() < 1e-2); // proved: every q_k is within 1e-2 of the exact flow
@@ -91,7 +91,7 @@ pub fn check_trajectory(
         return Err(Error::input(format!(
             "q_{k} has {} components, scene `{}` needs {n}",
             q[k].len(),
-            model.scene.name()
+            model.name()
         )));
     }
     if q.iter().flatten().any(|x| !x.is_finite()) {

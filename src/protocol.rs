@@ -76,7 +76,7 @@ impl Session {
         if let Some(m) = self.models.get(&key) {
             return Ok(m.clone());
         }
-        let m = Rc::new(Model::new(AnyScene::new(&s.name, &s.params)?));
+        let m = Rc::new(Model::new(&AnyScene::new(&s.name, &s.params)?)?);
         self.models.insert(key, m.clone());
         Ok(m)
     }

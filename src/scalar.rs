@@ -11,7 +11,9 @@
 use inari::Interval;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-/// A commutative ring with division and the few elementary functions the scenes need.
+/// A commutative ring with division and the analytic elementary functions scenes and scene
+/// files use (spec/01-scalars.md): sin, cos, sqrt, exp, ln, atan, sinh, cosh, and from them
+/// tan = sin / cos and tanh = sinh / cosh; the constant pi.
 ///
 /// The laws are those of the real numbers; an implementation may return a superset
 /// (intervals) but never a value that misses the real result (spec eq. (1.1)).
@@ -28,6 +30,20 @@ pub trait Scalar:
     fn sin(&self) -> Self;
     fn cos(&self) -> Self;
     fn sqrt(&self) -> Self;
+    fn exp(&self) -> Self;
+    /// The natural logarithm.
+    fn ln(&self) -> Self;
+    fn atan(&self) -> Self;
+    fn sinh(&self) -> Self;
+    fn cosh(&self) -> Self;
+    /// The real number pi (an enclosure of it for intervals: it is not an f64).
+    fn pi() -> Self;
+    fn tan(&self) -> Self {
+        self.sin() / self.cos()
+    }
+    fn tanh(&self) -> Self {
+        self.sinh() / self.cosh()
+    }
     fn zero() -> Self {
         Self::cst(0.0)
     }
@@ -52,6 +68,24 @@ impl Scalar for f64 {
     fn sqrt(&self) -> Self {
         f64::sqrt(*self)
     }
+    fn exp(&self) -> Self {
+        f64::exp(*self)
+    }
+    fn ln(&self) -> Self {
+        f64::ln(*self)
+    }
+    fn atan(&self) -> Self {
+        f64::atan(*self)
+    }
+    fn sinh(&self) -> Self {
+        f64::sinh(*self)
+    }
+    fn cosh(&self) -> Self {
+        f64::cosh(*self)
+    }
+    fn pi() -> Self {
+        std::f64::consts::PI
+    }
 }
 
 impl Scalar for Interval {
@@ -66,6 +100,24 @@ impl Scalar for Interval {
     }
     fn sqrt(&self) -> Self {
         Interval::sqrt(*self)
+    }
+    fn exp(&self) -> Self {
+        Interval::exp(*self)
+    }
+    fn ln(&self) -> Self {
+        Interval::ln(*self)
+    }
+    fn atan(&self) -> Self {
+        Interval::atan(*self)
+    }
+    fn sinh(&self) -> Self {
+        Interval::sinh(*self)
+    }
+    fn cosh(&self) -> Self {
+        Interval::cosh(*self)
+    }
+    fn pi() -> Self {
+        Interval::PI
     }
     fn sqr(&self) -> Self {
         Interval::sqr(*self)
@@ -200,6 +252,46 @@ impl<S: Scalar> Scalar for Dual<S> {
         Dual {
             v: w,
             d: self.map_d(|x| x.clone() / two_w.clone()),
+        }
+    }
+    fn exp(&self) -> Self {
+        let w = self.v.exp();
+        Dual {
+            d: self.map_d(|x| x.clone() * w.clone()),
+            v: w,
+        }
+    }
+    fn ln(&self) -> Self {
+        Dual {
+            v: self.v.ln(),
+            d: self.map_d(|x| x.clone() / self.v.clone()),
+        }
+    }
+    fn atan(&self) -> Self {
+        let g = S::one() + self.v.sqr();
+        Dual {
+            v: self.v.atan(),
+            d: self.map_d(|x| x.clone() / g.clone()),
+        }
+    }
+    fn sinh(&self) -> Self {
+        let c = self.v.cosh();
+        Dual {
+            v: self.v.sinh(),
+            d: self.map_d(|x| x.clone() * c.clone()),
+        }
+    }
+    fn cosh(&self) -> Self {
+        let s = self.v.sinh();
+        Dual {
+            v: self.v.cosh(),
+            d: self.map_d(|x| x.clone() * s.clone()),
+        }
+    }
+    fn pi() -> Self {
+        Dual {
+            v: S::pi(),
+            d: Vec::new(),
         }
     }
 }

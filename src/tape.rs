@@ -32,6 +32,13 @@ enum Op {
     Sin(u32),
     Cos(u32),
     Sqrt(u32),
+    Exp(u32),
+    Ln(u32),
+    Atan(u32),
+    Sinh(u32),
+    Cosh(u32),
+    /// The real number pi (not an f64: intervals enclose it).
+    Pi,
     /// Product with the exact constant c.
     Scale(u32, f64),
 }
@@ -69,12 +76,26 @@ fn key(op: &Op) -> (u8, u64, u64) {
         Op::Cos(a) => (8, a as u64, 0),
         Op::Sqrt(a) => (9, a as u64, 0),
         Op::Scale(a, c) => (10, a as u64, c.to_bits()),
+        Op::Exp(a) => (11, a as u64, 0),
+        Op::Ln(a) => (12, a as u64, 0),
+        Op::Atan(a) => (13, a as u64, 0),
+        Op::Sinh(a) => (14, a as u64, 0),
+        Op::Cosh(a) => (15, a as u64, 0),
+        Op::Pi => (16, 0, 0),
     }
 }
 
 /// A node of the tape being recorded (valid only inside [`Tape::record`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Tracer(u32);
+
+impl Tracer {
+    /// The node's index on the tape being recorded: equal indices are the same expression
+    /// (hash-consing), so this is a cheap test of structural identity.
+    pub fn index(&self) -> u32 {
+        self.0
+    }
+}
 
 fn push(op: Op) -> Tracer {
     let op = fold(op);
@@ -193,6 +214,24 @@ impl Scalar for Tracer {
     fn sqrt(&self) -> Self {
         push(Op::Sqrt(self.0))
     }
+    fn exp(&self) -> Self {
+        push(Op::Exp(self.0))
+    }
+    fn ln(&self) -> Self {
+        push(Op::Ln(self.0))
+    }
+    fn atan(&self) -> Self {
+        push(Op::Atan(self.0))
+    }
+    fn sinh(&self) -> Self {
+        push(Op::Sinh(self.0))
+    }
+    fn cosh(&self) -> Self {
+        push(Op::Cosh(self.0))
+    }
+    fn pi() -> Self {
+        push(Op::Pi)
+    }
 }
 
 /// A recorded straight-line program from `inputs` values to `outputs` values.
@@ -302,6 +341,12 @@ impl Tape {
                 Op::Sin(a) => g(a).sin(),
                 Op::Cos(a) => g(a).cos(),
                 Op::Sqrt(a) => g(a).sqrt(),
+                Op::Exp(a) => g(a).exp(),
+                Op::Ln(a) => g(a).ln(),
+                Op::Atan(a) => g(a).atan(),
+                Op::Sinh(a) => g(a).sinh(),
+                Op::Cosh(a) => g(a).cosh(),
+                Op::Pi => S::pi(),
             };
             v.push(r);
         }
@@ -360,9 +405,18 @@ impl Tape {
 
 fn args(op: &Op) -> Vec<u32> {
     match *op {
-        Op::Input(_) | Op::Const(_) => vec![],
+        Op::Input(_) | Op::Const(_) | Op::Pi => vec![],
         Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => vec![a, b],
-        Op::Neg(a) | Op::Sin(a) | Op::Cos(a) | Op::Sqrt(a) | Op::Scale(a, _) => vec![a],
+        Op::Neg(a)
+        | Op::Sin(a)
+        | Op::Cos(a)
+        | Op::Sqrt(a)
+        | Op::Exp(a)
+        | Op::Ln(a)
+        | Op::Atan(a)
+        | Op::Sinh(a)
+        | Op::Cosh(a)
+        | Op::Scale(a, _) => vec![a],
     }
 }
 
@@ -379,6 +433,12 @@ fn remap(op: &Op, m: &[u32]) -> Op {
         Op::Sin(a) => Op::Sin(r(a)),
         Op::Cos(a) => Op::Cos(r(a)),
         Op::Sqrt(a) => Op::Sqrt(r(a)),
+        Op::Exp(a) => Op::Exp(r(a)),
+        Op::Ln(a) => Op::Ln(r(a)),
+        Op::Atan(a) => Op::Atan(r(a)),
+        Op::Sinh(a) => Op::Sinh(r(a)),
+        Op::Cosh(a) => Op::Cosh(r(a)),
+        Op::Pi => Op::Pi,
         Op::Scale(a, c) => Op::Scale(r(a), c),
     }
 }
@@ -390,7 +450,8 @@ struct Series<T: Coef> {
     /// False once a singular operation (divisor or sqrt argument not proved safe) was met.
     ok: bool,
     /// The coefficients of node i at `i n ..`, then the companion series (cos for a Sin
-    /// node, sin for a Cos node) of node i at `(nodes + i) n ..`.
+    /// node, sin for a Cos node, cosh for Sinh, sinh for Cosh, 1 + a^2 for Atan(a)) of
+    /// node i at `(nodes + i) n ..`.
     c: Vec<T>,
     aux_at: usize,
     /// Per node, the first and last index of a coefficient (or companion) not exactly 0
@@ -491,6 +552,88 @@ impl<T: Coef> Series<T> {
                         (s / kf, c / kf)
                     };
                     if is_sin {
+                        (s, c)
+                    } else {
+                        (c, s)
+                    }
+                }
+                Op::Pi => (if k == 0 { T::pi() } else { zero }, zero),
+                Op::Exp(a) => {
+                    // (2.9) w_0 = exp(a_0); w_k = (1/k) sum_{j=1..k} j a_j w_{k-j}
+                    let me = idx as u32;
+                    if k == 0 {
+                        (self.get(a, 0).exp(), zero)
+                    } else {
+                        let mut acc = zero;
+                        let (lo, hi) = self.nz[a as usize];
+                        for j in lo.max(1)..=hi.min(k) {
+                            acc =
+                                acc.mul_acc(T::cst(j as f64) * self.get(a, j), self.get(me, k - j));
+                        }
+                        (acc / kf, zero)
+                    }
+                }
+                Op::Ln(a) => {
+                    // (2.10) w_0 = ln(a_0), a_0 > 0;
+                    // w_k = (a_k - (1/k) sum_{j=1..k-1} j w_j a_{k-j}) / a_0
+                    let me = idx as u32;
+                    let a0 = self.get(a, 0);
+                    if k == 0 {
+                        if !a0.safe_sqrt_arg() {
+                            self.ok = false;
+                        }
+                        (a0.ln(), zero)
+                    } else {
+                        let mut acc = zero;
+                        for j in 1..k {
+                            acc =
+                                acc.mul_acc(T::cst(j as f64) * self.get(me, j), self.get(a, k - j));
+                        }
+                        ((self.get(a, k) - acc / kf) / a0, zero)
+                    }
+                }
+                Op::Atan(a) => {
+                    // (2.11) g = 1 + a^2 (companion); w_0 = atan(a_0);
+                    // w_k = (a_k - (1/k) sum_{j=1..k-1} j w_j g_{k-j}) / g_0
+                    let me = idx as u32;
+                    let mut g = if k == 0 { T::one() } else { zero };
+                    for j in 0..=k {
+                        g = g.mul_acc(self.get(a, j), self.get(a, k - j));
+                    }
+                    if k == 0 {
+                        (self.get(a, 0).atan(), g)
+                    } else {
+                        let mut acc = zero;
+                        for j in 1..k {
+                            acc = acc
+                                .mul_acc(T::cst(j as f64) * self.get(me, j), self.aux(me, k - j));
+                        }
+                        ((self.get(a, k) - acc / kf) / self.aux(me, 0), g)
+                    }
+                }
+                Op::Sinh(a) | Op::Cosh(a) => {
+                    // (2.12) s_k = (1/k) sum j a_j c_{k-j}, c_k = (1/k) sum j a_j s_{k-j}
+                    let me = idx as u32;
+                    let is_sinh = matches!(op, Op::Sinh(_));
+                    let (s, c) = if k == 0 {
+                        let u0 = self.get(a, 0);
+                        (u0.sinh(), u0.cosh())
+                    } else {
+                        let (mut s, mut c) = (zero, zero);
+                        let (lo, hi) = self.nz[a as usize];
+                        for j in lo.max(1)..=hi.min(k) {
+                            let ju = T::cst(j as f64) * self.get(a, j);
+                            let (sp, cp) = if is_sinh {
+                                (self.get(me, k - j), self.aux(me, k - j))
+                            } else {
+                                (self.aux(me, k - j), self.get(me, k - j))
+                            };
+                            s = s.mul_acc(ju, cp);
+                            c = c.mul_acc(ju, sp);
+                        }
+                        (s / kf, c / kf)
+                    };
+                    if is_sinh {
                         (s, c)
                     } else {
                         (c, s)

@@ -142,7 +142,7 @@ fn pair_cmd(cmd: &str, scene: &str, q0: &[f64], q1: &[f64], h: f64) -> Answer {
 }
 
 fn particle_pairs() -> Vec<([f64; 3], [f64; 3], f64)> {
-    let m = Model::new(AnyScene::new("particle", &[]).unwrap());
+    let m = Model::new(&AnyScene::new("particle", &[]).unwrap()).unwrap();
     let q0 = [0.25, -0.75, 1.0];
     let on = mids(
         &dalembert::flow(&m, &q0, &[1.1, 0.6], 0.5, &FlowOptions::default())
@@ -284,7 +284,7 @@ fn cli_equals_library() {
     let parse = |s: &str| -> Vec<f64> { s.split(',').map(|x| x.parse().unwrap()).collect() };
     let (q0, q1, hf) = (parse(a), parse(b), h.parse::<f64>().unwrap());
     for scene in ["particle", "knife"] {
-        let m = Model::new(AnyScene::new(scene, &[]).unwrap());
+        let m = Model::new(&AnyScene::new(scene, &[]).unwrap()).unwrap();
         let o = FlowOptions::default();
         let r = exact::retract(&m, &pts(&q0), &pts(&q1), hf, &o).unwrap();
         let out = run(&[

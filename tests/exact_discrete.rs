@@ -26,7 +26,7 @@ use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, RngSeed};
 
 fn model(name: &str) -> Model {
-    Model::new(AnyScene::new(name, &[]).unwrap())
+    Model::new(&AnyScene::new(name, &[]).unwrap()).unwrap()
 }
 
 fn opts() -> FlowOptions {

@@ -261,7 +261,7 @@ fn contains(x: &Interval, r: &Float) -> bool {
 }
 
 fn model(eps: f64) -> Model {
-    Model::new(AnyScene::new("knife-eps", &[("eps".to_string(), eps)]).unwrap())
+    Model::new(&AnyScene::new("knife-eps", &[("eps".to_string(), eps)]).unwrap()).unwrap()
 }
 
 fn enclose(model: &Model, q: [f64; 3], u: [f64; 2], t: f64) -> FlowEnclosure {
@@ -471,7 +471,7 @@ fn contains_reference_random_states() {
 }
 
 fn knife_model() -> Model {
-    Model::new(AnyScene::new("knife", &[]).unwrap())
+    Model::new(&AnyScene::new("knife", &[]).unwrap()).unwrap()
 }
 
 fn components(e: &FlowEnclosure) -> Vec<Interval> {

@@ -235,7 +235,7 @@ fn rolling_disk_multipliers_solve_a_2x2_system_soundly() {
             j: g.uniform(0.1, 2.0),
             r: g.uniform(0.2, 2.0),
         };
-        let mdl = Model::new(dalembert::AnyScene::RollingDisk(sc));
+        let mdl = Model::new(&dalembert::AnyScene::RollingDisk(sc)).unwrap();
         let q: Vec<f64> = (0..4).map(|_| g.uniform(-3.0, 3.0)).collect();
         let u = [g.uniform(-2.0, 2.0), g.uniform(-2.0, 2.0)];
         let rad = 1e-9;
@@ -534,7 +534,7 @@ fn sleigh_geometry_with_configuration_dependent_mass() {
         + (0..3).map(|j| qd[j] * g.dmu[j][0][1]).sum::<f64>() * qd[1];
     let mu_a: f64 = (0..3).map(|i| g.mu[0][i] * acc[i]).sum();
     assert!((mudot + mu_a).abs() < 1e-13);
-    assert_eq!(sc.info().name, "sleigh");
+    assert_eq!(sc.name(), "sleigh");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1034,7 +1034,7 @@ fn scenes_json_describes_every_scene() {
         // the defaults, given explicitly, are the scene with no parameters
         let m = dalembert::AnyScene::new(name, &params).unwrap();
         assert_eq!(m, dalembert::AnyScene::new(name, &[]).unwrap());
-        let model = Model::new(m);
+        let model = Model::new(&m).unwrap();
         assert_eq!((model.n, model.k), (n, k), "{name}");
     }
     assert_eq!(list[3]["k"], 2);

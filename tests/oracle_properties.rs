@@ -125,7 +125,7 @@ impl Which {
         }
     }
     fn model(self) -> Model {
-        Model::new(AnyScene::new(self.name(), &[]).expect("scene"))
+        Model::new(&AnyScene::new(self.name(), &[]).expect("scene")).unwrap()
     }
     /// Rows e_a(q) of the basis of D_q.
     fn basis(self, q: &[f64]) -> Vec<Vec<f64>> {

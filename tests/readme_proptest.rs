@@ -12,7 +12,7 @@ proptest! {
         x in -1.0..1.0f64, y in -1.0..1.0f64, u1 in -1.0..1.0f64, u2 in -1.0..1.0f64,
         h in 0.05..0.2f64,
     ) {
-        let model = Model::new(AnyScene::new("particle", &[]).unwrap());
+        let model = Model::new(&AnyScene::new("particle", &[]).unwrap()).unwrap();
         let (q0, q1) = ([x, y, 0.0], [x + h * u1, y + h * u2, h * y * u1]); // q1 ~ q(h)
         let mla = Scheme::new(&model, SchemeKind::Mla);
         let traj = mla.integrate(&q0, &q1, h, 20, &NewtonOptions::default()).unwrap();

@@ -7,7 +7,7 @@ use dalembert::{exact, AnyScene, Error, FlowOptions, Model};
 use std::time::Instant;
 
 pub fn run() -> Result<(), Error> {
-    let model = Model::new(AnyScene::new("particle", &[])?);
+    let model = Model::new(&AnyScene::new("particle", &[])?)?;
     let opts = FlowOptions::default();
     let (q, u) = ([0.0, 0.0, 0.0], [0.8, 0.8]);
     println!("dalembert: the nonholonomic particle (paper Example 2.1), q0 = 0, u0 = (0.8, 0.8)");
@@ -93,7 +93,7 @@ fn every_scene() -> Result<(), Error> {
         "scene", "n", "k", "max width", "steps", "ms"
     );
     for info in dalembert::scene::SCENES {
-        let model = Model::new(AnyScene::new(info.name, &[])?);
+        let model = Model::new(&AnyScene::new(info.name, &[])?)?;
         let (q, u) = (vec![0.0; model.n], vec![0.8; model.n - model.k]);
         let start = Instant::now();
         let e = dalembert::flow(&model, &q, &u, 5.0, &FlowOptions::default())?;

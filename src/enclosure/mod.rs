@@ -224,14 +224,14 @@ pub fn check_state(model: &Model, q: &[f64], u: &[f64]) -> Result<(), Error> {
         return Err(Error::input(format!(
             "q has {} components, scene `{}` needs {n}",
             q.len(),
-            model.scene.name()
+            model.name()
         )));
     }
     if u.len() != m {
         return Err(Error::input(format!(
             "u has {} components, scene `{}` needs {m}",
             u.len(),
-            model.scene.name()
+            model.name()
         )));
     }
     if let Some(x) = q.iter().chain(u).find(|x| !x.is_finite()) {
@@ -907,7 +907,7 @@ mod tests {
     #[test]
     fn progress_is_told_a_rising_fraction_ending_at_one_and_changes_nothing() {
         use std::sync::{Arc, Mutex};
-        let model = Model::new(AnyScene::new("knife", &[]).unwrap());
+        let model = Model::new(&AnyScene::new("knife", &[]).unwrap()).unwrap();
         let seen = Arc::new(Mutex::new(Vec::new()));
         let s2 = seen.clone();
         let opts = FlowOptions {
@@ -929,7 +929,7 @@ mod tests {
         // x + u1 t overflows: the image of the point is not finite. With fixed steps the
         // width tolerances of (5.8) are off, so only the finiteness check stands between
         // this and an answer with an infinite endpoint.
-        let model = Model::new(AnyScene::new("knife", &[]).unwrap());
+        let model = Model::new(&AnyScene::new("knife", &[]).unwrap()).unwrap();
         for step in [0.0, 1.0] {
             let opts = FlowOptions {
                 step,
@@ -946,7 +946,7 @@ mod tests {
 
     #[test]
     fn particle_with_zero_y_speed_moves_on_a_line() {
-        let model = Model::new(AnyScene::new("particle", &[]).unwrap());
+        let model = Model::new(&AnyScene::new("particle", &[]).unwrap()).unwrap();
         let e = flow(
             &model,
             &[0.5, 2.0, -1.0],

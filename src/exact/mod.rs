@@ -206,7 +206,7 @@ fn check_pair(model: &Model, q0: &[Interval], q1: &[Interval], h: f64) -> Result
     if q0.len() != n || q1.len() != n {
         return Err(Error::input(format!(
             "q0 and q1 need {n} components for scene `{}`",
-            model.scene.name()
+            model.name()
         )));
     }
     if !q0.iter().chain(q1).all(|x| finite(*x)) {

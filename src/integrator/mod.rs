@@ -10,7 +10,7 @@ use crate::model::Model;
 use crate::scalar::{Dual, Scalar};
 use crate::scene::Scene;
 use crate::tape::{Tape, Tracer};
-use crate::{with_scene, Error};
+use crate::Error;
 use nalgebra::{DMatrix, DVector};
 pub use newton::{NewtonFailure, NewtonOptions, NewtonOutcome};
 
@@ -257,24 +257,23 @@ impl From<SchemeError> for Error {
 impl Scheme {
     pub fn new(model: &Model, kind: SchemeKind) -> Scheme {
         let (n, k) = (model.n, model.k);
-        let residual = with_scene!(&model.scene, s => record_with_jacobian(2 * n + 1, n, |f, u| {
+        let s = &model.scene;
+        let residual = record_with_jacobian(2 * n + 1, n, |f, u| {
             step_residual(s, kind, &f[..n], &f[n..2 * n], u, &f[2 * n])
-        }));
-        let projection = with_scene!(&model.scene, s => record_with_jacobian(2 * n, k, |f, sv| {
+        });
+        let projection = record_with_jacobian(2 * n, k, |f, sv| {
             let (q0, q1) = (&f[..n], &f[n..]);
             let mu = s.constraints(q1);
             let moved: Vec<_> = (0..n)
                 .map(|i| (0..k).fold(q1[i].clone(), |a, b| a + mu[b][i].clone() * sv[b].clone()))
                 .collect();
             discrete_constraint(s, q0, &moved)
-        }));
-        let legendre = with_scene!(&model.scene, s => Tape::record(2 * n + 1, |x| {
+        });
+        let legendre = Tape::record(2 * n + 1, |x| {
             let (a, b) = legendre(s, kind, &x[..n], &x[n..2 * n], &x[2 * n]);
             a.into_iter().chain(b).collect()
-        }));
-        let hamiltonian = with_scene!(&model.scene, s => Tape::record(2 * n - k, |x| {
-            vec![hamiltonian_d(s, &x[..n], &x[n..])]
-        }));
+        });
+        let hamiltonian = Tape::record(2 * n - k, |x| vec![hamiltonian_d(s, &x[..n], &x[n..])]);
         Scheme {
             kind,
             n,

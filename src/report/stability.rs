@@ -67,7 +67,7 @@ fn case(
     q0: Vec<f64>,
 ) -> Result<Case, Error> {
     let params: Vec<(String, f64)> = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    let model = Model::new(AnyScene::new(scene, &params)?);
+    let model = Model::new(&AnyScene::new(scene, &params)?)?;
     let (q0, q1) = pair(&model, h, q0);
     Ok(Case {
         scene: scene.to_string(),
@@ -170,7 +170,7 @@ fn solve(model: &Model, kind: SchemeKind, c: &Case) -> Solve {
 /// Run one case.
 pub fn run(c: &Case) -> Result<Row, Error> {
     let start = std::time::Instant::now();
-    let model = Model::new(AnyScene::new(&c.scene, &c.params)?);
+    let model = Model::new(&AnyScene::new(&c.scene, &c.params)?)?;
     let (certified, dla, mla) = (
         certified(&model, c),
         solve(&model, SchemeKind::Dla, c),

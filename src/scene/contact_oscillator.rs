@@ -92,12 +92,28 @@ fn build_nr(p: &Params) -> Result<AnyScene, Error> {
     }))
 }
 
-impl Scene for ContactOscillator {
-    fn info(&self) -> &'static SceneInfo {
+impl ContactOscillator {
+    /// The oscillator's or the variant's declaration.
+    pub fn info(&self) -> &'static SceneInfo {
         match self.delta {
             None => &INFO,
             Some(_) => &NR_INFO,
         }
+    }
+}
+
+impl Scene for ContactOscillator {
+    fn name(&self) -> String {
+        self.info().name.to_string()
+    }
+    fn dim(&self) -> usize {
+        3
+    }
+    fn n_constraints(&self) -> usize {
+        1
+    }
+    fn description(&self) -> super::Description {
+        self.info().description()
     }
     fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
         identity(3)

@@ -91,9 +91,7 @@ fn build_knife_eps(p: &Params) -> Result<AnyScene, Error> {
 }
 
 impl Scene for Knife {
-    fn info(&self) -> &'static SceneInfo {
-        &KNIFE_INFO
-    }
+    super::described_by!(KNIFE_INFO);
     fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
         identity(3)
     }
@@ -109,9 +107,7 @@ impl Scene for Knife {
 }
 
 impl Scene for KnifeEps {
-    fn info(&self) -> &'static SceneInfo {
-        &KNIFE_EPS_INFO
-    }
+    super::described_by!(KNIFE_EPS_INFO);
     fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
         identity(3)
     }

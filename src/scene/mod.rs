@@ -30,32 +30,204 @@ use crate::Error;
 /// Dense matrix as rows.
 pub type Mat<S> = Vec<Vec<S>>;
 
-/// The data of one scene (spec eq. (3.1)). `q` has length `dim()`.
+/// The data of one nonholonomic system (spec eq. (3.1)); `q` has length `dim()`.
+///
+/// Any type that implements it builds a [`crate::Model`]: the built-in scenes, scene files
+/// ([`SceneFile`]) and users' own types alike. Only [`Scene::name`], [`Scene::dim`] and
+/// [`Scene::constraints`] are required; every other datum has its natural default (M = I,
+/// V = 0, A = 0, the basis of D derived from the constraints, spec eq. (3.15)). The data are
+/// written once over `S: Scalar` and must be analytic where they are evaluated (spec
+/// section 3.6 says what [`crate::Model::new`] and [`crate::Model::check_at`] check and what
+/// stays assumed).
 pub trait Scene {
-    /// What the scene's file says about it (name, coordinates, parameters, formulas).
-    fn info(&self) -> &'static SceneInfo;
-    /// Number of coordinates n (declared once, in the scene's [`SceneInfo`]).
-    fn dim(&self) -> usize {
-        self.info().n
-    }
-    /// Number of constraints k (the rank of D is n - k).
-    fn n_constraints(&self) -> usize {
-        self.info().k
-    }
-    /// Mass matrix M(q), n x n, symmetric positive definite.
-    fn mass<S: Scalar>(&self, q: &[S]) -> Mat<S>;
-    /// Potential V(q).
-    fn potential<S: Scalar>(&self, q: &[S]) -> S;
-    /// Constraint covectors: row a is mu^a(q) (k x n).
+    /// The name shown in answers and messages.
+    fn name(&self) -> String;
+    /// Number of coordinates n.
+    fn dim(&self) -> usize;
+    /// Constraint covectors: row a is mu^a(q) (k x n, k the same at every q).
     fn constraints<S: Scalar>(&self, q: &[S]) -> Mat<S>;
-    /// Basis of D_q: row a is e_a(q) ((n-k) x n); mu(q) e_a(q) = 0 identically.
-    fn basis<S: Scalar>(&self, q: &[S]) -> Mat<S>;
+    /// Mass matrix M(q), n x n, symmetric positive definite (default: the identity).
+    fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
+        identity(self.dim())
+    }
+    /// Potential V(q) (default 0).
+    fn potential<S: Scalar>(&self, _q: &[S]) -> S {
+        S::zero()
+    }
     /// The one-form `A(q)` of a Lagrangian term `A(q) qd` linear in the velocities
     /// (spec eq. (3.1)); `None`, the default, for a natural Lagrangian (A = 0).
     fn one_form<S: Scalar>(&self, _q: &[S]) -> Option<Vec<S>> {
         None
     }
+    /// The free coordinates of the derived basis (spec eq. (3.15)): n - k indices into q.
+    /// Default: the first n - k coordinates. Used only by the default [`Scene::basis`].
+    fn free(&self) -> Vec<usize> {
+        (0..self.dim().saturating_sub(self.n_constraints())).collect()
+    }
+    /// Basis of D_q: row a is e_a(q) ((n-k) x n) with mu(q) e_a(q) = 0. Default: the basis
+    /// derived from the constraints and [`Scene::free`] (spec eq. (3.15)).
+    fn basis<S: Scalar>(&self, q: &[S]) -> Mat<S> {
+        derived_basis(&self.constraints(q), &self.free(), self.dim())
+    }
+    /// Number of constraints k: the rows of `constraints` (read once, at q = 0).
+    fn n_constraints(&self) -> usize {
+        self.constraints::<f64>(&vec![0.0; self.dim()]).len()
+    }
+    /// What the scene says about itself, for people and for `dalembert scenes` (default:
+    /// the name, coordinates `q1 .. qn`, quasi-velocities `u1 .. um`).
+    fn description(&self) -> Description {
+        Description::plain(self.name(), self.dim(), self.n_constraints())
+    }
 }
+
+/// The basis of D_q derived from the constraints (spec eq. (3.15)): with `free` the n - k
+/// free coordinates and the other k coordinates `dep`, e_a is the vector of ker mu(q) whose
+/// components on the free coordinates are the a-th unit vector; its components on `dep` are
+/// `-B^{-1} mu[:, free_a]`, B = mu[:, dep] the k x k pivot block, computed by Cramer's rule
+/// (one division, by det B, so the only singularity is det B = 0, which a validated
+/// evaluation refuses as a division by an interval containing 0). `free` must hold n - k
+/// distinct indices below n (checked by [`crate::Model::new`]; here a bad one gives rows
+/// of the right size with unspecified entries, never a panic).
+pub fn derived_basis<S: Scalar>(mu: &Mat<S>, free: &[usize], n: usize) -> Mat<S> {
+    let k = mu.len();
+    let dep: Vec<usize> = (0..n).filter(|i| !free.contains(i)).collect();
+    let col = |r: usize, c: usize| {
+        mu.get(r)
+            .and_then(|row| row.get(c))
+            .cloned()
+            .unwrap_or_else(S::zero)
+    };
+    let block: Mat<S> = (0..k)
+        .map(|r| dep.iter().map(|&c| col(r, c)).collect())
+        .collect();
+    let det_b = det(&block);
+    free.iter()
+        .enumerate()
+        .map(|(a, &fa)| {
+            let mut e: Vec<S> = (0..n)
+                .map(|i| {
+                    if free.get(a) == Some(&i) {
+                        S::one()
+                    } else {
+                        S::zero()
+                    }
+                })
+                .collect();
+            for (i, &di) in dep.iter().enumerate().take(k) {
+                // Cramer: column i of B replaced by mu[:, free_a]
+                let bi: Mat<S> = (0..k)
+                    .map(|r| {
+                        (0..k)
+                            .map(|c| {
+                                if c == i {
+                                    col(r, fa)
+                                } else {
+                                    block[r][c].clone()
+                                }
+                            })
+                            .collect()
+                    })
+                    .collect();
+                if di < n {
+                    e[di] = -(det(&bi) / det_b.clone());
+                }
+            }
+            e
+        })
+        .collect()
+}
+
+/// The determinant by cofactor expansion along the first row (the minors repeat; recorded
+/// on a tape they are stored once). Division-free, so it is defined everywhere.
+pub fn det<S: Scalar>(m: &Mat<S>) -> S {
+    let k = m.len();
+    match k {
+        0 => S::one(),
+        1 => m[0][0].clone(),
+        2 => m[0][0].clone() * m[1][1].clone() - m[0][1].clone() * m[1][0].clone(),
+        _ => {
+            let mut acc = S::zero();
+            for j in 0..k {
+                let minor: Mat<S> = m[1..]
+                    .iter()
+                    .map(|r| {
+                        r.iter()
+                            .enumerate()
+                            .filter(|(c, _)| *c != j)
+                            .map(|(_, x)| x.clone())
+                            .collect()
+                    })
+                    .collect();
+                let t = m[0][j].clone() * det(&minor);
+                acc = if j % 2 == 0 { acc + t } else { acc - t };
+            }
+            acc
+        }
+    }
+}
+
+/// What a scene says about itself: the words `dalembert scenes` prints and external
+/// implementations use to pose the same problem.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Description {
+    pub name: String,
+    /// One line: what the system is and where it comes from.
+    pub summary: String,
+    /// Names of q's components, in order.
+    pub coordinates: Vec<String>,
+    /// Names of the quasi-velocities u_a.
+    pub velocities: Vec<String>,
+    /// Parameters: name, value in this scene (the default in a listing), description.
+    pub params: Vec<(String, f64, String)>,
+    pub n: usize,
+    pub k: usize,
+    /// The Lagrangian, as a formula.
+    pub lagrangian: String,
+    /// The constraint covectors mu^a, one string each.
+    pub constraints: Vec<String>,
+    /// The basis e_a of D, one string each.
+    pub basis: Vec<String>,
+    /// Known first integrals (formulas), possibly empty.
+    pub invariants: Vec<String>,
+}
+
+impl Description {
+    /// A description with nothing but a name and the sizes.
+    pub fn plain(name: String, n: usize, k: usize) -> Description {
+        Description {
+            summary: name.clone(),
+            name,
+            coordinates: (1..=n).map(|i| format!("q{i}")).collect(),
+            velocities: (1..=n.saturating_sub(k)).map(|a| format!("u{a}")).collect(),
+            params: Vec::new(),
+            n,
+            k,
+            lagrangian: String::new(),
+            constraints: Vec::new(),
+            basis: Vec::new(),
+            invariants: Vec::new(),
+        }
+    }
+}
+
+/// The descriptive methods of a built-in scene, from its static [`SceneInfo`].
+macro_rules! described_by {
+    ($info:expr) => {
+        fn name(&self) -> String {
+            $info.name.to_string()
+        }
+        fn dim(&self) -> usize {
+            $info.n
+        }
+        fn n_constraints(&self) -> usize {
+            $info.k
+        }
+        fn description(&self) -> $crate::scene::Description {
+            $info.description()
+        }
+    };
+}
+pub(crate) use described_by;
 
 /// A scene parameter: name, default and a one-line description (with its admissible range).
 #[derive(Debug)]
@@ -91,6 +263,30 @@ pub struct SceneInfo {
     pub invariants: &'static [&'static str],
     /// The scene with validated parameter values (every parameter resolved to a value).
     pub build: fn(&Params) -> Result<AnyScene, Error>,
+}
+
+impl SceneInfo {
+    /// The description, with the parameters' defaults.
+    pub fn description(&self) -> Description {
+        let strings = |v: &[&str]| v.iter().map(|s| s.to_string()).collect();
+        Description {
+            name: self.name.into(),
+            summary: self.summary.into(),
+            coordinates: strings(self.coordinates),
+            velocities: strings(self.velocities),
+            params: self
+                .params
+                .iter()
+                .map(|p| (p.name.into(), p.default, p.description.into()))
+                .collect(),
+            n: self.n,
+            k: self.k,
+            lagrangian: self.lagrangian.into(),
+            constraints: strings(self.constraints),
+            basis: strings(self.basis),
+            invariants: strings(self.invariants),
+        }
+    }
 }
 
 /// Parameter values handed to a scene's constructor: the given ones, else the defaults.
@@ -205,11 +401,48 @@ impl AnyScene {
     }
 
     pub fn info(&self) -> &'static SceneInfo {
-        crate::with_scene!(self, s => s.info())
+        match self {
+            AnyScene::Particle(_) => &particle::INFO,
+            AnyScene::Knife(_) => &knife::KNIFE_INFO,
+            AnyScene::KnifeEps(_) => &knife::KNIFE_EPS_INFO,
+            AnyScene::RollingDisk(_) => &rolling_disk::INFO,
+            AnyScene::Sleigh(_) => &sleigh::INFO,
+            AnyScene::ContactOscillator(c) => match c.delta {
+                None => &contact_oscillator::INFO,
+                Some(_) => &contact_oscillator::NR_INFO,
+            },
+        }
     }
+}
 
-    pub fn name(&self) -> &'static str {
-        self.info().name
+/// The registry's scenes are scenes like any other: each call goes to the scene inside.
+impl Scene for AnyScene {
+    fn name(&self) -> String {
+        self.info().name.to_string()
+    }
+    fn dim(&self) -> usize {
+        self.info().n
+    }
+    fn n_constraints(&self) -> usize {
+        self.info().k
+    }
+    fn description(&self) -> Description {
+        crate::with_scene!(self, s => s.description())
+    }
+    fn constraints<S: Scalar>(&self, q: &[S]) -> Mat<S> {
+        crate::with_scene!(self, s => s.constraints(q))
+    }
+    fn mass<S: Scalar>(&self, q: &[S]) -> Mat<S> {
+        crate::with_scene!(self, s => s.mass(q))
+    }
+    fn potential<S: Scalar>(&self, q: &[S]) -> S {
+        crate::with_scene!(self, s => s.potential(q))
+    }
+    fn one_form<S: Scalar>(&self, q: &[S]) -> Option<Vec<S>> {
+        crate::with_scene!(self, s => s.one_form(q))
+    }
+    fn basis<S: Scalar>(&self, q: &[S]) -> Mat<S> {
+        crate::with_scene!(self, s => s.basis(q))
     }
 }
 

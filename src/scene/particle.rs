@@ -29,9 +29,7 @@ fn build(_: &Params) -> Result<AnyScene, Error> {
 }
 
 impl Scene for Particle {
-    fn info(&self) -> &'static SceneInfo {
-        &INFO
-    }
+    super::described_by!(INFO);
     fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
         identity(3)
     }

@@ -78,9 +78,7 @@ fn build(p: &Params) -> Result<AnyScene, Error> {
 }
 
 impl Scene for RollingDisk {
-    fn info(&self) -> &'static SceneInfo {
-        &INFO
-    }
+    super::described_by!(INFO);
     fn mass<S: Scalar>(&self, _q: &[S]) -> Mat<S> {
         diagonal(&[self.m, self.m, self.i, self.j])
     }

@@ -66,9 +66,7 @@ fn build(p: &Params) -> Result<AnyScene, Error> {
 }
 
 impl Scene for Sleigh {
-    fn info(&self) -> &'static SceneInfo {
-        &INFO
-    }
+    super::described_by!(INFO);
     /// M(q) = [[m, 0, -m a sin th], [0, m, m a cos th], [-m a sin th, m a cos th, I + m a^2]].
     fn mass<S: Scalar>(&self, q: &[S]) -> Mat<S> {
         let (s, c) = (q[2].sin(), q[2].cos());

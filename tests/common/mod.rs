@@ -13,7 +13,7 @@ use inari::Interval;
 /// A scene by name, with parameters.
 pub fn model(name: &str, params: &[(&str, f64)]) -> Model {
     let params: Vec<(String, f64)> = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    Model::new(AnyScene::new(name, &params).expect("scene"))
+    Model::new(&AnyScene::new(name, &params).expect("scene")).unwrap()
 }
 
 /// `x` as a decimal (`{:e}`, which is exact enough to round-trip) and as its bits.
@@ -62,7 +62,7 @@ pub fn describe(scene: &str, params: &[(&str, f64)], q: &[f64], u: &[f64], t: f6
         })
         .collect();
     s += &format!(
-        "  reproduce: flow(&Model::new(AnyScene::new(\"{scene}\", &[{}]).unwrap()), &{}, &{}, f64::from_bits(0x{:016x}), &FlowOptions::default())\n",
+        "  reproduce: flow(&Model::new(&AnyScene::new(\"{scene}\", &[{}]).unwrap()).unwrap(), &{}, &{}, f64::from_bits(0x{:016x}), &FlowOptions::default())\n",
         ps.join(", "),
         bits_vec(q),
         bits_vec(u),
