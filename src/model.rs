@@ -99,7 +99,7 @@ pub const MAX_DIM: usize = 64;
 /// A scene's data recorded once on tapes (spec eq. (3.16)): q -> M(q) (as given, row-major),
 /// V(q), A(q), mu(q), E(q). It is itself a [`Scene`] (replaying the tapes over any scalar),
 /// so everything downstream reads any scene, built-in, file or user type, the same way.
-/// The mass matrix it hands on is the given one's upper triangle mirrored (spec 3.6).
+/// The mass matrix it hands on is the given one's upper triangle mirrored (spec eq. (3.17)).
 #[derive(Clone, Debug)]
 pub struct CompiledScene {
     description: Description,
@@ -151,7 +151,7 @@ impl Scene for CompiledScene {
 }
 
 /// Fixed sample configurations at which [`CompiledScene::compile`] checks the structure
-/// (spec 3.6): components of varied sign and size, none a multiple of pi/2.
+/// (spec eq. (3.17)): components of varied sign and size, none a multiple of pi/2.
 fn samples(n: usize) -> Vec<Vec<f64>> {
     let base = [
         0.3125, -0.71875, 1.15625, -0.4375, 0.90625, -1.40625, 0.5625,
@@ -180,7 +180,7 @@ fn fmt_q(q: &[Interval]) -> String {
 }
 
 impl CompiledScene {
-    /// Record `sc`'s data on tapes and check its structure (spec 3.6): sizes, a mass
+    /// Record `sc`'s data on tapes and check its structure (spec eq. (3.17)): sizes, a mass
     /// matrix symmetric (identical entries, or not proved different at the sample points),
     /// basis rows in ker mu at the sample points. Input errors name what is wrong.
     pub fn compile<Sc: Scene + ?Sized>(sc: &Sc) -> Result<CompiledScene, Error> {
@@ -212,6 +212,16 @@ impl CompiledScene {
             return Err(size_error(format!(
                 "{k} constraints for {n} coordinates (1 to n - 1 = {} allowed)",
                 n - 1
+            )));
+        }
+        let free = sc.free();
+        let mut distinct = free.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
+        if free.len() != n - k || distinct.len() != free.len() || free.iter().any(|&i| i >= n) {
+            return Err(size_error(format!(
+                "the free coordinates must be n - k = {} distinct indices below {n} (got {free:?})",
+                n - k
             )));
         }
         let mut mass_ok = Ok(());
@@ -271,7 +281,7 @@ impl CompiledScene {
         };
         for q in samples(n) {
             let q: Vec<Interval> = q.iter().map(|x| point(*x)).collect();
-            match c.violation_at(&q, &mirror) {
+            match c.violation_at(&q, &mirror, false) {
                 Some(Violation::Input(m)) => return Err(size_error(m)),
                 _ => continue,
             }
@@ -279,8 +289,16 @@ impl CompiledScene {
         Ok(c)
     }
 
-    /// The first property of spec 3.6 found violated at the configuration box `q`, if any.
-    fn violation_at(&self, q: &[Interval], mirror: &[(usize, usize)]) -> Option<Violation> {
+    /// The first property of spec eq. (3.17) found violated at the configuration box `q`, if any:
+    /// the structural ones (symmetry of the pairs `mirror`, basis rows in ker mu) and, when
+    /// `at_use`, those that hold only where the scene is used (data defined, mass positive
+    /// definite, full rank).
+    fn violation_at(
+        &self,
+        q: &[Interval],
+        mirror: &[(usize, usize)],
+        at_use: bool,
+    ) -> Option<Violation> {
         let (n, k) = (self.n, self.k);
         let at = fmt_q(q);
         let undefined = || {
@@ -298,6 +316,14 @@ impl CompiledScene {
         let Some(e) = self.basis.eval_checked(q) else {
             return Some(undefined());
         };
+        let other_data_defined = self.potential.eval_checked(q).is_some()
+            && self
+                .one_form
+                .as_ref()
+                .is_none_or(|t| t.eval_checked(q).is_some());
+        if !other_data_defined {
+            return Some(undefined());
+        }
         for &(i, j) in mirror {
             if mass[i * n + j].disjoint(mass[j * n + i]) {
                 return Some(Violation::Input(format!(
@@ -325,6 +351,9 @@ impl CompiledScene {
                     )));
                 }
             }
+        }
+        if !at_use {
+            return None;
         }
         // Positive definite: Cholesky in interval arithmetic, every pivot proved > 0.
         let mut l: Vec<Interval> = (0..n * n)
@@ -429,7 +458,7 @@ impl Model {
         })
     }
 
-    /// Check the scene at the configuration box `q` before it is used (spec 3.6): its data
+    /// Check the scene at the configuration box `q` before it is used (spec eq. (3.17)): its data
     /// finite there, a symmetric positive definite mass matrix, the basis rows in ker mu,
     /// and [mu; E] of full rank. A property the scene lacks is an input error; data or a
     /// rank not proved at `q` are uncertified (the motion may still be fine elsewhere).
@@ -446,7 +475,7 @@ impl Model {
             .flat_map(|i| (i + 1..self.n).map(move |j| (i, j)))
             .collect();
         let name = &self.scene.description.name;
-        match self.scene.violation_at(q, &mirror) {
+        match self.scene.violation_at(q, &mirror, true) {
             None => Ok(()),
             Some(Violation::Input(m)) => Err(Error::input(format!("scene `{name}`: {m}"))),
             Some(Violation::Undefined(m) | Violation::Rank(m)) => {

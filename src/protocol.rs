@@ -155,6 +155,12 @@ impl Session {
                         self.max_integrate_steps
                     )));
                 }
+                let model = self.model(&pair.scene)?;
+                for q in [&pair.q0, &pair.q1] {
+                    if q.len() == model.n && q.iter().all(|x| x.is_finite()) {
+                        model.check_at(&points(q))?;
+                    }
+                }
                 let sc = self.scheme(&pair.scene, *scheme)?;
                 let tr = sc.integrate(
                     &pair.q0,

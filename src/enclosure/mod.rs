@@ -207,6 +207,11 @@ pub fn flow(
     opts: &FlowOptions,
 ) -> Result<FlowEnclosure, Error> {
     check_state(model, q, u)?;
+    model.check_at(
+        &q.iter()
+            .map(|x| crate::scalar::point(*x))
+            .collect::<Vec<_>>(),
+    )?;
     if !t.is_finite() || t < 0.0 {
         return Err(Error::input(format!(
             "time must be finite and >= 0 (got {t})"

@@ -215,7 +215,8 @@ fn check_pair(model: &Model, q0: &[Interval], q1: &[Interval], h: f64) -> Result
     if !h.is_finite() || h <= 0.0 {
         return Err(Error::input(format!("h must be finite and > 0 (got {h})")));
     }
-    Ok(())
+    model.check_at(q0)?;
+    model.check_at(q1)
 }
 
 /// The float Newton's point, the float Jacobian of G there and the float residual G.

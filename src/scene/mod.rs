@@ -37,7 +37,7 @@ pub type Mat<S> = Vec<Vec<S>>;
 /// [`Scene::constraints`] are required; every other datum has its natural default (M = I,
 /// V = 0, A = 0, the basis of D derived from the constraints, spec eq. (3.15)). The data are
 /// written once over `S: Scalar` and must be analytic where they are evaluated (spec
-/// section 3.6 says what [`crate::Model::new`] and [`crate::Model::check_at`] check and what
+/// eq. (3.17) says what [`crate::Model::new`] and [`crate::Model::check_at`] check and what
 /// stays assumed).
 pub trait Scene {
     /// The name shown in answers and messages.
@@ -91,6 +91,11 @@ pub trait Scene {
 pub fn derived_basis<S: Scalar>(mu: &Mat<S>, free: &[usize], n: usize) -> Mat<S> {
     let k = mu.len();
     let dep: Vec<usize> = (0..n).filter(|i| !free.contains(i)).collect();
+    if dep.len() != k {
+        // not n - k distinct free coordinates below n: rows of zeros, which
+        // `Model::new` refuses (it checks `free` itself)
+        return vec![vec![S::zero(); n]; free.len()];
+    }
     let col = |r: usize, c: usize| {
         mu.get(r)
             .and_then(|row| row.get(c))
