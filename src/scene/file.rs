@@ -32,6 +32,10 @@ pub const INLINE_NAME: &str = "inline";
 /// integer is not always an f64).
 const MAX_EXACT_INT: i128 = 1 << 53;
 
+/// The most constraints a derived basis takes: Cramer's rule with determinants expanded by
+/// cofactors costs about k! k^2 (n - k) operations to record.
+pub const MAX_DERIVED_K: usize = 6;
+
 /// One expression: the text as written (whitespace runs shown as one space) and its tree.
 #[derive(Clone, Debug, PartialEq)]
 struct Entry {
@@ -490,6 +494,13 @@ fn build(top: &Val, default_name: &str) -> Result<SceneFile, String> {
             BasisSpec::Given(ctx.matrix(v, "basis", Some(m), n, "n - k, one per quasi-velocity")?)
         }
         (None, Some(v)) => {
+            if k > MAX_DERIVED_K {
+                return Err(format!(
+                    "free: a derived basis takes at most {MAX_DERIVED_K} constraints (the \
+                     determinants of its pivot block are expanded by cofactors), this scene \
+                     has {k}: give `basis` instead"
+                ));
+            }
             let Val::Arr(a) = v else {
                 return Err(format!(
                     "free: expected an array of coordinate names, found {}",
