@@ -677,15 +677,18 @@ impl Expr {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sym {
     text: String,
-    /// 0: a sum, 1: a product or quotient, 2: a negation, 3: an atom or a call.
+    /// 0: a sum, 1: a product or quotient, 2: a negation, 3: a power, 4: an atom or a call.
     prec: u8,
+    /// For a negation, the precedence of its operand (0: written in parentheses).
+    inner: u8,
 }
 
 impl Sym {
     pub fn name(s: &str) -> Sym {
         Sym {
             text: s.to_string(),
-            prec: 3,
+            prec: 4,
+            inner: 4,
         }
     }
     pub fn text(&self) -> &str {
@@ -702,41 +705,27 @@ impl Sym {
         }
     }
     fn strip_neg(&self) -> Option<Sym> {
-        if self.prec == 2 {
-            let inner = self.text.strip_prefix('-')?;
-            // the operand of a negation is an atom or, parenthesised, anything
-            let (text, prec) = match inner.strip_prefix('(').and_then(|x| x.strip_suffix(')')) {
-                Some(t) if balanced(t) => (t.to_string(), 0),
-                _ => (inner.to_string(), 3),
-            };
-            Some(Sym { text, prec })
-        } else {
-            None
+        if self.prec != 2 {
+            return None;
         }
+        let text = if self.inner == 0 {
+            self.text.get(2..self.text.len().saturating_sub(1))?
+        } else {
+            self.text.get(1..)?
+        };
+        Some(Sym {
+            text: text.to_string(),
+            prec: self.inner,
+            inner: self.inner,
+        })
     }
     fn call(&self, f: &str) -> Sym {
         Sym {
             text: format!("{f}({})", self.text),
-            prec: 3,
+            prec: 4,
+            inner: 4,
         }
     }
-}
-
-fn balanced(t: &str) -> bool {
-    let mut d = 0i32;
-    for c in t.chars() {
-        match c {
-            '(' => d += 1,
-            ')' => {
-                d -= 1;
-                if d < 0 {
-                    return false;
-                }
-            }
-            _ => {}
-        }
-    }
-    d == 0
 }
 
 impl std::ops::Add for Sym {
@@ -754,6 +743,7 @@ impl std::ops::Add for Sym {
         Sym {
             text: format!("{} + {}", self.text, o.at_least(1)),
             prec: 0,
+            inner: 4,
         }
     }
 }
@@ -773,6 +763,7 @@ impl std::ops::Sub for Sym {
         Sym {
             text: format!("{} - {}", self.text, o.at_least(1)),
             prec: 0,
+            inner: 4,
         }
     }
 }
@@ -798,6 +789,7 @@ impl std::ops::Mul for Sym {
         Sym {
             text: format!("{}*{}", self.at_least(1), o.at_least(2)),
             prec: 1,
+            inner: 4,
         }
     }
 }
@@ -820,6 +812,7 @@ impl std::ops::Div for Sym {
         Sym {
             text: format!("{}/{}", self.at_least(1), o.at_least(3)),
             prec: 1,
+            inner: 4,
         }
     }
 }
@@ -833,9 +826,11 @@ impl std::ops::Neg for Sym {
         if let Some(p) = self.strip_neg() {
             return p;
         }
+        // -a*b reads as -(a*b) (the same number), so only a sum needs parentheses
         Sym {
-            text: format!("-{}", self.at_least(3)),
+            text: format!("-{}", self.at_least(1)),
             prec: 2,
+            inner: self.prec,
         }
     }
 }
@@ -895,8 +890,9 @@ impl Scalar for Sym {
     }
     fn sqr(&self) -> Self {
         Sym {
-            text: format!("{}^2", self.at_least(3)),
+            text: format!("{}^2", self.at_least(4)),
             prec: 3,
+            inner: 4,
         }
     }
 }
@@ -1013,7 +1009,64 @@ mod tests {
         assert_eq!((a.clone() - -b.clone()).text(), "a + b");
         assert_eq!((a.clone() * (b.clone() + a.clone())).text(), "a*(b + a)");
         assert_eq!((-(a.clone() + b.clone())).text(), "-(a + b)");
+        assert_eq!((-(a.clone() * b.clone()) - a.clone()).text(), "-a*b - a");
+        assert_eq!((-(a.clone() * b.clone())).sqr().text(), "(-a*b)^2");
+        assert_eq!((-(-(a.clone() * b.clone()))).text(), "a*b");
+        assert_eq!((a.clone() / -(a.clone() + b.clone())).text(), "-a/(a + b)");
         assert_eq!((-(-(a.clone() + b.clone()))).text(), "a + b");
         assert_eq!(Sym::cst(-0.5).text(), "-0.5");
+    }
+
+    /// The formulas the symbolic scalar writes mean what was computed: random computations
+    /// done over [`Sym`] and over f64 side by side, the text parsed and evaluated again,
+    /// give the same f64 (the simplifications and the parentheses change no rounding).
+    #[test]
+    fn symbolic_formulas_evaluate_to_what_was_computed() {
+        let names: Vec<String> = vec!["a".into(), "b".into(), "c".into()];
+        let vals = [0.7, -1.3, 2.25];
+        let nm = Names {
+            coordinates: &names,
+            parameters: &[],
+        };
+        let mut seed = 0x5EEDu64;
+        let mut next = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) as usize
+        };
+        for _ in 0..2000 {
+            let mut pool: Vec<(Sym, f64)> = (0..3)
+                .map(|i| (Sym::name(&names[i]), vals[i]))
+                .chain([
+                    (Sym::zero(), 0.0),
+                    (Sym::one(), 1.0),
+                    (Sym::cst(-0.5), -0.5),
+                ])
+                .collect();
+            for _ in 0..8 {
+                let (x, fx) = pool[next() % pool.len()].clone();
+                let (y, fy) = pool[next() % pool.len()].clone();
+                let r = match next() % 7 {
+                    0 => (x + y, fx + fy),
+                    1 => (x - y, fx - fy),
+                    2 => (x * y, fx * fy),
+                    3 if fy != 0.0 => (x / y, fx / fy),
+                    4 => (-x, -fx),
+                    5 => (x.sqr(), fx * fx),
+                    _ => (x.sin(), fx.sin()),
+                };
+                pool.push(r);
+            }
+            let (sym, want) = pool.last().unwrap().clone();
+            let got = parse(sym.text(), &nm)
+                .unwrap_or_else(|e| panic!("{}: {e:?}", sym.text()))
+                .eval(&vals, &[]);
+            assert!(
+                got == want || (got - want).abs() <= 1e-15 * want.abs(),
+                "{} = {got}, computed {want}",
+                sym.text()
+            );
+        }
     }
 }
