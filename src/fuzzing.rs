@@ -274,3 +274,149 @@ fn check_numbers(v: &Value, intervals: bool) {
         _ => {}
     }
 }
+
+/// Invariant: reading a scene never panics or hangs, and every refusal is one input-error
+/// line. The first byte chooses the input: arbitrary text read as a TOML scene file
+/// (`0`), as an inline JSON scene (`1`), or (`2`) a structured expression, generated from
+/// the grammar and a few near misses of it, placed in a small scene. A scene that is read
+/// has a stable key and a description of its sizes, and either compiles with
+/// [`Model::new`] or is refused with a typed error; an expression that is read parses
+/// back from its canonical text (found in the key) to the same scene.
+pub fn scene_file(data: &[u8]) {
+    use crate::scene::{Scene, SceneFile};
+    let Some((&mode, rest)) = data.split_first() else {
+        return;
+    };
+    let one_line = |e: &Error| {
+        assert!(
+            matches!(e, Error::Input(_)) && !e.message().contains('\n'),
+            "a refusal must be one input-error line: {e:?}"
+        );
+    };
+    let accepted = |sf: &SceneFile, compile: bool| {
+        let d = sf.description();
+        let (n, k) = (sf.dim(), sf.n_constraints());
+        assert!(n >= 2 && k >= 1 && k < n, "sizes n = {n}, k = {k}");
+        assert_eq!((d.coordinates.len(), d.constraints.len()), (n, k));
+        assert_eq!((d.velocities.len(), d.basis.len()), (n - k, n - k));
+        assert_eq!(sf.key(), sf.clone().key());
+        if compile {
+            match Model::new(sf) {
+                Ok(m) => {
+                    assert_eq!((m.n, m.k), (n, k));
+                    let _ = m.check_at(&vec![point(0.25); n]);
+                }
+                Err(Error::Input(_)) | Err(Error::Uncertified(_)) => {}
+            }
+        }
+    };
+    match mode % 3 {
+        0 => {
+            let text = String::from_utf8_lossy(rest);
+            match SceneFile::from_toml(&text, "fuzz") {
+                Ok(sf) => accepted(&sf, rest.len() < 4096 && sf.dim() <= 8),
+                Err(e) => one_line(&e),
+            }
+        }
+        1 => {
+            let Ok(v) = serde_json::from_slice::<Value>(rest) else {
+                return;
+            };
+            match SceneFile::from_json(&v) {
+                Ok(sf) => accepted(&sf, rest.len() < 4096 && sf.dim() <= 8),
+                Err(e) => one_line(&e),
+            }
+        }
+        _ => {
+            let mut u = Unstructured::new(rest);
+            let Ok(slot) = u.int_in_range(0u8..=4) else {
+                return;
+            };
+            let mut expr = String::new();
+            if fuzz_expr(&mut u, 0, &mut expr).is_err() {
+                return;
+            }
+            let scene = |e: &str| {
+                let e = Value::String(e.to_string()).to_string();
+                let (mut mass, mut pot, mut form, mut mu, mut basis) = (
+                    "[[1, 0, 0], [0, \"c\", 0], [0, 0, 1]]".to_string(),
+                    "\"x*y\"".to_string(),
+                    "[0, 0, 0]".to_string(),
+                    "[[\"-y\", 0, 1]]".to_string(),
+                    "[[1, 0, \"y\"], [0, 1, 0]]".to_string(),
+                );
+                match slot {
+                    0 => mass = format!("[[1, 0, 0], [0, {e}, 0], [0, 0, 1]]"),
+                    1 => pot = e,
+                    2 => form = format!("[0, {e}, 0]"),
+                    3 => mu = format!("[[\"-y\", {e}, 1]]"),
+                    _ => basis = format!("[[1, 0, \"y\"], [0, 1, {e}]]"),
+                }
+                format!(
+                    "coordinates = [\"x\", \"y\", \"z\"]\nmass = {mass}\npotential = {pot}\n\
+                     one_form = {form}\nconstraints = {mu}\nbasis = {basis}\n\
+                     [parameters]\nc = 2.5\n"
+                )
+            };
+            let sf = match SceneFile::from_toml(&scene(&expr), "fuzz") {
+                Ok(sf) => sf,
+                Err(e) => return one_line(&e),
+            };
+            let key: Value = serde_json::from_str(&sf.key()).expect("the key is JSON");
+            let canonical = match slot {
+                0 => &key["mass"][1][1],
+                1 => &key["potential"],
+                2 => &key["one_form"][1],
+                3 => &key["constraints"][0][1],
+                _ => &key["basis"][1][2],
+            };
+            let canonical = canonical.as_str().expect("a canonical expression");
+            let again = SceneFile::from_toml(&scene(canonical), "fuzz")
+                .expect("the canonical text of an expression is read");
+            assert_eq!(again.key(), sf.key(), "canonical text {canonical}");
+            let q = [point(0.3), point(-1.25), point(2.0)];
+            let _ = sf.potential(&q);
+            let _ = sf.mass(&[0.3, -1.25, 2.0]);
+            accepted(&sf, true);
+        }
+    }
+}
+
+/// An expression of the scene-file grammar, with near misses (unknown names, refused
+/// functions, stray characters, extreme numbers and exponents), at most 12 deep.
+fn fuzz_expr(u: &mut Unstructured, depth: usize, out: &mut String) -> arbitrary::Result<()> {
+    let leaf = depth >= 12;
+    match u.int_in_range(0u8..=if leaf { 1 } else { 9 })? {
+        0 => out.push_str(u.choose(&[
+            "0", "1", "2", "0.5", "0.1", "1e308", "1e-320", "3.", ".25", "1e999", "7e", "00",
+        ])?),
+        1 => out.push_str(u.choose(&["x", "y", "z", "c", "pi", "w", "sin", "_", "x1"])?),
+        2 => {
+            out.push('-');
+            fuzz_expr(u, depth + 1, out)?;
+        }
+        3..=5 => {
+            out.push('(');
+            fuzz_expr(u, depth + 1, out)?;
+            out.push_str(u.choose(&[" + ", "-", "*", " / ", "^", ",", " "])?);
+            fuzz_expr(u, depth + 1, out)?;
+            out.push(')');
+        }
+        6 => {
+            fuzz_expr(u, depth + 1, out)?;
+            out.push('^');
+            out.push_str(u.choose(&["2", "-3", "0.5", "-0.5", "0", "1.5", "1024", "2000", "-1"])?);
+        }
+        7 | 8 => {
+            out.push_str(u.choose(&[
+                "sin", "cos", "tan", "exp", "log", "ln", "sqrt", "atan", "sinh", "cosh", "tanh",
+                "abs", "min", "atan2", "x",
+            ])?);
+            out.push('(');
+            fuzz_expr(u, depth + 1, out)?;
+            out.push(')');
+        }
+        _ => out.push(char::from(u8::arbitrary(u)?)),
+    }
+    Ok(())
+}

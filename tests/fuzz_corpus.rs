@@ -49,3 +49,8 @@ fn batch_line_corpus() {
 fn scenes_step_corpus() {
     replay("scenes_step", dalembert::fuzzing::scenes_step);
 }
+
+#[test]
+fn scene_file_corpus() {
+    replay("scene_file", dalembert::fuzzing::scene_file);
+}

@@ -13,12 +13,15 @@
 //! [`with_scene!`] arms and the list [`SCENES`].
 
 mod contact_oscillator;
+mod expr;
+mod file;
 mod knife;
 mod particle;
 mod rolling_disk;
 mod sleigh;
 
 pub use contact_oscillator::ContactOscillator;
+pub use file::SceneFile;
 pub use knife::{Knife, KnifeEps};
 pub use particle::Particle;
 pub use rolling_disk::RollingDisk;
