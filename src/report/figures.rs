@@ -63,7 +63,7 @@ impl Settings {
 const H: f64 = 0.5;
 
 fn model(name: &str, params: &[(String, f64)]) -> Result<Model, Error> {
-    Ok(Model::new(&AnyScene::new(name, params)?)?)
+    Model::new(&AnyScene::new(name, params)?)
 }
 
 fn run_scheme(
