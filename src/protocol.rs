@@ -5,17 +5,41 @@
 use crate::exact;
 use crate::integrator::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use crate::scalar::point;
+use crate::scene::{Description, Scene, SceneFile};
 use crate::{AnyScene, Error, FlowOptions, FlowStats, Model};
 use inari::Interval;
 use serde_json::{json, Map, Value};
 use std::collections::HashMap;
 use std::rc::Rc;
 
-/// A scene by name with its parameters.
+/// A scene by name with its parameters, or a user's scene definition (a scene file or an
+/// inline JSON object, spec chapter 10) with the parameters that override its defaults.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneSpec {
     pub name: String,
     pub params: Vec<(String, f64)>,
+    /// `Some` for a user's scene (then `name` is its name, for messages only).
+    pub definition: Option<std::sync::Arc<SceneFile>>,
+}
+
+impl SceneSpec {
+    /// A built-in scene by name.
+    pub fn named(name: &str, params: Vec<(String, f64)>) -> SceneSpec {
+        SceneSpec {
+            name: name.to_string(),
+            params,
+            definition: None,
+        }
+    }
+
+    /// A user's scene.
+    pub fn defined(definition: SceneFile, params: Vec<(String, f64)>) -> SceneSpec {
+        SceneSpec {
+            name: definition.name(),
+            params,
+            definition: Some(std::sync::Arc::new(definition)),
+        }
+    }
 }
 
 /// One request (contract commands 1-4, and the `lagrangian` extension).
@@ -63,7 +87,10 @@ pub struct Session {
 }
 
 fn scene_key(s: &SceneSpec) -> String {
-    let mut k = s.name.clone();
+    let mut k = match &s.definition {
+        None => s.name.clone(),
+        Some(d) => format!("file:{}", d.key()),
+    };
     for (p, v) in &s.params {
         k.push_str(&format!("|{p}={:x}", v.to_bits()));
     }
@@ -76,7 +103,10 @@ impl Session {
         if let Some(m) = self.models.get(&key) {
             return Ok(m.clone());
         }
-        let m = Rc::new(Model::new(&AnyScene::new(&s.name, &s.params)?)?);
+        let m = Rc::new(match &s.definition {
+            None => Model::new(&AnyScene::new(&s.name, &s.params)?)?,
+            Some(d) => Model::new(&SceneFile::clone(d).with_params(&s.params)?)?,
+        });
         self.models.insert(key, m.clone());
         Ok(m)
     }
@@ -202,27 +232,31 @@ impl Session {
 pub fn scenes() -> Value {
     let list: Vec<Value> = crate::scene::SCENES
         .iter()
-        .map(|s| {
-            json!({
-                "name": s.name,
-                "summary": s.summary,
-                "coordinates": s.coordinates,
-                "velocities": s.velocities,
-                "n": s.n,
-                "k": s.k,
-                "parameters": s.params.iter().map(|p| json!({
-                    "name": p.name,
-                    "default": p.default,
-                    "description": p.description,
-                })).collect::<Vec<_>>(),
-                "lagrangian": s.lagrangian,
-                "mu": s.constraints,
-                "basis": s.basis,
-                "invariants": s.invariants,
-            })
-        })
+        .map(|s| description(&s.description()))
         .collect();
     json!({ "scenes": list })
+}
+
+/// One entry of [`scenes`]: a scene's description (for a user's scene, the compiled one:
+/// its expressions and its derived basis as formulas).
+pub fn description(s: &Description) -> Value {
+    json!({
+        "name": s.name,
+        "summary": s.summary,
+        "coordinates": s.coordinates,
+        "velocities": s.velocities,
+        "n": s.n,
+        "k": s.k,
+        "parameters": s.params.iter().map(|(name, default, description)| json!({
+            "name": name,
+            "default": default,
+            "description": description,
+        })).collect::<Vec<_>>(),
+        "lagrangian": s.lagrangian,
+        "mu": s.constraints,
+        "basis": s.basis,
+        "invariants": s.invariants,
+    })
 }
 
 fn points(v: &[f64]) -> Vec<Interval> {
@@ -329,6 +363,30 @@ fn json_vec(o: &Map<String, Value>, k: &str) -> Result<Vec<f64>, Error> {
         .collect()
 }
 
+/// The `scene` and `params` keys of a query: a scene name, or a JSON object defining the
+/// scene with the keys of a scene file (spec chapter 10).
+fn scene_spec_from_json(o: &Map<String, Value>) -> Result<SceneSpec, Error> {
+    let mut params = Vec::new();
+    if let Some(p) = o.get("params") {
+        let p = p
+            .as_object()
+            .ok_or_else(|| Error::input("`params` must be an object"))?;
+        for (k, _) in p {
+            params.push((k.clone(), json_num(p, k)?));
+        }
+    }
+    match field(o, "scene")? {
+        Value::String(name) => Ok(SceneSpec::named(name, params)),
+        v @ Value::Object(_) => Ok(SceneSpec::defined(
+            SceneFile::from_json(v).map_err(|e| Error::input(format!("scene: {}", e.message())))?,
+            params,
+        )),
+        _ => Err(Error::input(
+            "`scene` must be a scene name or an object defining a scene",
+        )),
+    }
+}
+
 impl Query {
     /// A batch query object (contract command 5): the flags' names as keys.
     pub fn from_json(v: &Value) -> Result<Query, Error> {
@@ -338,20 +396,7 @@ impl Query {
         let cmd = field(o, "cmd")?
             .as_str()
             .ok_or_else(|| Error::input("`cmd` must be a string"))?;
-        let name = field(o, "scene")?
-            .as_str()
-            .ok_or_else(|| Error::input("`scene` must be a string"))?
-            .to_string();
-        let mut params = Vec::new();
-        if let Some(p) = o.get("params") {
-            let p = p
-                .as_object()
-                .ok_or_else(|| Error::input("`params` must be an object"))?;
-            for (k, _) in p {
-                params.push((k.clone(), json_num(p, k)?));
-            }
-        }
-        let scene = SceneSpec { name, params };
+        let scene = scene_spec_from_json(o)?;
         let pair = |scene: SceneSpec| -> Result<Pair, Error> {
             Ok(Pair {
                 scene,

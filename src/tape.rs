@@ -321,6 +321,29 @@ impl Tape {
         }
     }
 
+    /// Whether `other` computes the same outputs by the same operations on the same
+    /// constants, up to the order in which independent nodes were recorded and the order
+    /// of the arguments of `+` and `*`: then both give bit-identical values over every
+    /// scalar (each node is the same function of the inputs, evaluated the same way).
+    pub fn same_program(&self, other: &Tape) -> bool {
+        let mut table: HashMap<(u8, u64, u64), u32> = HashMap::new();
+        let mut canon = |t: &Tape| -> Vec<u32> {
+            let mut ids: Vec<u32> = Vec::with_capacity(t.ops.len());
+            for op in &t.ops {
+                let c = |a: u32| ids[a as usize];
+                let rewritten = match *op {
+                    Op::Add(a, b) => Op::Add(c(a).min(c(b)), c(a).max(c(b))),
+                    Op::Mul(a, b) => Op::Mul(c(a).min(c(b)), c(a).max(c(b))),
+                    _ => remap(op, &ids),
+                };
+                let n = table.len() as u32;
+                ids.push(*table.entry(key(&rewritten)).or_insert(n));
+            }
+            t.outputs.iter().map(|o| ids[*o as usize]).collect()
+        };
+        self.n_inputs == other.n_inputs && canon(self) == canon(other)
+    }
+
     pub fn n_inputs(&self) -> usize {
         self.n_inputs
     }
@@ -913,5 +936,30 @@ mod tests {
             .eval_checked(&[point(0.0)])
             .unwrap()[0];
         assert!(p.inf() < p.sup() && p.contains(std::f64::consts::PI));
+    }
+
+    #[test]
+    fn same_program_ignores_recording_order_only() {
+        let a = Tape::record(2, |x| {
+            let s = x[0].sin();
+            let c = x[1].cos();
+            vec![s * c, c + s]
+        });
+        let b = Tape::record(2, |x| {
+            let c = x[1].cos();
+            let s = x[0].sin();
+            vec![c * s, s + c]
+        });
+        assert!(a.same_program(&b) && b.same_program(&a));
+        let c = Tape::record(2, |x| {
+            vec![x[0].sin() * x[1].cos(), x[1].cos() - x[0].sin()]
+        });
+        assert!(!a.same_program(&c));
+        let d = Tape::record(2, |x| vec![x[0].sin() * x[1].cos()]);
+        assert!(!a.same_program(&d));
+        let e = Tape::record(2, |x| {
+            vec![x[0].sin() * x[1].sin(), x[1].cos() + x[0].sin()]
+        });
+        assert!(!a.same_program(&e));
     }
 }

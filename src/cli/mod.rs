@@ -31,8 +31,12 @@ pub struct Cli {
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct SceneArgs {
-    #[arg(long, allow_hyphen_values = true, help = scene_help())]
-    pub scene: String,
+    #[arg(long, allow_hyphen_values = true, help = scene_help(),
+          required_unless_present = "scene_file", conflicts_with = "scene_file")]
+    pub scene: Option<String>,
+    /// Your own system: a scene file (TOML; README "Your own system")
+    #[arg(long = "scene-file", value_name = "PATH")]
+    pub scene_file: Option<String>,
     /// Scene parameter name=value (may repeat)
     #[arg(long = "param", allow_hyphen_values = true)]
     pub params: Vec<String>,
@@ -127,6 +131,12 @@ pub enum Cmd {
     },
     /// Every scene: coordinates, parameters with defaults, Lagrangian, constraints, basis of D
     Scenes {
+        /// Describe this scene file as compiled (its derived basis included) instead
+        #[arg(long = "scene-file", value_name = "PATH")]
+        scene_file: Option<String>,
+        /// Parameter name=value of the scene file (may repeat)
+        #[arg(long = "param", allow_hyphen_values = true)]
+        params: Vec<String>,
         /// Print one JSON object
         #[arg(long)]
         json: bool,
@@ -186,7 +196,11 @@ pub fn run(args: Vec<String>) -> i32 {
     };
     let result = match cli.cmd {
         None => demo::run().map(|()| None),
-        Some(Cmd::Scenes { json }) => Ok(Some(scenes::render(json))),
+        Some(Cmd::Scenes {
+            scene_file,
+            params,
+            json,
+        }) => scenes::run(scene_file.as_deref(), &params, json).map(Some),
         Some(Cmd::Batch { jobs, .. }) => batch::run(&jobs).map(|()| None),
         Some(Cmd::Check {
             scene,
@@ -220,14 +234,19 @@ pub fn run(args: Vec<String>) -> i32 {
 }
 
 pub(crate) fn scene_spec(s: &SceneArgs) -> Result<SceneSpec, Error> {
-    Ok(SceneSpec {
-        name: s.scene.clone(),
-        params: s
-            .params
-            .iter()
-            .map(|p| protocol::parse_param(p))
-            .collect::<Result<_, _>>()?,
-    })
+    let params = s
+        .params
+        .iter()
+        .map(|p| protocol::parse_param(p))
+        .collect::<Result<_, _>>()?;
+    match (&s.scene, &s.scene_file) {
+        (_, Some(path)) => {
+            let file = dalembert::scene::SceneFile::read(std::path::Path::new(path))?;
+            Ok(SceneSpec::defined(file, params))
+        }
+        (Some(name), None) => Ok(SceneSpec::named(name, params)),
+        (None, None) => Err(Error::input("give --scene NAME or --scene-file PATH")),
+    }
 }
 
 fn pair(a: &PairArgs) -> Result<Pair, Error> {

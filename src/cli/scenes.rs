@@ -1,11 +1,32 @@
 //! `dalembert scenes [--json]`: the scenes as their files describe them.
 
 use dalembert::protocol;
-use serde_json::Value;
+use dalembert::scene::Scene;
+use dalembert::Error;
+use serde_json::{json, Value};
+
+/// `scenes [--json]`, or `scenes --scene-file PATH [--param k=v] [--json]`: the file's scene
+/// as compiled (checked by `Model::new`, its derived basis written out).
+pub fn run(file: Option<&str>, params: &[String], as_json: bool) -> Result<String, Error> {
+    let Some(path) = file else {
+        if !params.is_empty() {
+            return Err(Error::input("--param goes with --scene-file"));
+        }
+        return Ok(render(protocol::scenes(), as_json));
+    };
+    let params: Vec<(String, f64)> = params
+        .iter()
+        .map(|p| protocol::parse_param(p))
+        .collect::<Result<_, _>>()?;
+    let file =
+        dalembert::scene::SceneFile::read(std::path::Path::new(path))?.with_params(&params)?;
+    let model = dalembert::Model::new(&file)?;
+    let v = json!({ "scenes": [protocol::description(&model.scene.description())] });
+    Ok(render(v, as_json))
+}
 
 /// One JSON object, or a plain-text listing of the same content.
-pub fn render(as_json: bool) -> String {
-    let v = protocol::scenes();
+pub fn render(v: Value, as_json: bool) -> String {
     if as_json {
         return v.to_string();
     }
