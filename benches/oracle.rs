@@ -31,6 +31,39 @@ fn certified(c: &mut Criterion) {
     }
 }
 
+/// The same scenes written as scene files (issue "Your own system": a file scene costs what
+/// the built-in costs; both compile to the same programs, spec eq. (3.16)).
+const FILES: [(&str, &str); 2] = [
+    (
+        "particle",
+        r#"coordinates = ["x", "y", "z"]
+constraints = [["-y", 0, 1]]
+basis = [[1, 0, "y"], [0, 1, 0]]"#,
+    ),
+    (
+        "knife",
+        r#"coordinates = ["x", "y", "phi"]
+potential = "-(x*0.5)"
+constraints = [["sin(phi)", "-cos(phi)", 0]]
+basis = [["cos(phi)", "sin(phi)", 0], [0, 0, 1]]"#,
+    ),
+];
+
+fn files(c: &mut Criterion) {
+    let opts = FlowOptions::default();
+    for ((name, text), (_, q1)) in FILES.iter().zip(SCENES) {
+        let f = dalembert::scene::SceneFile::from_toml(text, name).expect("valid file");
+        let m = Model::new(&f).expect("compiles");
+        c.bench_function(&format!("flow/{name}-file/t=0.5"), |b| {
+            b.iter(|| flow(&m, black_box(&[0.0; 3]), &[0.8, 0.8], 0.5, &opts))
+        });
+        let (p0, p1) = (vec![point(0.0); 3], q1.map(point).to_vec());
+        c.bench_function(&format!("step/{name}-file/h=0.5"), |b| {
+            b.iter(|| exact::step(&m, black_box(&p0), &p1, 0.5, &opts))
+        });
+    }
+}
+
 fn schemes(c: &mut Criterion) {
     let opts = NewtonOptions::default();
     for (name, q1) in SCENES {
@@ -57,6 +90,6 @@ fn batch(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(3));
-    targets = certified, schemes, batch
+    targets = certified, files, schemes, batch
 }
 criterion_main!(benches);
