@@ -21,6 +21,7 @@ pub mod report;
 pub mod scalar;
 pub mod scene;
 pub mod tape;
+pub mod testing;
 
 mod error;
 

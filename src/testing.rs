@@ -1,0 +1,111 @@
+//! Tools for people who test their own nonholonomic integrators against the oracle
+//! (spec/11-testing.md): a [`Stepper`] trait for a user's one-step map, and
+//! the certified local error of a stepper on a ladder of step sizes with the observed order
+//! between consecutive rungs as an interval.
+//!
+//! ```
+//! # use dalembert::{AnyScene, Model, FlowOptions};
+//! # use dalembert::integrator::{Scheme, SchemeKind};
+//! # use dalembert::testing::local_order;
+//! let model = Model::new(&AnyScene::new("knife", &[]).unwrap()).unwrap();
+//! let dla = Scheme::new(&model, SchemeKind::Dla);
+//! let hs = [0.2, 0.1, 0.05, 0.025];
+//! let ladder = local_order(&model, &dla, &[0.0, 0.0, 0.3], &[0.8, 0.5], &hs, &FlowOptions::default()).unwrap();
+//! // every rung's error is a certified interval; so is the order between rungs
+//! assert!(ladder.orders[2].inf() > 2.5); // proved: the local error shrinks faster than h^2.5 here
+//! ```
+
+use crate::integrator::{NewtonOptions, Scheme};
+use crate::oracle::check_step;
+use crate::scalar::point;
+use crate::{flow, Error, FlowOptions, Model};
+use inari::Interval;
+
+/// A user's one-step map of a two-step (variational) integrator: `q_{k+1}` from
+/// `(q_{k-1}, q_k)` and the step `h`, or the stepper's own failure (its message).
+pub trait Stepper {
+    fn step(&self, q_prev: &[f64], q: &[f64], h: f64) -> Result<Vec<f64>, String>;
+}
+
+/// The crate's DLA and MLA schemes are steppers (Newton with its default options).
+impl Stepper for Scheme {
+    fn step(&self, q_prev: &[f64], q: &[f64], h: f64) -> Result<Vec<f64>, String> {
+        Scheme::step(self, q_prev, q, h, &NewtonOptions::default())
+            .map(|(q_next, _, _)| q_next)
+            .map_err(|e| e.to_string())
+    }
+}
+
+/// The certified local errors of a stepper on a ladder of step sizes (spec eq. (11.1)).
+#[derive(Clone, Debug)]
+pub struct Ladder {
+    /// The step sizes, as given.
+    pub h: Vec<f64>,
+    /// `error[i] ∋ |q2 - q^e_2|_inf` at `h[i]`: the stepper's `q2` from the pair
+    /// `(q0, q1_i)`, `q1_i` a float point of the exact motion at `h[i]`, against the exact
+    /// discrete flow from the same pair.
+    pub error: Vec<Interval>,
+    /// `orders[i] ∋ ln(e_i / e_{i+1}) / ln(h_i / h_{i+1})` (eq. (11.2)): the observed order
+    /// between rungs i and i + 1 of the true errors; `[-inf, +inf]` where an error's
+    /// enclosure reaches 0.
+    pub orders: Vec<Interval>,
+}
+
+/// Run `stepper` once from `(q0, q1)` for each `h` of `hs` (distinct, decreasing, > 0), where
+/// `q1` is the midpoint of the certified flow from `(q0, u0)` at time h (a float pair next to
+/// M_h^{e,nh}), and enclose its local error against the exact discrete flow from that pair.
+///
+/// # Containment
+/// `error[i]` contains the distance from the stepper's `q2` to `q(2 h_i)` of the exact
+/// discrete flow from its pair (spec Theorem 8.1), and `orders[i]` contains the quotient of
+/// logarithms (11.2) of the true errors (interval arithmetic, outward rounded). A stepper
+/// failure is an `Error::Input` naming the rung; an oracle that cannot conclude,
+/// `Error::Uncertified`.
+pub fn local_order<St: Stepper + ?Sized>(
+    model: &Model,
+    stepper: &St,
+    q0: &[f64],
+    u0: &[f64],
+    hs: &[f64],
+    opts: &FlowOptions,
+) -> Result<Ladder, Error> {
+    if hs.len() < 2 || hs.windows(2).any(|w| !(w[0] > w[1] && w[1] > 0.0)) {
+        return Err(Error::input(
+            "the ladder needs at least two step sizes, decreasing and > 0",
+        ));
+    }
+    let mut error = Vec::with_capacity(hs.len());
+    for &h in hs {
+        let q1: Vec<f64> = flow(model, q0, u0, h, opts)?
+            .q
+            .iter()
+            .map(|x| x.mid())
+            .collect();
+        let q2 = stepper
+            .step(q0, &q1, h)
+            .map_err(|e| Error::input(format!("the stepper failed at h = {h}: {e}")))?;
+        error.push(check_step(model, h, q0, &q1, &q2, opts)?.distance);
+    }
+    let orders = error
+        .windows(2)
+        .zip(hs.windows(2))
+        .map(|(e, h)| observed_order(e[0], e[1], h[0], h[1]))
+        .collect();
+    Ok(Ladder {
+        h: hs.to_vec(),
+        error,
+        orders,
+    })
+}
+
+/// `{ln(a / b) / ln(ha / hb) : a in ea, b in eb}` enclosed (spec eq. (11.2)), ha > hb > 0;
+/// the whole line when `ea` or `eb` reaches 0.
+pub fn observed_order(ea: Interval, eb: Interval, ha: f64, hb: f64) -> Interval {
+    let r = (point(ha) / point(hb)).ln();
+    let usable = ea.inf() > 0.0 && eb.inf() > 0.0 && r.inf() > 0.0;
+    if usable {
+        (ea / eb).ln() / r
+    } else {
+        Interval::ENTIRE
+    }
+}

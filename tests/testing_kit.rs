@@ -1,0 +1,113 @@
+//! The testing kit (spec chapter 11): a user's stepper and the certified local order.
+//! References are the derivations of spec (7.9) (DLA's one-step error is O(h^3), with the
+//! particle's leading term vanishing at y0 = 0, where it is O(h^4)) and the elementary
+//! error of the central difference (O(h^2) for q2 = 2 q1 - q0 when q'' != 0).
+
+use dalembert::integrator::{Scheme, SchemeKind};
+use dalembert::testing::{local_order, observed_order, Stepper};
+use dalembert::{scalar::iv, AnyScene, Error, FlowOptions, Model};
+
+fn model(name: &str) -> Model {
+    Model::new(&AnyScene::new(name, &[]).unwrap()).unwrap()
+}
+
+const HS: [f64; 5] = [0.125, 0.0625, 0.03125, 0.015625, 0.0078125];
+
+#[test]
+fn dla_local_order_is_three_in_general_and_four_where_the_leading_term_vanishes() {
+    let m = model("particle");
+    let dla = Scheme::new(&m, SchemeKind::Dla);
+    let opts = FlowOptions::default();
+    let general = local_order(&m, &dla, &[0.0, 0.5, 0.0], &[0.8, 0.8], &HS, &opts).unwrap();
+    let last = general.orders[HS.len() - 2];
+    assert!(last.inf() > 2.8 && last.sup() < 3.2, "{last:?}");
+    let special = local_order(&m, &dla, &[0.0, 0.0, 0.0], &[0.8, 0.8], &HS, &opts).unwrap();
+    let last = special.orders[HS.len() - 2];
+    assert!(last.inf() > 3.8 && last.sup() < 4.2, "{last:?}");
+    // the errors are certified intervals excluding 0, shrinking along the ladder
+    for l in [&general, &special] {
+        assert!(l.error.iter().all(|e| e.inf() > 0.0));
+        assert!(l.error.windows(2).all(|w| w[1].sup() < w[0].inf()));
+    }
+}
+
+/// A user's stepper: the central difference q2 = 2 q1 - q0, which ignores the dynamics
+/// (a planted bug). Its local error is h^2 |q''|: observed order 2, told apart from DLA's 3.
+struct CentralDifference;
+impl Stepper for CentralDifference {
+    fn step(&self, q_prev: &[f64], q: &[f64], _h: f64) -> Result<Vec<f64>, String> {
+        Ok(q.iter().zip(q_prev).map(|(b, a)| 2.0 * b - a).collect())
+    }
+}
+
+#[test]
+fn a_planted_order_bug_is_caught_with_a_certified_order() {
+    let m = model("knife");
+    let l = local_order(
+        &m,
+        &CentralDifference,
+        &[0.0, 0.0, 0.3],
+        &[0.8, 0.5],
+        &HS,
+        &FlowOptions::default(),
+    )
+    .unwrap();
+    let last = l.orders[HS.len() - 2];
+    assert!(last.inf() > 1.9 && last.sup() < 2.1, "{last:?}");
+    let dla = Scheme::new(&m, SchemeKind::Dla);
+    let d = local_order(
+        &m,
+        &dla,
+        &[0.0, 0.0, 0.3],
+        &[0.8, 0.5],
+        &HS,
+        &FlowOptions::default(),
+    )
+    .unwrap();
+    assert!(d.orders[HS.len() - 2].inf() > last.sup() + 0.5);
+}
+
+struct Failing;
+impl Stepper for Failing {
+    fn step(&self, _: &[f64], _: &[f64], h: f64) -> Result<Vec<f64>, String> {
+        Err(format!("Newton diverged at h = {h}"))
+    }
+}
+
+#[test]
+fn bad_ladders_and_failing_steppers_are_typed_errors() {
+    let m = model("particle");
+    let opts = FlowOptions::default();
+    let q = [0.0; 3];
+    let e = local_order(&m, &Failing, &q, &[0.8, 0.8], &HS, &opts).unwrap_err();
+    assert!(
+        matches!(&e, Error::Input(s) if s.contains("diverged")),
+        "{e}"
+    );
+    for hs in [
+        &[0.1][..],
+        &[0.1, 0.2],
+        &[0.1, 0.1],
+        &[0.1, -0.05],
+        &[0.1, f64::NAN],
+    ] {
+        let e = local_order(&m, &CentralDifference, &q, &[0.8, 0.8], hs, &opts).unwrap_err();
+        assert!(matches!(e, Error::Input(_)), "{hs:?}");
+    }
+}
+
+#[test]
+fn the_observed_order_encloses_the_quotient_of_logarithms() {
+    // errors exactly 8e-3 and 1e-3 at h = 0.2, 0.1: order 3, enclosed
+    let p = observed_order(iv(8e-3, 8e-3), iv(1e-3, 1e-3), 0.2, 0.1);
+    assert!(p.contains(3.0) || (p.inf() - 3.0).abs() < 1e-12, "{p:?}");
+    assert!(p.wid() < 1e-12);
+    // wider errors give a wider order containing every quotient
+    let p = observed_order(iv(7e-3, 9e-3), iv(1e-3, 1.1e-3), 0.2, 0.1);
+    for (a, b) in [(7e-3, 1e-3), (9e-3, 1.1e-3), (9e-3, 1e-3), (7e-3, 1.1e-3)] {
+        let q: f64 = (a / b as f64).ln() / 2f64.ln();
+        assert!(p.inf() <= q + 1e-12 && q - 1e-12 <= p.sup());
+    }
+    // an error enclosure reaching 0 proves no order
+    assert!(observed_order(iv(0.0, 1e-3), iv(1e-4, 2e-4), 0.2, 0.1).is_entire());
+}
