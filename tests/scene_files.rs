@@ -76,7 +76,7 @@ fn the_particle_as_a_file_is_the_built_in_particle() {
     let b = Model::new(&Particle).unwrap();
     assert_eq!((a.n, a.k), (b.n, b.k));
     assert_eq!(a.name(), "particle");
-    let mut rng = SplitMix64(0x5CE7E_F11E);
+    let mut rng = SplitMix64(0x0005_CE7E_F11E);
     for _ in 0..200 {
         let x: Vec<f64> = (0..a.state_dim()).map(|_| rng.uniform(-3.0, 3.0)).collect();
         let qv: Vec<f64> = (0..2 * a.n).map(|_| rng.uniform(-3.0, 3.0)).collect();
