@@ -400,8 +400,7 @@ impl Parser<'_> {
                 }
                 Exponent::Int(v as i32)
             }
-            Some(v) if v == 0.5 => Exponent::Half(false),
-            Some(v) if v == -0.5 => Exponent::Half(true),
+            Some(v) if v.abs() == 0.5 => Exponent::Half(v < 0.0),
             _ => Exponent::General(Box::new(e)),
         };
         Ok(Expr::Pow(Box::new(base), exponent))
