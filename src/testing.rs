@@ -16,7 +16,7 @@
 //! ```
 
 use crate::integrator::{NewtonOptions, Scheme};
-use crate::oracle::check_step;
+use crate::oracle::{check_step, check_trajectory, CheckOptions};
 use crate::scalar::point;
 use crate::{flow, Error, FlowOptions, Model};
 use inari::Interval;
@@ -69,33 +69,101 @@ pub fn local_order<St: Stepper + ?Sized>(
     hs: &[f64],
     opts: &FlowOptions,
 ) -> Result<Ladder, Error> {
-    if hs.len() < 2 || hs.windows(2).any(|w| !(w[0] > w[1] && w[1] > 0.0)) {
-        return Err(Error::input(
-            "the ladder needs at least two step sizes, decreasing and > 0",
-        ));
-    }
+    check_ladder(hs)?;
     let mut error = Vec::with_capacity(hs.len());
     for &h in hs {
-        let q1: Vec<f64> = flow(model, q0, u0, h, opts)?
-            .q
-            .iter()
-            .map(|x| x.mid())
-            .collect();
+        let q1 = start(model, q0, u0, h, opts)?;
         let q2 = stepper
             .step(q0, &q1, h)
             .map_err(|e| Error::input(format!("the stepper failed at h = {h}: {e}")))?;
         error.push(check_step(model, h, q0, &q1, &q2, opts)?.distance);
     }
+    Ok(ladder(hs, error))
+}
+
+/// The certified global error of a stepper over `[0, t_end]` on a ladder of step sizes
+/// (spec eq. (11.3)): for each `h`, `N = t_end / h` steps (an integer, else an input error)
+/// from `(q0, q1)`, `q1` as in [`local_order`]; `error[i]` encloses
+/// `max_k |q_k - q^e_k|_inf` against the exact discrete flow from that pair, and `orders`
+/// the observed orders between rungs (11.2).
+///
+/// # Containment
+/// As [`local_order`], with Theorem 8.1 over N steps (`oracle::check_trajectory`).
+pub fn global_order<St: Stepper + ?Sized>(
+    model: &Model,
+    stepper: &St,
+    q0: &[f64],
+    u0: &[f64],
+    t_end: f64,
+    hs: &[f64],
+    opts: &FlowOptions,
+) -> Result<Ladder, Error> {
+    check_ladder(hs)?;
+    let mut error = Vec::with_capacity(hs.len());
+    for &h in hs {
+        let steps = t_end / h;
+        if !(steps >= 1.0 && steps.fract() == 0.0 && steps <= 1e6) {
+            return Err(Error::input(format!(
+                "t_end / h must be a whole number of steps in 1..=1e6 (h = {h})"
+            )));
+        }
+        let mut q = vec![q0.to_vec(), start(model, q0, u0, h, opts)?];
+        for _ in 1..steps as usize {
+            let next = stepper
+                .step(&q[q.len() - 2], &q[q.len() - 1], h)
+                .map_err(|e| {
+                    Error::input(format!(
+                        "the stepper failed at h = {h}, step {}: {e}",
+                        q.len()
+                    ))
+                })?;
+            q.push(next);
+        }
+        let o = CheckOptions {
+            pairs: false,
+            flow: opts.clone(),
+        };
+        error.push(check_trajectory(model, h, &q, &o)?.max_distance);
+    }
+    Ok(ladder(hs, error))
+}
+
+fn check_ladder(hs: &[f64]) -> Result<(), Error> {
+    if hs.len() < 2 || hs.windows(2).any(|w| !(w[0] > w[1] && w[1] > 0.0)) {
+        return Err(Error::input(
+            "the ladder needs at least two step sizes, decreasing and > 0",
+        ));
+    }
+    Ok(())
+}
+
+/// The float point of the exact motion from `(q0, u0)` at time h (the midpoint of its
+/// certified enclosure).
+fn start(
+    model: &Model,
+    q0: &[f64],
+    u0: &[f64],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<Vec<f64>, Error> {
+    Ok(flow(model, q0, u0, h, opts)?
+        .q
+        .iter()
+        .map(|x| x.mid())
+        .collect())
+}
+
+fn ladder(hs: &[f64], error: Vec<Interval>) -> Ladder {
     let orders = error
         .windows(2)
         .zip(hs.windows(2))
         .map(|(e, h)| observed_order(e[0], e[1], h[0], h[1]))
         .collect();
-    Ok(Ladder {
+    Ladder {
         h: hs.to_vec(),
         error,
         orders,
-    })
+    }
 }
 
 /// `{ln(a / b) / ln(ha / hb) : a in ea, b in eb}` enclosed (spec eq. (11.2)), ha > hb > 0;
