@@ -676,20 +676,14 @@ fn the_differential_drive_runs_on_its_closed_form_circle() {
             point(q0[3]) + ul * ti,
             point(q0[4]) + ur * ti,
         ];
-        for i in 0..5 {
+        for (i, (got, want)) in fl.q.iter().zip(&want).enumerate() {
             assert!(
-                !fl.q[i].intersection(want[i]).is_empty() && fl.q[i].wid() < 1e-9,
-                "q[{i}]: flow {:?}, closed form {:?}",
-                fl.q[i],
-                want[i]
+                !got.intersection(*want).is_empty() && got.wid() < 1e-9,
+                "q[{i}]: flow {got:?}, closed form {want:?}"
             );
         }
-        for a in 0..2 {
-            assert!(
-                fl.u[a].contains(u[a]) && fl.u[a].wid() < 1e-9,
-                "u[{a}] {:?}",
-                fl.u[a]
-            );
+        for (a, (got, u0)) in fl.u.iter().zip(&u).enumerate() {
+            assert!(got.contains(*u0) && got.wid() < 1e-9, "u[{a}] {got:?}");
         }
     }
 }
