@@ -104,7 +104,12 @@ fn the_observed_order_encloses_the_quotient_of_logarithms() {
     assert!(p.wid() < 1e-12);
     // wider errors give a wider order containing every quotient
     let p = observed_order(iv(7e-3, 9e-3), iv(1e-3, 1.1e-3), 0.2, 0.1);
-    for (a, b) in [(7e-3, 1e-3), (9e-3, 1.1e-3), (9e-3, 1e-3), (7e-3, 1.1e-3)] {
+    for (a, b) in [
+        (7e-3f64, 1e-3f64),
+        (9e-3, 1.1e-3),
+        (9e-3, 1e-3),
+        (7e-3, 1.1e-3),
+    ] {
         let q: f64 = (a / b).ln() / 2f64.ln();
         assert!(p.inf() <= q + 1e-12 && q - 1e-12 <= p.sup());
     }
