@@ -25,6 +25,11 @@ use inari::Interval;
 /// `(q_{k-1}, q_k)` and the step `h`, or the stepper's own failure (its message).
 pub trait Stepper {
     fn step(&self, q_prev: &[f64], q: &[f64], h: f64) -> Result<Vec<f64>, String>;
+    /// The integrator's own starting step `q_1` from a state `(q_0, v_0)` (v_0 the velocity
+    /// in coordinates), when it has one; `None` (the default): start from the exact motion.
+    fn start(&self, _q0: &[f64], _v0: &[f64], _h: f64) -> Option<Result<Vec<f64>, String>> {
+        None
+    }
 }
 
 /// The crate's DLA and MLA schemes are steppers (Newton with its default options).
@@ -164,6 +169,107 @@ fn ladder(hs: &[f64], error: Vec<Interval>) -> Ladder {
         error,
         orders,
     }
+}
+
+/// Certified verdicts on a stepper's run (spec eq. (11.4)).
+#[derive(Clone, Debug)]
+pub struct StepperVerdict {
+    /// The stepper's iterates `q_0 .. q_N` (`q_0`, `q_1` as given or started).
+    pub q: Vec<Vec<f64>>,
+    /// Against the exact discrete flow from `(q_0, q_1)`: distances, defects of every pair,
+    /// energy errors (`oracle::Verdict`).
+    pub discrete: crate::oracle::Verdict,
+    /// `continuous[k] ∋ |q_k - q(t_k)|_inf` against the exact motion from `(q_0, u_0)` at
+    /// `t_k = k h`; empty when the run was started from a pair.
+    pub continuous: Vec<Interval>,
+}
+
+/// Run `stepper` for `steps` steps from `(q0, q1)` and check the run against the exact
+/// discrete flow from that pair (spec eq. (11.4)).
+///
+/// # Containment
+/// As `oracle::check_trajectory` (Theorem 8.1). A stepper failure is an `Error::Input`
+/// naming the step.
+pub fn check_stepper<St: Stepper + ?Sized>(
+    model: &Model,
+    stepper: &St,
+    q0: &[f64],
+    q1: &[f64],
+    h: f64,
+    steps: usize,
+    opts: &FlowOptions,
+) -> Result<StepperVerdict, Error> {
+    let q = run(stepper, q0, q1, h, steps)?;
+    let o = CheckOptions {
+        pairs: true,
+        flow: opts.clone(),
+    };
+    Ok(StepperVerdict {
+        discrete: check_trajectory(model, h, &q, &o)?,
+        q,
+        continuous: Vec::new(),
+    })
+}
+
+/// As [`check_stepper`], started from a state: `q1` is the stepper's own start
+/// ([`Stepper::start`] from `(q0, v0)`, `v0 = E(q0)^T u0`) or, without one, the float point
+/// of the exact motion from `(q0, u0)` at time h (as in (11.1)); the run is also checked
+/// against that motion at every `t_k = k h`, so that a scheme whose start is first order
+/// shows it (spec eq. (11.5)).
+///
+/// # Containment
+/// `continuous[k]` contains `|q_k - q(t_k)|_inf` for the exact motion from `(q0, u0)`
+/// (Theorem 5.1); the rest as [`check_stepper`].
+pub fn check_stepper_from_state<St: Stepper + ?Sized>(
+    model: &Model,
+    stepper: &St,
+    q0: &[f64],
+    u0: &[f64],
+    h: f64,
+    steps: usize,
+    opts: &FlowOptions,
+) -> Result<StepperVerdict, Error> {
+    crate::enclosure::check_state(model, q0, u0)?;
+    let x: Vec<f64> = q0.iter().chain(u0).copied().collect();
+    let v0 = model.velocity.eval(&x);
+    let q1 = match stepper.start(q0, &v0, h) {
+        None => start(model, q0, u0, h, opts)?,
+        Some(r) => r.map_err(|e| Error::input(format!("the stepper's start failed: {e}")))?,
+    };
+    let mut v = check_stepper(model, stepper, q0, &q1, h, steps, opts)?;
+    let mut continuous = vec![point(0.0)];
+    for (k, qk) in v.q.iter().enumerate().skip(1) {
+        let e = flow(model, q0, u0, k as f64 * h, opts)?;
+        continuous.push(crate::oracle::distance(qk, &e.q));
+    }
+    v.continuous = continuous;
+    Ok(v)
+}
+
+fn run<St: Stepper + ?Sized>(
+    stepper: &St,
+    q0: &[f64],
+    q1: &[f64],
+    h: f64,
+    steps: usize,
+) -> Result<Vec<Vec<f64>>, Error> {
+    if steps == 0 || steps > 1_000_000 {
+        return Err(Error::input("steps must be in 1..=1000000"));
+    }
+    let mut q = vec![q0.to_vec(), q1.to_vec()];
+    for k in 1..steps {
+        let next = stepper
+            .step(&q[k - 1], &q[k], h)
+            .map_err(|e| Error::input(format!("the stepper failed at step {k} (h = {h}): {e}")))?;
+        if next.len() != q0.len() || next.iter().any(|x| !x.is_finite()) {
+            return Err(Error::input(format!(
+                "the stepper returned {next:?} at step {k}: not {} finite numbers",
+                q0.len()
+            )));
+        }
+        q.push(next);
+    }
+    Ok(q)
 }
 
 /// `{ln(a / b) / ln(ha / hb) : a in ea, b in eb}` enclosed (spec eq. (11.2)), ha > hb > 0;

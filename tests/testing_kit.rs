@@ -4,7 +4,9 @@
 //! error of the central difference (O(h^2) for q2 = 2 q1 - q0 when q'' != 0).
 
 use dalembert::integrator::{Scheme, SchemeKind};
-use dalembert::testing::{global_order, local_order, observed_order, Stepper};
+use dalembert::testing::{
+    check_stepper, check_stepper_from_state, global_order, local_order, observed_order, Stepper,
+};
 use dalembert::{scalar::iv, AnyScene, Error, FlowOptions, Model};
 
 fn model(name: &str) -> Model {
@@ -152,4 +154,56 @@ fn dla_and_mla_are_second_order_globally() {
         matches!(e, Err(Error::Input(_))),
         "1 / 0.3 is not a whole number of steps"
     );
+}
+
+/// A scheme with a first-order start: q1 = q0 + h v0 + h^2 c with a wrong "acceleration"
+/// c, then MLA. (Euler, c = 0, is no such start here: for L = |v|^2/2 it is exactly the
+/// midpoint rule's discrete Legendre start, and the run stays second order; measured while
+/// writing this test.) The start's momentum (q1 - q0)/h is off by h c: against the exact
+/// discrete flow from its own pair the run looks second order, against the exact motion from
+/// (q0, u0) the error at t = 1 halves with h (ratio 2, not 4).
+#[test]
+fn a_first_order_start_shows_against_the_continuous_flow_only() {
+    let m = model("particle");
+    let mla = Scheme::new(&m, SchemeKind::Mla);
+    let (q0, u0) = ([0.0, 0.5, 0.0], [0.8, 0.8]);
+    let mut at_t1 = Vec::new();
+    for (h, steps) in [(0.05, 20), (0.025, 40)] {
+        // the start below: v0 = E(q0)^T u0 = (u1, u2, y0 u1), c = (0.5, 0, 0)
+        let q1 = [h * u0[0] + 0.5 * h * h, 0.5 + h * u0[1], h * 0.5 * u0[0]];
+        let from_pair =
+            check_stepper(&m, &mla, &q0, &q1, h, steps, &FlowOptions::default()).unwrap();
+        // against its own pair: second order, within h^2
+        assert!(from_pair.discrete.max_distance.sup() < h * h, "{h}");
+        assert_eq!(from_pair.q.len(), steps + 1);
+        // against the motion from the state, the start's O(h^2) error persists
+        let from_state = check_stepper_from_state(
+            &m,
+            &BadStart(&mla),
+            &q0,
+            &u0,
+            h,
+            steps,
+            &FlowOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(from_state.continuous.len(), steps + 1);
+        at_t1.push(from_state.continuous[steps]);
+    }
+    let ratio = at_t1[0] / at_t1[1];
+    assert!(ratio.inf() > 1.5 && ratio.sup() < 2.5, "{ratio:?}");
+}
+
+/// MLA with the starting step q1 = q0 + h v0 + h^2 (0.5, 0, 0).
+struct BadStart<'a>(&'a Scheme);
+impl Stepper for BadStart<'_> {
+    fn step(&self, q_prev: &[f64], q: &[f64], h: f64) -> Result<Vec<f64>, String> {
+        Stepper::step(self.0, q_prev, q, h)
+    }
+    fn start(&self, q0: &[f64], v0: &[f64], h: f64) -> Option<Result<Vec<f64>, String>> {
+        let c = [0.5, 0.0, 0.0];
+        Some(Ok((0..3)
+            .map(|i| q0[i] + h * v0[i] + h * h * c[i])
+            .collect()))
+    }
 }
