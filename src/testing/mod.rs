@@ -15,6 +15,9 @@
 //! assert!(ladder.orders[2].inf() > 2.5); // proved: the local error shrinks faster than h^2.5 here
 //! ```
 
+#[cfg(feature = "proptest")]
+pub mod strategies;
+
 use crate::integrator::{NewtonOptions, Scheme};
 use crate::oracle::{check_step, check_trajectory, CheckOptions};
 use crate::scalar::point;
