@@ -2,6 +2,9 @@
 
 use std::fmt;
 
+/// The message of [`Error::over_budget`].
+pub const OVER_BUDGET: &str = "not certified within the budget (the deadline passed)";
+
 /// Why a request was not answered. `Input` maps to exit status 2, `Uncertified` to 3.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Error {
@@ -18,6 +21,18 @@ impl Error {
     }
     pub fn uncertified(msg: impl Into<String>) -> Self {
         Error::Uncertified(msg.into())
+    }
+    /// The refusal of work that ran past its time budget (exit 3). Its message starts with
+    /// [`OVER_BUDGET`] so that a client can tell it from other refusals.
+    pub fn over_budget() -> Self {
+        Error::Uncertified(OVER_BUDGET.to_string())
+    }
+    /// `Err(over_budget())` once `deadline` has passed; `Ok` when there is none.
+    pub fn check_deadline(deadline: Option<std::time::Instant>) -> Result<(), Error> {
+        match deadline {
+            Some(d) if std::time::Instant::now() >= d => Err(Error::over_budget()),
+            _ => Ok(()),
+        }
     }
     /// The command line's exit status for this error.
     pub fn code(&self) -> i32 {

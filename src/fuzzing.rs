@@ -5,7 +5,7 @@
 
 use crate::enclosure::{flow_set, LohnerSet};
 use crate::integrator::{step_residual, NewtonOptions, Scheme, SchemeKind};
-use crate::protocol::Session;
+use crate::protocol::{BatchAnswer, Line, LineReader, Pair, Query, SceneSpec, Session};
 use crate::scalar::point;
 use crate::scene::{Knife, KnifeEps, Particle};
 use crate::tape::finite;
@@ -229,30 +229,169 @@ pub fn scenes_step(data: &[u8]) {
     }
 }
 
-/// Invariant: any bytes given to the batch protocol produce at most one line, which is a
-/// JSON object echoing an id with exactly one of `ok` / `error` (code 2 or 3), and every
-/// interval in an `ok` answer is finite with lo <= hi. Never a panic.
+/// Invariant: any bytes given to the batch protocol, read as a stream of lines (each kept
+/// up to a limit, here 1 KiB so that the long-line path is reached): exactly one answer per
+/// line that is not blank, each a JSON object echoing an id with exactly one of `ok` /
+/// `error` (code 2 or 3); every interval in an `ok` answer is finite with lo <= hi; and an
+/// answered query used exactly the numbers given: every key of the line is one its command
+/// reads, and each number the query used is bit for bit the one in the line. Never a panic.
 pub fn batch_line(data: &[u8]) {
-    let line = String::from_utf8_lossy(data);
-    let line = line.lines().next().unwrap_or("");
     let mut session = Session::default();
     session.flow = budget();
     session.max_integrate_steps = 1000;
-    let Some(out) = session.batch_line(line) else {
-        assert!(line.trim().is_empty());
-        return;
+    let mut reader = LineReader::new(data, 1024);
+    let (mut lines, mut answers, mut blank) = (0, 0, 0);
+    while let Some(line) = reader.next_line().expect("reading bytes cannot fail") {
+        lines += 1;
+        let is_blank = matches!(&line, Line::Text(b)
+            if std::str::from_utf8(b).is_ok_and(|t| t.trim().is_empty()));
+        blank += usize::from(is_blank);
+        let Some(answer) = session.batch_answer(lines, &line) else {
+            assert!(is_blank, "no answer to a line that is not blank");
+            continue;
+        };
+        answers += 1;
+        check_answer(&line, &answer);
+    }
+    assert_eq!(
+        answers + blank,
+        lines,
+        "one answer per line that is not blank"
+    );
+    let expected = if data.is_empty() {
+        0
+    } else {
+        data.split(|b| *b == b'\n').count() - usize::from(data.ends_with(b"\n"))
     };
+    assert_eq!(lines, expected, "every line read");
+}
+
+fn check_answer(line: &Line, answer: &BatchAnswer) {
+    let out = &answer.text;
     assert!(!out.contains('\n'));
-    let v: Value = serde_json::from_str(&out).expect("answer is JSON");
+    let v: Value = serde_json::from_str(out).expect("answer is JSON");
     assert!(v.get("id").is_some());
     match (v.get("ok"), v.get("error")) {
-        (Some(ok), None) => check_numbers(ok, ok.get("newton_iterations").is_none()),
+        (Some(ok), None) => {
+            check_numbers(ok, ok.get("newton_iterations").is_none());
+            let Line::Text(bytes) = line else {
+                panic!("a line too long was answered")
+            };
+            let given: Value = serde_json::from_slice(bytes).expect("an answered line is JSON");
+            assert_eq!(v["id"], given.get("id").cloned().unwrap_or(Value::Null));
+            let q = answer
+                .answered
+                .as_ref()
+                .expect("an ok answer names its query");
+            used_exactly(&given, q);
+        }
         (None, Some(e)) => {
             let code = e["code"].as_i64();
             assert!(code == Some(2) || code == Some(3), "bad code {e}");
             assert!(e["message"].is_string());
+            assert!(answer.answered.is_none());
         }
         _ => panic!("answer needs exactly one of ok/error: {out}"),
+    }
+}
+
+/// The query answered is the line, read independently here: the same command, scene,
+/// parameters and numbers (bit for bit), and no key in the line that the command ignores.
+fn used_exactly(given: &Value, q: &Query) {
+    let o = given.as_object().expect("an answered line is an object");
+    let bits = |k: &str| -> u64 { o[k].as_f64().expect("a number").to_bits() };
+    let vec_bits = |k: &str, used: &[f64]| {
+        let line: Vec<u64> = o[k]
+            .as_array()
+            .expect("an array")
+            .iter()
+            .map(|x| x.as_f64().expect("a number").to_bits())
+            .collect();
+        let used: Vec<u64> = used.iter().map(|x| x.to_bits()).collect();
+        assert_eq!(
+            line, used,
+            "`{k}`: the numbers used are not the numbers given"
+        );
+    };
+    let scene_of = |s: &SceneSpec| {
+        assert_eq!(o["scene"].as_str(), Some(s.name.as_str()));
+        let mut line: Vec<(String, u64)> = o
+            .get("params")
+            .and_then(Value::as_object)
+            .map(|p| {
+                p.iter()
+                    .map(|(k, x)| (k.clone(), x.as_f64().expect("a number").to_bits()))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let mut used: Vec<(String, u64)> = s
+            .params
+            .iter()
+            .map(|(k, x)| (k.clone(), x.to_bits()))
+            .collect();
+        line.sort();
+        used.sort();
+        assert_eq!(line, used, "the parameters used are not the ones given");
+    };
+    let pair = |p: &Pair| {
+        scene_of(&p.scene);
+        vec_bits("q0", &p.q0);
+        vec_bits("q1", &p.q1);
+        assert_eq!(bits("h"), p.h.to_bits());
+    };
+    let (cmd, keys) = match q {
+        Query::Flow {
+            scene,
+            q,
+            u,
+            t,
+            order,
+        } => {
+            scene_of(scene);
+            vec_bits("q", q);
+            vec_bits("u", u);
+            assert_eq!(bits("t"), t.to_bits());
+            assert_eq!(
+                o.get("order").and_then(Value::as_u64).unwrap_or(0),
+                *order as u64
+            );
+            ("flow", ["q", "u", "t", "order"].as_slice())
+        }
+        Query::Retract(p) => {
+            pair(p);
+            ("retract", ["q0", "q1", "h"].as_slice())
+        }
+        Query::Step(p) => {
+            pair(p);
+            ("step", ["q0", "q1", "h"].as_slice())
+        }
+        Query::Lagrangian(p) => {
+            pair(p);
+            ("lagrangian", ["q0", "q1", "h"].as_slice())
+        }
+        Query::Integrate {
+            pair: p,
+            scheme,
+            steps,
+        } => {
+            pair(p);
+            assert_eq!(o["steps"].as_u64(), Some(*steps as u64));
+            let named: SchemeKind = o["scheme"]
+                .as_str()
+                .expect("a string")
+                .parse()
+                .expect("a scheme");
+            assert_eq!(named, *scheme);
+            ("integrate", ["q0", "q1", "h", "scheme", "steps"].as_slice())
+        }
+    };
+    assert_eq!(o["cmd"].as_str(), Some(cmd));
+    for k in o.keys() {
+        assert!(
+            ["id", "cmd", "scene", "params", "deadline"].contains(&k.as_str())
+                || keys.contains(&k.as_str()),
+            "key `{k}` of the line was ignored by `{cmd}`"
+        );
     }
 }
 

@@ -3,6 +3,7 @@
 mod cli;
 
 fn main() {
-    let code = cli::run(std::env::args().collect());
+    // arguments as OS strings: a byte that is not UTF-8 is refused by name, never a panic
+    let code = cli::run_os(std::env::args_os().collect());
     std::process::exit(code);
 }

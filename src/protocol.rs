@@ -84,7 +84,46 @@ pub struct Session {
     pub flow: FlowOptions,
     /// Refuse `integrate` queries with more steps than this (0: the contract's maximum).
     pub max_integrate_steps: usize,
+    /// Time budget in seconds of every query that names none (`batch --deadline`); `None`:
+    /// [`default_deadline`] of the query's command.
+    pub deadline: Option<f64>,
 }
+
+/// The budget in seconds of a single-step query (`retract`, `step`, `lagrangian`, and each
+/// pair that `check` certifies) when none is given: such a query answers in milliseconds on
+/// ordinary input, so this only stops a pathological one.
+pub const STEP_DEADLINE: f64 = 5.0;
+
+/// The documented default budget of a query, in seconds: [`STEP_DEADLINE`] for the
+/// single-step queries, none for `flow` (bounded by `FlowOptions::max_steps`) and
+/// `integrate` (bounded by its `steps`).
+pub fn default_deadline(q: &Query) -> Option<f64> {
+    match q {
+        Query::Retract(_) | Query::Step(_) | Query::Lagrangian(_) => Some(STEP_DEADLINE),
+        Query::Flow { .. } | Query::Integrate { .. } => None,
+    }
+}
+
+/// The instant `seconds` from now; `None` (no limit) when that is past what the clock holds.
+pub fn deadline_in(seconds: f64) -> Option<std::time::Instant> {
+    let d = std::time::Duration::try_from_secs_f64(seconds).ok()?;
+    std::time::Instant::now().checked_add(d)
+}
+
+/// The earlier of two deadlines (`None` is no limit).
+fn earlier(
+    a: Option<std::time::Instant>,
+    b: Option<std::time::Instant>,
+) -> Option<std::time::Instant> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(x.min(y)),
+        (x, None) => x,
+        (None, y) => y,
+    }
+}
+
+/// One row of an `integrate` answer (see [`Session::integrate_each`]).
+pub use crate::integrator::Row;
 
 fn scene_key(s: &SceneSpec) -> String {
     let mut k = match &s.definition {
@@ -122,9 +161,18 @@ impl Session {
         Ok(sc)
     }
 
-    /// Answer a query with the JSON object its command prints with `--json`.
+    /// Answer a query with the JSON object its command prints with `--json`, within the
+    /// session's budget ([`Session::deadline`], else [`default_deadline`]).
     pub fn answer(&mut self, q: &Query) -> Result<Value, Error> {
-        let opts = self.flow.clone();
+        self.answer_within(q, None)
+    }
+
+    /// As [`Session::answer`], within `seconds` when given (a query's own `deadline`).
+    /// Past the budget: `Error::over_budget` (exit 3), never a partial answer.
+    pub fn answer_within(&mut self, q: &Query, seconds: Option<f64>) -> Result<Value, Error> {
+        let budget = seconds.or(self.deadline).or_else(|| default_deadline(q));
+        let mut opts = self.flow.clone();
+        opts.deadline = earlier(opts.deadline, budget.and_then(deadline_in));
         match q {
             Query::Flow {
                 scene,
@@ -192,36 +240,207 @@ impl Session {
                     }
                 }
                 let sc = self.scheme(&pair.scene, *scheme)?;
-                let tr = sc.integrate(
+                let mut tr = Trajectory {
+                    q: Vec::new(),
+                    p: Vec::new(),
+                    energy: Vec::new(),
+                    iterations: Vec::new(),
+                    max_residual: 0.0,
+                };
+                tr.max_residual = sc.integrate_each(
                     &pair.q0,
                     &pair.q1,
                     pair.h,
                     *steps,
                     &NewtonOptions::default(),
+                    |r: Row| -> Result<(), Error> {
+                        Error::check_deadline(opts.deadline)?;
+                        tr.q.push(r.q.to_vec());
+                        tr.p.extend(r.p.map(<[f64]>::to_vec));
+                        tr.energy.extend(r.energy);
+                        tr.iterations.extend(r.iterations);
+                        Ok(())
+                    },
                 )?;
                 Ok(trajectory(&tr))
             }
         }
     }
 
+    /// An `integrate` query row by row in constant memory: `row` gets q_k, p_k and the
+    /// energy for k = 0..=steps in order, as soon as each is known; returns the largest
+    /// Newton residual. Within `seconds` when given, else the session's budget; past it, or
+    /// when `row` fails, the integration stops with that error.
+    pub fn integrate_each(
+        &mut self,
+        pair: &Pair,
+        scheme: SchemeKind,
+        steps: usize,
+        seconds: Option<f64>,
+        mut row: impl FnMut(Row) -> Result<(), Error>,
+    ) -> Result<f64, Error> {
+        if self.max_integrate_steps > 0 && steps > self.max_integrate_steps {
+            return Err(Error::input(format!(
+                "steps: at most {} in this session",
+                self.max_integrate_steps
+            )));
+        }
+        let deadline = earlier(
+            self.flow.deadline,
+            seconds.or(self.deadline).and_then(deadline_in),
+        );
+        let sc = self.scheme(&pair.scene, scheme)?;
+        sc.integrate_each(
+            &pair.q0,
+            &pair.q1,
+            pair.h,
+            steps,
+            &NewtonOptions::default(),
+            |r: Row| {
+                Error::check_deadline(deadline)?;
+                row(r)
+            },
+        )
+    }
+
     /// One line of the batch protocol (contract command 5): `None` for a blank line, else
     /// the answer line `{"id": .., "ok": ..}` or `{"id": .., "error": {"code", "message"}}`.
     pub fn batch_line(&mut self, line: &str) -> Option<String> {
-        if line.trim().is_empty() {
-            return None;
-        }
-        let (id, result) = match serde_json::from_str::<Value>(line) {
-            Err(e) => (Value::Null, Err(Error::input(format!("not JSON: {e}")))),
-            Ok(v) => {
-                let id = v.get("id").cloned().unwrap_or(Value::Null);
-                (id, Query::from_json(&v).and_then(|q| self.answer(&q)))
-            }
+        self.batch_answer(0, &Line::Text(line.as_bytes().to_vec()))
+            .map(|a| a.text)
+    }
+
+    /// Line `line_no` (1-based; 0: unknown) of a batch stream as read by [`LineReader`]:
+    /// `None` for a blank line, else exactly one answer line. A line that is not UTF-8, not
+    /// JSON or too long gets an error object with `"id": null` naming the line number.
+    pub fn batch_answer(&mut self, line_no: usize, line: &Line) -> Option<BatchAnswer> {
+        let at = if line_no > 0 {
+            format!("line {line_no}: ")
+        } else {
+            String::new()
+        };
+        let mut answered = None;
+        let (id, result) = match line {
+            Line::TooLong { bytes } => (
+                Value::Null,
+                Err(Error::input(format!(
+                    "{at}longer than {MAX_LINE_BYTES} bytes ({bytes} bytes); not read"
+                ))),
+            ),
+            Line::Text(bytes) => match std::str::from_utf8(bytes) {
+                Err(e) => (
+                    Value::Null,
+                    Err(Error::input(format!(
+                        "{at}not valid UTF-8 (byte {})",
+                        e.valid_up_to() + 1
+                    ))),
+                ),
+                Ok(text) if text.trim().is_empty() => return None,
+                Ok(text) => match parse_json(text) {
+                    Err(e) => {
+                        // JSON that is only refused for a repeated key still has its id
+                        let id = serde_json::from_str::<Value>(text)
+                            .ok()
+                            .and_then(|v| v.get("id").cloned())
+                            .unwrap_or(Value::Null);
+                        let what = if id.is_null() { "not JSON" } else { "refused" };
+                        (
+                            id,
+                            Err(Error::input(format!("{at}{what}: {}", e.message()))),
+                        )
+                    }
+                    Ok(v) => {
+                        let id = v.get("id").cloned().unwrap_or(Value::Null);
+                        let r = Query::from_json(&v).and_then(|q| {
+                            let a = self.answer_within(&q, deadline_from_json(&v)?)?;
+                            answered = Some(q);
+                            Ok(a)
+                        });
+                        (id, r)
+                    }
+                },
+            },
         };
         let out = match result {
             Ok(ok) => json!({"id": id, "ok": ok}),
             Err(e) => json!({"id": id, "error": {"code": e.code(), "message": e.message()}}),
         };
-        Some(out.to_string())
+        Some(BatchAnswer {
+            text: out.to_string(),
+            answered,
+        })
+    }
+}
+
+/// An answer line of the batch protocol, and the query it answered when it is `ok` (so
+/// that a test can compare it with the line: the numbers used are the numbers given).
+#[derive(Clone, Debug)]
+pub struct BatchAnswer {
+    pub text: String,
+    pub answered: Option<Query>,
+}
+
+/// Longest batch line read, in bytes (without its newline): 1 MiB. A longer line is not
+/// kept in memory; it gets an error answer and the stream goes on.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// A line of a batch stream.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Line {
+    /// The bytes of the line, without its `\n`.
+    Text(Vec<u8>),
+    /// A line longer than the limit, and how long it was.
+    TooLong { bytes: u64 },
+}
+
+/// Lines of bytes from a reader, each at most `limit` bytes kept: a longer line is skipped
+/// to its end without being held (memory stays `limit` plus the reader's buffer).
+pub struct LineReader<R> {
+    inner: R,
+    limit: usize,
+}
+
+impl<R: std::io::BufRead> LineReader<R> {
+    pub fn new(inner: R, limit: usize) -> Self {
+        LineReader { inner, limit }
+    }
+
+    /// The next line, `None` at the end of the input.
+    pub fn next_line(&mut self) -> std::io::Result<Option<Line>> {
+        let mut buf = Vec::new();
+        let (mut total, mut over, mut any) = (0u64, false, false);
+        loop {
+            let avail = match self.inner.fill_buf() {
+                Ok(b) => b,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(e),
+            };
+            if avail.is_empty() {
+                break;
+            }
+            any = true;
+            let (chunk, used, end) = match avail.iter().position(|b| *b == b'\n') {
+                Some(i) => (&avail[..i], i + 1, true),
+                None => (avail, avail.len(), false),
+            };
+            total += chunk.len() as u64;
+            if !over && buf.len() + chunk.len() > self.limit {
+                over = true;
+                buf = Vec::new();
+            }
+            if !over {
+                buf.extend_from_slice(chunk);
+            }
+            self.inner.consume(used);
+            if end {
+                break;
+            }
+        }
+        Ok(match (any, over) {
+            (false, _) => None,
+            (true, true) => Some(Line::TooLong { bytes: total }),
+            (true, false) => Some(Line::Text(buf)),
+        })
     }
 }
 
@@ -338,64 +557,279 @@ pub fn parse_order(s: &str) -> Result<usize, Error> {
     }
 }
 
+/// A time budget in seconds: a finite number > 0 (`--deadline`, the `deadline` key).
+pub fn parse_seconds(name: &str, s: &str) -> Result<f64, Error> {
+    check_seconds(name, parse_num(name, s)?)
+}
+
+fn check_seconds(name: &str, x: f64) -> Result<f64, Error> {
+    if x > 0.0 && x.is_finite() {
+        Ok(x)
+    } else {
+        Err(Error::input(format!(
+            "{name}: a budget in seconds must be > 0 (got {x})"
+        )))
+    }
+}
+
+/// A JSON text, read strictly: a key repeated in an object is refused (serde_json would
+/// keep the last one silently), numbers are the nearest f64 (`float_roundtrip`), and a
+/// number out of the f64 range is refused.
+pub fn parse_json(text: &str) -> Result<Value, Error> {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let v = serde::Deserialize::deserialize(&mut de)
+        .and_then(|Strict(v)| de.end().map(|()| v))
+        .map_err(|e| {
+            // one line of JSON: its column is the position that matters
+            let m = e.to_string();
+            Error::input(if text.contains('\n') {
+                m
+            } else {
+                m.replace(" at line 1 column ", " at column ")
+            })
+        })?;
+    Ok(v)
+}
+
+/// A JSON value whose objects have no repeated key.
+struct Strict(Value);
+
+impl<'de> serde::Deserialize<'de> for Strict {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(StrictVisitor).map(Strict)
+    }
+}
+
+struct StrictVisitor;
+
+impl<'de> serde::de::Visitor<'de> for StrictVisitor {
+    type Value = Value;
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a JSON value")
+    }
+    fn visit_bool<E>(self, b: bool) -> Result<Value, E> {
+        Ok(Value::Bool(b))
+    }
+    fn visit_i64<E>(self, x: i64) -> Result<Value, E> {
+        Ok(Value::from(x))
+    }
+    fn visit_u64<E>(self, x: u64) -> Result<Value, E> {
+        Ok(Value::from(x))
+    }
+    fn visit_f64<E: serde::de::Error>(self, x: f64) -> Result<Value, E> {
+        serde_json::Number::from_f64(x)
+            .map(Value::Number)
+            .ok_or_else(|| E::custom("number out of range"))
+    }
+    fn visit_str<E>(self, s: &str) -> Result<Value, E> {
+        Ok(Value::String(s.to_string()))
+    }
+    fn visit_string<E>(self, s: String) -> Result<Value, E> {
+        Ok(Value::String(s))
+    }
+    fn visit_unit<E>(self) -> Result<Value, E> {
+        Ok(Value::Null)
+    }
+    fn visit_none<E>(self) -> Result<Value, E> {
+        Ok(Value::Null)
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+        let mut v = Vec::new();
+        while let Some(Strict(x)) = seq.next_element()? {
+            v.push(x);
+        }
+        Ok(Value::Array(v))
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+        let mut m = Map::new();
+        while let Some(k) = map.next_key::<String>()? {
+            if m.contains_key(&k) {
+                return Err(serde::de::Error::custom(format!(
+                    "key `{k}` appears twice in one object"
+                )));
+            }
+            let Strict(v) = map.next_value()?;
+            m.insert(k, v);
+        }
+        Ok(Value::Object(m))
+    }
+}
+
 fn field<'a>(o: &'a Map<String, Value>, k: &str) -> Result<&'a Value, Error> {
     o.get(k)
-        .ok_or_else(|| Error::input(format!("missing field `{k}`")))
+        .ok_or_else(|| Error::input(format!("missing key `{k}`")))
 }
 
-fn json_num(o: &Map<String, Value>, k: &str) -> Result<f64, Error> {
-    let x = field(o, k)?
-        .as_f64()
-        .ok_or_else(|| Error::input(format!("`{k}` must be a number")))?;
-    finite(k, x)
+/// What a JSON value is, for messages.
+fn kind(v: &Value) -> &'static str {
+    match v {
+        Value::Null => "null",
+        Value::Bool(_) => "a boolean",
+        Value::Number(_) => "a number",
+        Value::String(_) => "a string",
+        Value::Array(_) => "an array",
+        Value::Object(_) => "an object",
+    }
 }
 
-fn json_vec(o: &Map<String, Value>, k: &str) -> Result<Vec<f64>, Error> {
-    field(o, k)?
-        .as_array()
-        .ok_or_else(|| Error::input(format!("`{k}` must be an array of numbers")))?
+/// A JSON number as the f64 it denotes, finite; `what` names it in the message. Strings
+/// (even "0.1"), null and booleans are refused: numbers are JSON numbers.
+pub fn json_number(what: &str, v: &Value) -> Result<f64, Error> {
+    match v {
+        Value::Number(n) => finite(what, n.as_f64().unwrap_or(f64::NAN)),
+        other => Err(Error::input(format!(
+            "{what}: expected a number, got {}",
+            kind(other)
+        ))),
+    }
+}
+
+/// A JSON array of numbers, every element read by [`json_number`]: none dropped,
+/// padded or converted; the refusal names the element.
+pub fn json_numbers(what: &str, v: &Value) -> Result<Vec<f64>, Error> {
+    v.as_array()
+        .ok_or_else(|| {
+            Error::input(format!(
+                "{what}: expected an array of numbers, got {}",
+                kind(v)
+            ))
+        })?
         .iter()
-        .map(|x| {
-            x.as_f64()
-                .ok_or_else(|| Error::input(format!("`{k}` must be an array of numbers")))
-                .and_then(|x| finite(k, x))
-        })
+        .enumerate()
+        .map(|(i, x)| json_number(&format!("{what}[{i}]"), x))
         .collect()
 }
 
-/// The `scene` and `params` keys of a query: a scene name, or a JSON object defining the
-/// scene with the keys of a scene file (spec chapter 10).
-fn scene_spec_from_json(o: &Map<String, Value>) -> Result<SceneSpec, Error> {
+fn json_num(o: &Map<String, Value>, k: &str) -> Result<f64, Error> {
+    json_number(&format!("`{k}`"), field(o, k)?)
+}
+
+fn json_vec(o: &Map<String, Value>, k: &str) -> Result<Vec<f64>, Error> {
+    json_numbers(&format!("`{k}`"), field(o, k)?)
+}
+
+fn json_uint(o: &Map<String, Value>, k: &str, lo: u64, hi: u64) -> Result<u64, Error> {
+    field(o, k)?
+        .as_u64()
+        .filter(|n| (lo..=hi).contains(n))
+        .ok_or_else(|| Error::input(format!("`{k}` must be an integer in {lo}..={hi}")))
+}
+
+/// Edit distance, for "did you mean".
+fn distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for j in 0..b.len() {
+            let cur = row[j + 1];
+            row[j + 1] = (prev + usize::from(ca != b[j]))
+                .min(row[j] + 1)
+                .min(cur + 1);
+            prev = cur;
+        }
+    }
+    row[b.len()]
+}
+
+/// Refuse a key not in `known`, naming it, the nearest known key and all of them.
+pub fn check_keys(o: &Map<String, Value>, known: &[&str], whose: &str) -> Result<(), Error> {
+    for k in o.keys() {
+        if known.contains(&k.as_str()) {
+            continue;
+        }
+        let near = known
+            .iter()
+            .map(|c| (distance(k, c), *c))
+            .filter(|(d, c)| *d <= 2.max(c.len() / 3))
+            .min();
+        let hint = near.map_or(String::new(), |(_, c)| format!("; did you mean `{c}`?"));
+        return Err(Error::input(format!(
+            "unknown key `{k}`{hint} (the keys of {whose}: {})",
+            known.join(", ")
+        )));
+    }
+    Ok(())
+}
+
+/// The scene of a batch query: its `"scene"` and `"params"` keys (the one place where a
+/// JSON query's scene is read). `"scene"` is a scene name, or an object defining the scene
+/// with the keys of a scene file (spec chapter 10); `"params"` is an object of numbers; a
+/// parameter the scene does not have is refused when the scene is built.
+pub fn scene_spec_from_json(o: &Map<String, Value>) -> Result<SceneSpec, Error> {
     let mut params = Vec::new();
     if let Some(p) = o.get("params") {
-        let p = p
-            .as_object()
-            .ok_or_else(|| Error::input("`params` must be an object"))?;
-        for (k, _) in p {
-            params.push((k.clone(), json_num(p, k)?));
+        let p = p.as_object().ok_or_else(|| {
+            Error::input(format!(
+                "`params` must be an object of numbers, got {}",
+                kind(p)
+            ))
+        })?;
+        for (k, v) in p {
+            params.push((k.clone(), json_number(&format!("`params.{k}`"), v)?));
         }
     }
     match field(o, "scene")? {
         Value::String(name) => Ok(SceneSpec::named(name, params)),
         v @ Value::Object(_) => Ok(SceneSpec::defined(
-            SceneFile::from_json(v).map_err(|e| Error::input(format!("scene: {}", e.message())))?,
+            SceneFile::from_json(v)
+                .map_err(|e| Error::input(format!("`scene`: {}", e.message())))?,
             params,
         )),
-        _ => Err(Error::input(
-            "`scene` must be a scene name or an object defining a scene",
-        )),
+        other => Err(Error::input(format!(
+            "`scene` must be a scene name (a string) or an object defining a scene, got {}",
+            kind(other)
+        ))),
+    }
+}
+
+/// The keys every query may have.
+const COMMON_KEYS: [&str; 5] = ["id", "cmd", "scene", "params", "deadline"];
+
+/// The keys of a query of command `cmd` (`None` for an unknown command).
+pub fn query_keys(cmd: &str) -> Option<Vec<&'static str>> {
+    let own: &[&str] = match cmd {
+        "flow" => &["q", "u", "t", "order"],
+        "retract" | "step" | "lagrangian" => &["q0", "q1", "h"],
+        "integrate" => &["q0", "q1", "h", "scheme", "steps"],
+        _ => return None,
+    };
+    Some(COMMON_KEYS.iter().chain(own).copied().collect())
+}
+
+/// The `deadline` key of a batch query (seconds, > 0), if any.
+pub fn deadline_from_json(v: &Value) -> Result<Option<f64>, Error> {
+    match v.get("deadline") {
+        None => Ok(None),
+        Some(d) => check_seconds("`deadline`", json_number("`deadline`", d)?).map(Some),
     }
 }
 
 impl Query {
-    /// A batch query object (contract command 5): the flags' names as keys.
+    /// A batch query object (contract command 5): the flags' names as keys. Strict: every
+    /// key must be one its command reads (a near miss is named), every number a finite JSON
+    /// number, every vector an array of them.
     pub fn from_json(v: &Value) -> Result<Query, Error> {
         let o = v
             .as_object()
             .ok_or_else(|| Error::input("a query must be a JSON object"))?;
-        let cmd = field(o, "cmd")?
-            .as_str()
-            .ok_or_else(|| Error::input("`cmd` must be a string"))?;
+        let cmd = match field(o, "cmd")? {
+            Value::String(c) => c.as_str(),
+            other => {
+                return Err(Error::input(format!(
+                    "`cmd` must be a string, got {}",
+                    kind(other)
+                )))
+            }
+        };
+        let keys = query_keys(cmd).ok_or_else(|| {
+            Error::input(format!(
+                "unknown cmd `{cmd}` (known: flow, retract, step, integrate, lagrangian)"
+            ))
+        })?;
+        check_keys(o, &keys, &format!("a `{cmd}` query"))?;
+        deadline_from_json(v)?;
         let scene = scene_spec_from_json(o)?;
         let pair = |scene: SceneSpec| -> Result<Pair, Error> {
             Ok(Pair {
@@ -413,32 +847,29 @@ impl Query {
                 t: json_num(o, "t")?,
                 order: match o.get("order") {
                     None => 0,
-                    Some(v) => parse_order(&v.to_string())?,
+                    Some(_) => json_uint(o, "order", 2, 60)? as usize,
                 },
             }),
             "retract" => Ok(Query::Retract(pair(scene)?)),
             "step" => Ok(Query::Step(pair(scene)?)),
             "lagrangian" => Ok(Query::Lagrangian(pair(scene)?)),
-            "integrate" => {
-                let scheme = field(o, "scheme")?
-                    .as_str()
-                    .ok_or_else(|| Error::input("`scheme` must be a string"))?
-                    .parse()?;
-                let steps = field(o, "steps")?
-                    .as_u64()
-                    .filter(|n| *n as usize <= MAX_STEPS)
-                    .ok_or_else(|| {
-                        Error::input(format!("`steps` must be an integer in 0..={MAX_STEPS}"))
-                    })? as usize;
+            _ => {
+                let scheme = match field(o, "scheme")? {
+                    Value::String(s) => s.parse()?,
+                    other => {
+                        return Err(Error::input(format!(
+                            "`scheme` must be a string, got {}",
+                            kind(other)
+                        )))
+                    }
+                };
+                let steps = json_uint(o, "steps", 0, MAX_STEPS as u64)? as usize;
                 Ok(Query::Integrate {
                     pair: pair(scene)?,
                     scheme,
                     steps,
                 })
             }
-            other => Err(Error::input(format!(
-                "unknown cmd `{other}` (known: flow, retract, step, integrate, lagrangian)"
-            ))),
         }
     }
 }

@@ -1,14 +1,17 @@
-//! `dalembert batch [--jobs N]` (contract command 5): JSON lines in, JSON lines out, in
-//! order. Each worker keeps its own `Session` (compiled scenes); answers are printed as
-//! soon as all earlier lines are answered, and flushed, so a client may talk line by line.
+//! `dalembert batch [--jobs N] [--deadline S]` (contract command 5): JSON lines in, JSON
+//! lines out, in order. Input is read as bytes, line by line, each line at most
+//! `protocol::MAX_LINE_BYTES` kept: a line that is not UTF-8, not JSON or too long gets an
+//! error answer and the stream goes on. Each worker keeps its own `Session` (compiled
+//! scenes); answers are printed as soon as all earlier lines are answered, and flushed, so a
+//! client may talk line by line.
 
-use dalembert::protocol::Session;
+use dalembert::protocol::{self, Line, LineReader, Session, MAX_LINE_BYTES};
 use dalembert::Error;
 use std::collections::BTreeMap;
-use std::io::{BufRead, Write};
+use std::io::Write;
 use std::sync::{mpsc, Arc, Mutex};
 
-pub fn run(jobs: &str) -> Result<(), Error> {
+pub fn run(jobs: &str, deadline: Option<&str>) -> Result<(), Error> {
     let jobs: usize = match jobs.trim().parse() {
         Ok(j) if (1..=256).contains(&j) => j,
         _ => {
@@ -17,22 +20,33 @@ pub fn run(jobs: &str) -> Result<(), Error> {
             )))
         }
     };
+    let deadline = deadline
+        .map(|d| protocol::parse_seconds("--deadline", d))
+        .transpose()?;
+    let session = move || {
+        let mut s = Session::default();
+        s.deadline = deadline;
+        s
+    };
     let stdin = std::io::stdin();
+    let mut lines = LineReader::new(stdin.lock(), MAX_LINE_BYTES);
+    let read = |e: std::io::Error| Error::input(format!("reading stdin: {e}"));
     let stdout = std::io::stdout();
     if jobs == 1 {
-        let mut session = Session::default();
+        let mut session = session();
         let mut out = stdout.lock();
-        for line in stdin.lock().lines() {
-            let line = line.map_err(|e| Error::input(format!("reading stdin: {e}")))?;
-            if let Some(answer) = session.batch_line(&line) {
-                writeln!(out, "{answer}")
+        let mut no = 0;
+        while let Some(line) = lines.next_line().map_err(read)? {
+            no += 1;
+            if let Some(answer) = session.batch_answer(no, &line) {
+                writeln!(out, "{}", answer.text)
                     .and_then(|_| out.flush())
                     .map_err(broken_pipe)?;
             }
         }
         return Ok(());
     }
-    let (work_tx, work_rx) = mpsc::channel::<(usize, String)>();
+    let (work_tx, work_rx) = mpsc::channel::<(usize, Line)>();
     let work_rx = Arc::new(Mutex::new(work_rx));
     let (done_tx, done_rx) = mpsc::channel::<(usize, Option<String>)>();
     let workers: Vec<_> = (0..jobs)
@@ -40,14 +54,15 @@ pub fn run(jobs: &str) -> Result<(), Error> {
             let rx = Arc::clone(&work_rx);
             let tx = done_tx.clone();
             std::thread::spawn(move || {
-                let mut session = Session::default();
+                let mut session = session();
                 loop {
                     let next = match rx.lock() {
                         Ok(guard) => guard.recv(),
                         Err(_) => return,
                     };
                     let Ok((i, line)) = next else { return };
-                    if tx.send((i, session.batch_line(&line))).is_err() {
+                    let answer = session.batch_answer(i + 1, &line).map(|a| a.text);
+                    if tx.send((i, answer)).is_err() {
                         return;
                     }
                 }
@@ -72,20 +87,32 @@ pub fn run(jobs: &str) -> Result<(), Error> {
         }
         Ok(())
     });
-    for (i, line) in stdin.lock().lines().enumerate() {
-        let line = line.map_err(|e| Error::input(format!("reading stdin: {e}")))?;
-        if work_tx.send((i, line)).is_err() {
-            break;
+    let mut i = 0;
+    let mut failed = None;
+    loop {
+        match lines.next_line() {
+            Ok(Some(line)) => {
+                if work_tx.send((i, line)).is_err() {
+                    break;
+                }
+                i += 1;
+            }
+            Ok(None) => break,
+            Err(e) => {
+                failed = Some(read(e));
+                break;
+            }
         }
     }
     drop(work_tx);
     for w in workers {
         let _ = w.join();
     }
-    match printer.join() {
+    let printed = match printer.join() {
         Ok(r) => r,
         Err(_) => Err(Error::uncertified("internal error in the batch printer")),
-    }
+    };
+    printed.and(failed.map_or(Ok(()), Err))
 }
 
 fn broken_pipe(e: std::io::Error) -> Error {

@@ -5,6 +5,7 @@ mod batch;
 mod check;
 pub mod demo;
 mod figures;
+mod integrate;
 pub mod json;
 mod progress;
 mod render;
@@ -63,10 +64,16 @@ pub struct PairArgs {
     /// Time step H > 0
     #[arg(long, allow_hyphen_values = true)]
     pub h: String,
+    #[arg(long, allow_hyphen_values = true, help = DEADLINE_HELP)]
+    pub deadline: Option<String>,
     /// Print one JSON object
     #[arg(long)]
     pub json: bool,
 }
+
+const DEADLINE_HELP: &str = "Time budget in seconds (> 0): past it, refused with exit 3 \
+     `not certified within the budget`. Default: 5 for retract, step, lagrangian and each \
+     pair of check; none for flow and integrate";
 
 #[derive(Subcommand, Debug)]
 pub enum Cmd {
@@ -86,6 +93,8 @@ pub enum Cmd {
         /// Taylor order (default: automatic)
         #[arg(long, allow_hyphen_values = true)]
         order: Option<String>,
+        #[arg(long, allow_hyphen_values = true, help = DEADLINE_HELP)]
+        deadline: Option<String>,
         /// Print one JSON object
         #[arg(long)]
         json: bool,
@@ -115,10 +124,13 @@ pub enum Cmd {
         /// Time step H > 0 of the candidate
         #[arg(long, allow_hyphen_values = true)]
         h: String,
-        /// File with q_0 .. q_N: JSON {"q": [[..], ..]} or [[..], ..], or CSV (columns q0..;
-        /// a header line is optional, a first column `k` is skipped)
-        #[arg(long)]
+        /// File with q_0 .. q_N: JSON {"q": [[..], ..]} (as `integrate --json` prints it) or
+        /// [[..], ..], or CSV: with a header, columns by name (the scene's coordinates or
+        /// q0.., and k, t, p0.., energy); without one, exactly the coordinates in order
+        #[arg(long, allow_hyphen_values = true)]
         trajectory: String,
+        #[arg(long, allow_hyphen_values = true, help = DEADLINE_HELP)]
+        deadline: Option<String>,
         /// Tolerance on max_k |q_k - q^e_k|_inf
         #[arg(long, allow_hyphen_values = true)]
         tol: Option<String>,
@@ -165,10 +177,55 @@ pub enum Cmd {
         /// Worker threads
         #[arg(long, allow_hyphen_values = true, default_value = "1")]
         jobs: String,
+        /// Time budget in seconds of every query without a `deadline` key (default: 5 for
+        /// retract, step and lagrangian, none for flow and integrate)
+        #[arg(long, allow_hyphen_values = true)]
+        deadline: Option<String>,
         /// Accepted for uniformity: batch output is always JSON
         #[arg(long)]
         json: bool,
     },
+}
+
+/// Run the command line on the process's arguments as OS strings: an argument that is not
+/// UTF-8 is refused with the option it belongs to (exit 2); returns the exit status.
+pub fn run_os(args: Vec<std::ffi::OsString>) -> i32 {
+    match utf8_args(args) {
+        Ok(args) => run(args),
+        Err(e) => {
+            eprintln!("error: {e}");
+            e.code()
+        }
+    }
+}
+
+/// The arguments as UTF-8, or the input error naming the first argument that is not: the
+/// option itself (`--name=value`), or the option before a value.
+pub fn utf8_args(args: Vec<std::ffi::OsString>) -> Result<Vec<String>, Error> {
+    let mut out: Vec<String> = Vec::with_capacity(args.len());
+    for (i, a) in args.into_iter().enumerate() {
+        match a.into_string() {
+            Ok(s) => out.push(s),
+            Err(bad) => {
+                let lossy = bad.to_string_lossy();
+                let what = if lossy.starts_with("--") {
+                    let name = lossy.split('=').next().unwrap_or("");
+                    format!("`{name}`")
+                } else {
+                    match out.last() {
+                        Some(prev) if i > 1 && prev.starts_with("--") && !prev.contains('=') => {
+                            format!("the value of `{prev}`")
+                        }
+                        _ => format!("argument {i}"),
+                    }
+                };
+                return Err(Error::input(format!(
+                    "{what}: not valid UTF-8 (`{lossy}`); arguments must be UTF-8 text"
+                )));
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// Run the command line; returns the exit status.
@@ -201,15 +258,26 @@ pub fn run(args: Vec<String>) -> i32 {
             params,
             json,
         }) => scenes::run(scene_file.as_deref(), &params, json).map(Some),
-        Some(Cmd::Batch { jobs, .. }) => batch::run(&jobs).map(|()| None),
+        Some(Cmd::Batch { jobs, deadline, .. }) => {
+            batch::run(&jobs, deadline.as_deref()).map(|()| None)
+        }
         Some(Cmd::Check {
             scene,
             h,
             trajectory,
+            deadline,
             tol,
             no_pairs,
             json,
-        }) => match check::run(&scene, &h, &trajectory, tol.as_deref(), no_pairs, json) {
+        }) => match check::run(
+            &scene,
+            &h,
+            &trajectory,
+            deadline.as_deref(),
+            tol.as_deref(),
+            no_pairs,
+            json,
+        ) {
             Ok((text, passed)) => {
                 println!("{text}");
                 return if passed { 0 } else { 1 };
@@ -218,7 +286,7 @@ pub fn run(args: Vec<String>) -> i32 {
         },
         Some(Cmd::Figures { out, quick, json }) => figures::run(&out, quick, json).map(Some),
         Some(Cmd::Stability { json }) => stability::run(json).map(Some),
-        Some(cmd) => execute(cmd).map(Some),
+        Some(cmd) => execute(cmd),
     };
     match result {
         Ok(Some(text)) => {
@@ -234,7 +302,7 @@ pub fn run(args: Vec<String>) -> i32 {
 }
 
 pub(crate) fn scene_spec(s: &SceneArgs) -> Result<SceneSpec, Error> {
-    let params = s
+    let params: Vec<(String, f64)> = s
         .params
         .iter()
         .map(|p| protocol::parse_param(p))
@@ -249,6 +317,13 @@ pub(crate) fn scene_spec(s: &SceneArgs) -> Result<SceneSpec, Error> {
     }
 }
 
+/// `--deadline`, read when given.
+fn seconds(d: &Option<String>) -> Result<Option<f64>, Error> {
+    d.as_deref()
+        .map(|s| protocol::parse_seconds("--deadline", s))
+        .transpose()
+}
+
 fn pair(a: &PairArgs) -> Result<Pair, Error> {
     Ok(Pair {
         scene: scene_spec(&a.scene)?,
@@ -258,15 +333,17 @@ fn pair(a: &PairArgs) -> Result<Pair, Error> {
     })
 }
 
-/// Translate flags into a query, answer it, render it.
-fn execute(cmd: Cmd) -> Result<String, Error> {
-    let (query, as_json, csv) = match cmd {
+/// Translate flags into a query, answer it, render it (`integrate` writes its own rows and
+/// returns an empty text).
+fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
+    let (query, deadline, as_json) = match cmd {
         Cmd::Flow {
             scene,
             q,
             u,
             t,
             order,
+            deadline,
             json,
         } => {
             let t = protocol::parse_num("--t", &t)?;
@@ -277,22 +354,21 @@ fn execute(cmd: Cmd) -> Result<String, Error> {
                 t,
                 order: order.map_or(Ok(0), |o| protocol::parse_order(&o))?,
             };
-            (query, json, false)
+            (query, seconds(&deadline)?, json)
         }
-        Cmd::Retract(a) => (Query::Retract(pair(&a)?), a.json, false),
-        Cmd::Step(a) => (Query::Step(pair(&a)?), a.json, false),
-        Cmd::Lagrangian(a) => (Query::Lagrangian(pair(&a)?), a.json, false),
+        Cmd::Retract(a) => (Query::Retract(pair(&a)?), seconds(&a.deadline)?, a.json),
+        Cmd::Step(a) => (Query::Step(pair(&a)?), seconds(&a.deadline)?, a.json),
+        Cmd::Lagrangian(a) => (Query::Lagrangian(pair(&a)?), seconds(&a.deadline)?, a.json),
         Cmd::Integrate {
             pair: a,
             scheme,
             steps,
         } => {
-            let query = Query::Integrate {
-                pair: pair(&a)?,
-                scheme: scheme.parse()?,
-                steps: protocol::parse_steps(&steps)?,
-            };
-            (query, a.json, true)
+            let p = pair(&a)?;
+            let scheme = scheme.parse()?;
+            let steps = protocol::parse_steps(&steps)?;
+            integrate::run(&p, scheme, steps, seconds(&a.deadline)?, a.json)?;
+            return Ok(None);
         }
         Cmd::Batch { .. }
         | Cmd::Check { .. }
@@ -312,11 +388,11 @@ fn execute(cmd: Cmd) -> Result<String, Error> {
             },
         )));
     }
-    let answer: Value = session.answer(&query)?;
+    let answer: Value = session.answer_within(&query, deadline)?;
     drop(session);
-    Ok(match (as_json, csv) {
-        (true, _) => answer.to_string(),
-        (false, true) => json::trajectory_csv(&answer),
-        (false, false) => json::human(&answer),
-    })
+    Ok(Some(if as_json {
+        answer.to_string()
+    } else {
+        json::human(&answer)
+    }))
 }

@@ -143,6 +143,10 @@ pub struct FlowOptions {
     /// Told the fraction of the time span done after each accepted step (for a progress
     /// display; it sees nothing else and cannot change the result).
     pub progress: Option<Progress>,
+    /// Refuse with [`Error::over_budget`] (exit 3) once this instant has passed: checked
+    /// before every step of the validated flow and every float flow of the retraction's
+    /// Newton guess. `None`: no time limit (the step counts still bound the work).
+    pub deadline: Option<std::time::Instant>,
 }
 
 /// A progress callback (see [`FlowOptions::progress`]).
@@ -162,6 +166,7 @@ impl Default for FlowOptions {
             max_steps: 20_000,
             step: 0.0,
             progress: None,
+            deadline: None,
         }
     }
 }
@@ -319,6 +324,7 @@ fn flow_set_general(
         if stats.steps >= opts.max_steps {
             return Err(too_many(opts.max_steps, t));
         }
+        Error::check_deadline(opts.deadline)?;
         let rem = (total - done).intersection(iv(0.0, f64::MAX));
         // (5.3) Taylor coefficients at the centre, for every try of this step.
         let centre: Vec<Interval> = set.m.iter().map(|x| point(*x)).collect();

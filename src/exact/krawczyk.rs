@@ -28,13 +28,15 @@ pub fn krawczyk(
     let n = guess.len();
     let zt: Vec<Interval> = guess.iter().map(|x| point(*x)).collect();
     let ci = linalg::imat(c);
-    // A floor of a few ulps of the solution's scale (not of the component itself: a
+    // A floor of a few ulps of what reaches each component (not of the component itself: a
     // component that is exactly 0 needs room too, since the coupling through I - C DG moves
-    // it by about eps times the other components).
-    let scale = guess.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let floor = 2.0 * f64::EPSILON * scale + 1e-300;
+    // it by about eps times the other components). Not one floor for all: with a pair far
+    // off M_h the defect s can be 1e16 while u0 is 1e5, and a floor of eps |s| on u0 made
+    // the box so wide that its flow took thousands of steps and I - C DG never contracted
+    // (a rolling disk with R = 1e-8 ran for minutes; a sleigh with m = 1e-300 for 16 s).
+    let floor = coupled_floor(guess, c);
     let mut rad: Vec<f64> = (0..n)
-        .map(|i| rad[i].abs() + 8.0 * f64::EPSILON * guess[i].abs() + floor)
+        .map(|i| rad[i].abs() + 8.0 * f64::EPSILON * guess[i].abs() + floor[i])
         .collect();
     for _ in 0..8 {
         let x: Vec<Interval> = (0..n).map(|i| zt[i] + iv(-rad[i], rad[i])).collect();
@@ -79,12 +81,31 @@ pub fn krawczyk(
         // correction C G(z~)
         for i in 0..n {
             let reach = (k[i] - zt[i]).mag();
-            rad[i] = (rad[i] * 2.0).max(reach * 2.0).max(2.0 * cg[i].mag()) + floor;
+            rad[i] = (rad[i] * 2.0).max(reach * 2.0).max(2.0 * cg[i].mag()) + floor[i];
         }
     }
     Err(Error::uncertified(
         "Krawczyk test failed: no existence and uniqueness proof (step too large, or a singular Jacobian)",
     ))
+}
+
+/// `2 eps (|C| |C^-1| |guess|)_i`: the room component i needs for the rounding of the
+/// other components carried into it by `I - C DG` (`DG ~ C^-1`), per component.
+fn coupled_floor(guess: &[f64], c: &DMatrix<f64>) -> Vec<f64> {
+    let n = guess.len();
+    let scale = guess.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let Some(j) = c.clone().try_inverse() else {
+        return vec![2.0 * f64::EPSILON * scale + 1e-300; n];
+    };
+    let jg: Vec<f64> = (0..n)
+        .map(|r| (0..n).map(|k| j[(r, k)].abs() * guess[k].abs()).sum())
+        .collect();
+    (0..n)
+        .map(|i| {
+            let f = (0..n).map(|r| c[(i, r)].abs() * jg[r]).sum::<f64>();
+            2.0 * f64::EPSILON * f.min(scale * n as f64) + 1e-300
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -126,7 +126,10 @@ pub fn retract(
     let (n, k) = (model.n, model.k);
     let m = n - k;
     let nq1 = normal_matrix(model, q1)?;
-    let (guess, jac, residual) = newton_guess(model, q0, q1, h, opts)?;
+    let guess = newton_guess(model, q0, q1, h, opts);
+    // past the deadline the Newton guess stops early: say so rather than why it stopped
+    Error::check_deadline(opts.deadline)?;
+    let (guess, jac, residual) = guess?;
     let c = jac
         .try_inverse()
         .ok_or_else(|| Error::uncertified("singular Jacobian of the shooting map"))?;
@@ -267,6 +270,7 @@ fn newton_guess(
     let budget = NEWTON_WORK * opts.max_steps;
     // Work left for one more float integration, or None when the budget is spent.
     let capped = || -> Option<FlowOptions> {
+        Error::check_deadline(opts.deadline).ok()?;
         let left = budget.checked_sub(work.get()).filter(|l| *l > 0)?;
         Some(FlowOptions {
             max_steps: left.min(opts.max_steps),

@@ -225,6 +225,17 @@ pub struct Trajectory {
     pub max_residual: f64,
 }
 
+/// One row of [`Scheme::integrate_each`].
+#[derive(Clone, Copy, Debug)]
+pub struct Row<'a> {
+    pub k: usize,
+    pub q: &'a [f64],
+    pub p: Option<&'a [f64]>,
+    pub energy: Option<f64>,
+    /// Newton iterations of the solve that gave `q` (the projection of q_1 for k = 1).
+    pub iterations: Option<usize>,
+}
+
 /// A scheme that could not go on: which step and why.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SchemeError {
@@ -375,6 +386,78 @@ impl Scheme {
     pub fn energy(&self, q: &[f64], p: &[f64]) -> f64 {
         let x: Vec<f64> = q.iter().chain(p).copied().collect();
         self.hamiltonian.eval::<f64>(&x)[0]
+    }
+
+    /// [`Scheme::integrate`] one row at a time, in memory independent of `steps`: `row` is
+    /// called for k = 0..=steps in order with q_k, p_k and H_k (no p_0, H_0 when steps = 0)
+    /// and the Newton iterations of the solve that gave q_k (k >= 1). The rows are those of
+    /// [`Scheme::integrate`]; an error of `row` stops the integration and is returned. Returns
+    /// the largest final Newton residual.
+    pub fn integrate_each<E: From<SchemeError>>(
+        &self,
+        q0: &[f64],
+        q1: &[f64],
+        h: f64,
+        steps: usize,
+        opts: &NewtonOptions,
+        mut row: impl FnMut(Row) -> Result<(), E>,
+    ) -> Result<f64, E> {
+        let n = self.n;
+        if q0.len() != n || q1.len() != n {
+            return Err(SchemeError::Input(format!("q0 and q1 need {n} components")).into());
+        }
+        if !q0.iter().chain(q1).all(|x| x.is_finite()) {
+            return Err(SchemeError::Input("non-finite number in q0 or q1".into()).into());
+        }
+        if !h.is_finite() || h <= 0.0 {
+            return Err(SchemeError::Input(format!("h must be finite and > 0 (got {h})")).into());
+        }
+        let fail = |step| move |failure| SchemeError::Newton { step, failure };
+        if steps == 0 {
+            row(Row {
+                k: 0,
+                q: q0,
+                p: None,
+                energy: None,
+                iterations: None,
+            })?;
+            return Ok(0.0);
+        }
+        let (mut cur, mut it, mut max_residual) = self.project(q0, q1, opts).map_err(fail(0))?;
+        let mut prev = q0.to_vec();
+        let checked = |k: usize, q: &[f64], p: Vec<f64>| {
+            let e = self.energy(q, &p);
+            if e.is_finite() && p.iter().all(|x| x.is_finite()) {
+                Ok((p, e))
+            } else {
+                Err(SchemeError::NonFinite { step: k })
+            }
+        };
+        let (p0, e0) = checked(0, q0, self.legendre(q0, &cur, h).0)?;
+        row(Row {
+            k: 0,
+            q: q0,
+            p: Some(&p0),
+            energy: Some(e0),
+            iterations: None,
+        })?;
+        for k in 1..=steps {
+            let (pk, ek) = checked(k, &cur, self.legendre(&prev, &cur, h).1)?;
+            row(Row {
+                k,
+                q: &cur,
+                p: Some(&pk),
+                energy: Some(ek),
+                iterations: Some(it),
+            })?;
+            if k < steps {
+                let (next, i, res) = self.step(&prev, &cur, h, opts).map_err(fail(k))?;
+                max_residual = max_residual.max(res);
+                it = i;
+                prev = std::mem::replace(&mut cur, next);
+            }
+        }
+        Ok(max_residual)
     }
 
     /// The sequence `q_0 .. q_N` (contract command 4).
