@@ -207,3 +207,39 @@ impl Stepper for BadStart<'_> {
             .collect()))
     }
 }
+
+/// `dalembert order` prints the same ladders as the library, as JSON with --json.
+#[test]
+fn the_order_command_prints_certified_ladders() {
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_dalembert"))
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let o = run(&[
+        "order", "--scene", "particle", "--scheme", "dla", "--q", "0,0.5,0", "--u", "0.8,0.8",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let local = v["local"]["order"].as_array().unwrap();
+    assert_eq!(local.len(), 4);
+    let last = local[3].as_array().unwrap();
+    assert!(
+        last[0].as_f64().unwrap() > 2.8 && last[1].as_f64().unwrap() < 3.2,
+        "{v}"
+    );
+    let global = v["global"]["ladder"]["order"].as_array().unwrap();
+    let last = global[global.len() - 1].as_array().unwrap();
+    assert!(
+        last[0].as_f64().unwrap() > 1.85 && last[1].as_f64().unwrap() < 2.15,
+        "{v}"
+    );
+    let o = run(&[
+        "order", "--scene", "particle", "--scheme", "dla", "--q", "0,0.5,0", "--u", "0.8,0.8",
+        "--rungs", "40",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(String::from_utf8_lossy(&o.stderr).lines().count(), 1);
+}

@@ -7,6 +7,7 @@ pub mod demo;
 mod figures;
 mod integrate;
 pub mod json;
+mod order;
 mod progress;
 mod render;
 mod scenes;
@@ -172,6 +173,30 @@ pub enum Cmd {
         #[arg(long)]
         json: bool,
     },
+    /// Certified local and global order of DLA or MLA on a scene: errors against the exact
+    /// discrete flow on a ladder of step sizes, the observed orders as intervals
+    Order {
+        #[command(flatten)]
+        scene: SceneArgs,
+        /// mla or dla
+        #[arg(long, allow_hyphen_values = true)]
+        scheme: String,
+        /// Initial configuration, comma-separated
+        #[arg(long, allow_hyphen_values = true)]
+        q: String,
+        /// Initial quasi-velocities
+        #[arg(long, allow_hyphen_values = true)]
+        u: String,
+        /// Largest step of the local ladder (default 0.125); the global ladder starts at h/2
+        #[arg(long, allow_hyphen_values = true)]
+        h: Option<String>,
+        /// Rungs of the local ladder, each half the last (default 5, at most 12)
+        #[arg(long, allow_hyphen_values = true)]
+        rungs: Option<String>,
+        /// Print one JSON object
+        #[arg(long)]
+        json: bool,
+    },
     /// JSON lines in, JSON lines out (one answer per query, in order)
     Batch {
         /// Worker threads
@@ -286,6 +311,24 @@ pub fn run(args: Vec<String>) -> i32 {
         },
         Some(Cmd::Figures { out, quick, json }) => figures::run(&out, quick, json).map(Some),
         Some(Cmd::Stability { json }) => stability::run(json).map(Some),
+        Some(Cmd::Order {
+            scene,
+            scheme,
+            q,
+            u,
+            h,
+            rungs,
+            json,
+        }) => order::run(
+            &scene,
+            &scheme,
+            &q,
+            &u,
+            h.as_deref(),
+            rungs.as_deref(),
+            json,
+        )
+        .map(Some),
         Some(cmd) => execute(cmd),
     };
     match result {
@@ -374,7 +417,8 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
         | Cmd::Check { .. }
         | Cmd::Scenes { .. }
         | Cmd::Figures { .. }
-        | Cmd::Stability { .. } => return Err(Error::input("not a single query")),
+        | Cmd::Stability { .. }
+        | Cmd::Order { .. } => return Err(Error::input("not a single query")),
     };
     let mut session = Session::default();
     if matches!(query, Query::Flow { .. }) {
