@@ -12,10 +12,12 @@
 pub mod dynamics;
 pub mod enclosure;
 pub mod exact;
+#[cfg(feature = "fuzzing")]
 pub mod fuzzing;
 pub mod integrator;
 pub mod model;
 pub mod oracle;
+#[cfg(feature = "cli")]
 pub mod protocol;
 pub mod report;
 pub mod scalar;

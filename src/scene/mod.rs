@@ -13,7 +13,9 @@
 //! [`with_scene!`] arms and the list [`SCENES`].
 
 mod contact_oscillator;
+#[cfg(feature = "scene-files")]
 mod expr;
+#[cfg(feature = "scene-files")]
 mod file;
 mod knife;
 mod particle;
@@ -21,6 +23,7 @@ mod rolling_disk;
 mod sleigh;
 
 pub use contact_oscillator::ContactOscillator;
+#[cfg(feature = "scene-files")]
 pub use file::SceneFile;
 pub use knife::{Knife, KnifeEps};
 pub use particle::Particle;
