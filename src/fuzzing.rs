@@ -384,6 +384,31 @@ fn used_exactly(given: &Value, q: &Query) {
             assert_eq!(named, *scheme);
             ("integrate", ["q0", "q1", "h", "scheme", "steps"].as_slice())
         }
+        Query::Check {
+            scene,
+            h,
+            q,
+            tol,
+            pairs,
+        } => {
+            scene_of(scene);
+            assert_eq!(bits("h"), h.to_bits());
+            let rows = o["q"].as_array().expect("rows");
+            assert_eq!(rows.len(), q.len(), "rows dropped or added");
+            for (row, given) in q.iter().zip(rows) {
+                let given: Vec<u64> = given
+                    .as_array()
+                    .expect("a row")
+                    .iter()
+                    .map(|x| x.as_f64().expect("a number").to_bits())
+                    .collect();
+                let used: Vec<u64> = row.iter().map(|x| x.to_bits()).collect();
+                assert_eq!(given, used, "a row of `q` was not used as given");
+            }
+            assert_eq!(o.get("tol").map(|_| bits("tol")), tol.map(f64::to_bits));
+            assert_eq!(o.get("pairs").and_then(Value::as_bool).unwrap_or(true), *pairs);
+            ("check", ["h", "q", "tol", "pairs"].as_slice())
+        }
     };
     assert_eq!(o["cmd"].as_str(), Some(cmd));
     for k in o.keys() {

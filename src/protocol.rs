@@ -60,6 +60,18 @@ pub enum Query {
         scheme: SchemeKind,
         steps: usize,
     },
+    /// A certified verdict on a whole trajectory `q_0 .. q_N` of step `h` (the `check`
+    /// command's, as a batch query).
+    Check {
+        scene: SceneSpec,
+        h: f64,
+        q: Vec<Vec<f64>>,
+        /// Tolerance on `max_k |q_k - q^e_k|_inf`: the answer says `passed` (proved within),
+        /// or fails (proved beyond) or is refused as undecided.
+        tol: Option<f64>,
+        /// Also the per-pair defects and energies (default true).
+        pairs: bool,
+    },
 }
 
 /// The arguments shared by the commands on a pair of configurations.
@@ -100,6 +112,7 @@ pub const STEP_DEADLINE: f64 = 5.0;
 pub fn default_deadline(q: &Query) -> Option<f64> {
     match q {
         Query::Retract(_) | Query::Step(_) | Query::Lagrangian(_) => Some(STEP_DEADLINE),
+        Query::Check { q, .. } => Some(STEP_DEADLINE * q.len().max(1) as f64),
         Query::Flow { .. } | Query::Integrate { .. } => None,
     }
 }
@@ -221,6 +234,22 @@ impl Session {
                 let (r, l) =
                     exact::discrete_lagrangian(&model, &points(&p.q0), &points(&p.q1), p.h, &opts)?;
                 Ok(json!({"l": interval(l), "defect": intervals(&r.s)}))
+            }
+            Query::Check {
+                scene,
+                h,
+                q,
+                tol,
+                pairs,
+            } => {
+                let model = self.model(scene)?;
+                let o = crate::oracle::CheckOptions {
+                    pairs: *pairs,
+                    flow: opts,
+                };
+                let v = crate::oracle::check_trajectory(&model, *h, q, &o)?;
+                let passed = tolerance_verdict(&v, *tol)?;
+                Ok(verdict(&v, passed))
             }
             Query::Integrate {
                 pair,
@@ -493,6 +522,33 @@ pub fn intervals(x: &[Interval]) -> Value {
 
 pub fn stats(s: &FlowStats) -> Value {
     json!({"order": s.order, "steps": s.steps, "rejected": s.rejected, "h_min": s.h_min, "h_max": s.h_max})
+}
+
+/// Whether a verdict passes the tolerance (spec (8.3)): `true` when `max_distance <= tol`
+/// is proved (or no tolerance is given), `false` when `max_distance > tol` is proved; a
+/// distance enclosure straddling `tol` decides nothing and is refused (exit 3).
+pub fn tolerance_verdict(v: &crate::oracle::Verdict, tol: Option<f64>) -> Result<bool, Error> {
+    match tol {
+        None => Ok(true),
+        Some(t) if v.max_distance.sup() <= t => Ok(true),
+        Some(t) if v.max_distance.inf() > t => Ok(false),
+        Some(t) => Err(Error::uncertified(format!(
+            "undecided: the certified distance [{:e}, {:e}] straddles the tolerance {t:e}",
+            v.max_distance.inf(),
+            v.max_distance.sup()
+        ))),
+    }
+}
+
+/// The `check` answer: `{"distance", "max_distance", "defect", "energy_error", "passed"}`.
+pub fn verdict(v: &crate::oracle::Verdict, passed: bool) -> Value {
+    json!({
+        "distance": intervals(&v.distance),
+        "max_distance": interval(v.max_distance),
+        "defect": v.defect.iter().map(|d| intervals(d)).collect::<Vec<_>>(),
+        "energy_error": intervals(&v.energy_error),
+        "passed": passed,
+    })
 }
 
 /// The `integrate` answer, with the Legendre transforms, energy and Newton figures.
@@ -793,6 +849,7 @@ pub fn query_keys(cmd: &str) -> Option<Vec<&'static str>> {
         "flow" => &["q", "u", "t", "order"],
         "retract" | "step" | "lagrangian" => &["q0", "q1", "h"],
         "integrate" => &["q0", "q1", "h", "scheme", "steps"],
+        "check" => &["h", "q", "tol", "pairs"],
         _ => return None,
     };
     Some(COMMON_KEYS.iter().chain(own).copied().collect())
@@ -825,7 +882,7 @@ impl Query {
         };
         let keys = query_keys(cmd).ok_or_else(|| {
             Error::input(format!(
-                "unknown cmd `{cmd}` (known: flow, retract, step, integrate, lagrangian)"
+                "unknown cmd `{cmd}` (known: flow, retract, step, integrate, lagrangian, check)"
             ))
         })?;
         check_keys(o, &keys, &format!("a `{cmd}` query"))?;
@@ -853,6 +910,39 @@ impl Query {
             "retract" => Ok(Query::Retract(pair(scene)?)),
             "step" => Ok(Query::Step(pair(scene)?)),
             "lagrangian" => Ok(Query::Lagrangian(pair(scene)?)),
+            "check" => {
+                let rows = match field(o, "q")? {
+                    Value::Array(rows) => rows,
+                    other => {
+                        return Err(Error::input(format!(
+                            "`q` must be an array of rows (arrays of numbers), got {}",
+                            kind(other)
+                        )))
+                    }
+                };
+                let q = rows
+                    .iter()
+                    .enumerate()
+                    .map(|(k, r)| json_numbers(&format!("`q`[{k}]"), r))
+                    .collect::<Result<Vec<_>, _>>()?;
+                let pairs = match o.get("pairs") {
+                    None => true,
+                    Some(Value::Bool(b)) => *b,
+                    Some(other) => {
+                        return Err(Error::input(format!(
+                            "`pairs` must be true or false, got {}",
+                            kind(other)
+                        )))
+                    }
+                };
+                Ok(Query::Check {
+                    scene,
+                    h: json_num(o, "h")?,
+                    q,
+                    tol: o.get("tol").map(|_| json_num(o, "tol")).transpose()?,
+                    pairs,
+                })
+            }
             _ => {
                 let scheme = match field(o, "scheme")? {
                     Value::String(s) => s.parse()?,

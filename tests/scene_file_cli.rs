@@ -362,3 +362,67 @@ fn the_readme_unicycle_answers_and_refuses_where_its_basis_is_singular() {
     ]);
     refused(&o, 3, "");
 }
+
+/// `check` as a batch query (a whole trajectory in one line) answers what `check --json`
+/// prints, for a built-in and for an inline scene.
+#[test]
+fn batch_check_answers_what_the_check_command_prints() {
+    let p = file("particle_check.toml", PARTICLE);
+    let traj = ok_stdout(&run(&[
+        "integrate",
+        "--scene",
+        "particle",
+        "--scheme",
+        "dla",
+        "--q0",
+        "0,0,0",
+        "--q1",
+        "0.4,0.4,0.08",
+        "--h",
+        "0.5",
+        "--steps",
+        "8",
+        "--json",
+    ]));
+    let t: serde_json::Value = serde_json::from_str(&traj).unwrap();
+    let q = t["q"].to_string();
+    let tf = file("traj_check.json", &format!("{{\"q\": {q}}}"));
+    let cli: serde_json::Value = serde_json::from_str(&ok_stdout(&run(&[
+        "check",
+        "--scene-file",
+        p.to_str().unwrap(),
+        "--h",
+        "0.5",
+        "--trajectory",
+        tf.to_str().unwrap(),
+        "--tol",
+        "0.1",
+        "--json",
+    ])))
+    .unwrap();
+    let inline =
+        r#"{"coordinates":["x","y","z"],"constraints":[["-y",0,1]],"basis":[[1,0,"y"],[0,1,0]]}"#;
+    let input = format!(
+        "{{\"id\":1,\"cmd\":\"check\",\"scene\":\"particle\",\"h\":0.5,\"q\":{q},\"tol\":0.1}}\n\
+         {{\"id\":2,\"cmd\":\"check\",\"scene\":{inline},\"h\":0.5,\"q\":{q},\"tol\":0.1}}\n\
+         {{\"id\":3,\"cmd\":\"check\",\"scene\":\"particle\",\"h\":0.5,\"q\":{q},\"pairs\":false}}\n\
+         {{\"id\":4,\"cmd\":\"check\",\"scene\":\"particle\",\"h\":0.5,\"q\":[[0,0,0],[0.1,0.1]]}}\n\
+         {{\"id\":5,\"cmd\":\"check\",\"scene\":\"particle\",\"h\":0.5,\"q\":{q},\"tolerance\":1}}\n\
+         {{\"id\":6,\"cmd\":\"check\",\"scene\":\"particle\",\"h\":0.5,\"q\":{q},\"tol\":1e-12}}\n"
+    );
+    let a = batch(&input);
+    assert_eq!(a.len(), 6);
+    assert_eq!(a[0]["ok"], cli);
+    assert_eq!(a[1]["ok"], cli);
+    assert_eq!(a[0]["ok"]["passed"], true);
+    assert_eq!(a[2]["ok"]["defect"], serde_json::json!([]));
+    assert_eq!(a[2]["ok"]["distance"], cli["distance"]);
+    assert_eq!(a[3]["error"]["code"], 2, "{}", a[3]);
+    assert_eq!(a[4]["error"]["code"], 2, "{}", a[4]);
+    assert!(a[4]["error"]["message"]
+        .as_str()
+        .unwrap()
+        .contains("unknown key `tolerance`"));
+    // DLA is not within 1e-12 of the exact discrete flow: proved beyond the tolerance
+    assert_eq!(a[5]["ok"]["passed"], false, "{}", a[5]);
+}

@@ -2,11 +2,11 @@
 
 use super::SceneArgs;
 use dalembert::oracle::{check_trajectory, CheckOptions};
-use dalembert::protocol::{self, intervals, Session, STEP_DEADLINE};
+use dalembert::protocol::{self, Session, STEP_DEADLINE};
 use dalembert::scene::Scene;
 use dalembert::Error;
 use inari::Interval;
-use serde_json::{json, Value};
+use serde_json::Value;
 use std::io::BufRead;
 
 /// Returns the text to print and whether the check passed (exit 0) or proved the tolerance
@@ -38,27 +38,9 @@ pub fn run(
     };
     opts.flow.deadline = protocol::deadline_in(budget);
     let v = check_trajectory(&model, h, &q, &opts)?;
-    let passed = match tol {
-        None => true,
-        Some(t) if v.max_distance.sup() <= t => true,
-        Some(t) if v.max_distance.inf() > t => false,
-        Some(t) => {
-            return Err(Error::uncertified(format!(
-                "undecided: the certified distance [{:e}, {:e}] straddles --tol {t:e}",
-                v.max_distance.inf(),
-                v.max_distance.sup()
-            )))
-        }
-    };
+    let passed = protocol::tolerance_verdict(&v, tol)?;
     let out = if as_json {
-        json!({
-            "distance": intervals(&v.distance),
-            "max_distance": intervals(&[v.max_distance])[0],
-            "defect": v.defect.iter().map(|d| intervals(d)).collect::<Vec<_>>(),
-            "energy_error": intervals(&v.energy_error),
-            "passed": passed,
-        })
-        .to_string()
+        protocol::verdict(&v, passed).to_string()
     } else {
         table(
             &v.distance,
