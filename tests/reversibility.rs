@@ -126,9 +126,9 @@ fn knife_jacobian_contains_its_closed_form() {
                 r.sup()
             );
         }
-        for i in 2..5 {
-            for k in 0..2 {
-                assert!(meets(j[i][k], zero), "J[{i}][{k}] excludes 0");
+        for (i, row) in j.iter().enumerate().skip(2) {
+            for (k, x) in row.iter().enumerate().take(2) {
+                assert!(meets(*x, zero), "J[{i}][{k}] excludes 0");
             }
         }
         let widest = j.iter().flatten().map(|x| x.wid()).fold(0.0, f64::max);

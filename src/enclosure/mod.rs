@@ -951,7 +951,10 @@ fn remainder(
             }
         })
     };
-    let too_wide = |t: &[Interval]| !(ratio_of(t) <= 1.0);
+    let too_wide = |t: &[Interval]| {
+        let r = ratio_of(t);
+        r.is_nan() || r > 1.0
+    };
     let wide = too_wide(&ty[p + 1]);
     let mut t_rem = ty[p + 1].clone();
     if wide {
