@@ -1003,7 +1003,7 @@ fn remainder(
 /// `*order` (an index, updated for the next step) on until the remainder's share of the new
 /// set's width (`wid(remainder) |x0 - m| d`) is below the rounding level of the state and,
 /// if `precise`, the remainder itself below 16 ulps of the Jacobian's size (the C^1 output
-/// of [`flow_jacobian_set`]). `None` when no order does: the step is then taken over the
+/// of [`flow_set_jacobian`]). `None` when no order does: the step is then taken over the
 /// whole set (`box_enclosure`).
 #[allow(clippy::too_many_arguments)]
 fn step_jacobian(
