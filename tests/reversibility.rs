@@ -164,3 +164,30 @@ fn particle_jacobian_contains_its_closed_form() {
     let widest = j.iter().flatten().map(|x| x.wid()).fold(0.0, f64::max);
     assert!(widest < 1e-6, "Jacobian width {widest}");
 }
+
+/// Both bases of (5.10), the parallelepiped (default) and the orthogonal one, enclose the
+/// knife's closed form `phi = phi0 + w T`, `s = s0 + (sin phi - sin phi0) / (2 w)`, and the
+/// parallelepiped is the narrower on this shear flow.
+#[test]
+fn both_bases_contain_the_knife_closed_form() {
+    use dalembert::enclosure::{flow, Basis};
+    let m = model("knife");
+    let (q, u, t) = ([0.5, -1.0, 0.25], [0.8, 0.8], 60.0);
+    let (phi0, w, tt) = (point(q[2]), point(u[1]), point(t));
+    let phi = phi0 + w * tt;
+    let s = point(u[0]) + (phi.sin() - phi0.sin()) / (point(2.0) * w);
+    let mut widths = vec![];
+    for basis in [Basis::Parallelepiped, Basis::Orthogonal] {
+        let opts = FlowOptions {
+            basis,
+            ..FlowOptions::default()
+        };
+        let e = flow(&m, &q, &u, t, &opts).unwrap();
+        assert!(meets(e.q[2], phi), "{basis:?}: phi");
+        assert!(meets(e.u[0], s), "{basis:?}: s");
+        assert!(meets(e.u[1], w), "{basis:?}: w");
+        widths.push(e.q.iter().chain(&e.u).map(|x| x.wid()).fold(0.0, f64::max));
+    }
+    assert!(widths[0] < 1e-9 && widths[1] < 1e-7, "{widths:?}");
+    assert!(widths[0] <= widths[1], "{widths:?}");
+}
