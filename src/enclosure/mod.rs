@@ -838,6 +838,10 @@ fn choose_basis(am: DMatrix<f64>, basis: Basis) -> (DMatrix<f64>, IMat) {
 /// lowest first.
 const JAC_ORDERS: [usize; 6] = [3, 5, 8, 12, 16, 20];
 
+/// Steps taken over the whole set (5.6'') without trying (5.6a) after no order of
+/// JAC_ORDERS gave the precise derivative (then the highest order is tried again).
+const SKIP: usize = 16;
+
 /// The image of a point set (r = 0): the box z, recentred.
 fn point_image(set: &LohnerSet, z: Vec<Interval>) -> LohnerSet {
     let image = LohnerSet::from_box(&z);
@@ -1017,6 +1021,14 @@ fn step_jacobian(
     order: &mut usize,
 ) -> Option<IMat> {
     let d = xbox.len();
+    // After no order qualified for the precise derivative, the next SKIP steps go straight
+    // to the step over the whole set (the order index counts them down above the ladder).
+    if *order >= JAC_ORDERS.len() {
+        *order -= 1;
+        if *order >= JAC_ORDERS.len() {
+            return None;
+        }
+    }
     let seed = with_identity(xbox);
     // The a priori box of the extended system, found at the lowest order (where the Picard
     // test over boxes suffers least from the dependency in the coefficients); it holds
@@ -1030,6 +1042,9 @@ fn step_jacobian(
     loop {
         let q = JAC_ORDERS[k];
         if q > p.max(q0) {
+            if precise {
+                *order = JAC_ORDERS.len() + SKIP;
+            }
             return None;
         }
         let (w, tw) = if q == q0 {
@@ -1067,6 +1082,9 @@ fn step_jacobian(
         }
         k += 1;
         if k == JAC_ORDERS.len() {
+            if precise {
+                *order = JAC_ORDERS.len() + SKIP;
+            }
             return None;
         }
     }
