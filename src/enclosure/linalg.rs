@@ -43,6 +43,14 @@ pub fn mul(a: &IMat, b: &IMat) -> IMat {
         .collect()
 }
 
+/// `a + b`, entrywise.
+pub fn add(a: &IMat, b: &IMat) -> IMat {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| x.iter().zip(y).map(|(u, v)| *u + *v).collect())
+        .collect()
+}
+
 pub fn mul_vec(a: &IMat, x: &[Interval]) -> Vec<Interval> {
     a.iter()
         .map(|r| {
