@@ -346,7 +346,12 @@ fn used_exactly(given: &Value, q: &Query) {
             u,
             t,
             order,
+            jacobian,
         } => {
+            assert_eq!(
+                o.get("jacobian").and_then(Value::as_bool).unwrap_or(false),
+                *jacobian
+            );
             scene_of(scene);
             vec_bits("q", q);
             vec_bits("u", u);
@@ -355,7 +360,7 @@ fn used_exactly(given: &Value, q: &Query) {
                 o.get("order").and_then(Value::as_u64).unwrap_or(0),
                 *order as u64
             );
-            ("flow", ["q", "u", "t", "order"].as_slice())
+            ("flow", ["q", "u", "t", "order", "jacobian"].as_slice())
         }
         Query::Retract(p) => {
             pair(p);
@@ -406,7 +411,10 @@ fn used_exactly(given: &Value, q: &Query) {
                 assert_eq!(given, used, "a row of `q` was not used as given");
             }
             assert_eq!(o.get("tol").map(|_| bits("tol")), tol.map(f64::to_bits));
-            assert_eq!(o.get("pairs").and_then(Value::as_bool).unwrap_or(true), *pairs);
+            assert_eq!(
+                o.get("pairs").and_then(Value::as_bool).unwrap_or(true),
+                *pairs
+            );
             ("check", ["h", "q", "tol", "pairs"].as_slice())
         }
     };

@@ -51,6 +51,8 @@ pub enum Query {
         u: Vec<f64>,
         t: f64,
         order: usize,
+        /// Also the derivative D(q, u)(t) / D(q, u)(0) (`flow --jacobian`).
+        jacobian: bool,
     },
     Retract(Pair),
     Step(Pair),
@@ -193,19 +195,29 @@ impl Session {
                 u,
                 t,
                 order,
+                jacobian,
             } => {
                 let model = self.model(scene)?;
                 let o = FlowOptions {
                     order: *order,
                     ..opts
                 };
-                let e = crate::flow(&model, q, u, *t, &o)?;
-                Ok(json!({
+                let (e, jac) = if *jacobian {
+                    let (e, j) = crate::enclosure::flow_c1(&model, q, u, *t, &o)?;
+                    (e, Some(j))
+                } else {
+                    (crate::flow(&model, q, u, *t, &o)?, None)
+                };
+                let mut a = json!({
                     "q": intervals(&e.q),
                     "v": intervals(&e.v),
                     "u": intervals(&e.u),
                     "stats": stats(&e.stats),
-                }))
+                });
+                if let Some(j) = jac {
+                    a["jacobian"] = Value::Array(j.iter().map(|row| intervals(row)).collect());
+                }
+                Ok(a)
             }
             Query::Retract(p) => {
                 let model = self.model(&p.scene)?;
@@ -846,7 +858,7 @@ const COMMON_KEYS: [&str; 5] = ["id", "cmd", "scene", "params", "deadline"];
 /// The keys of a query of command `cmd` (`None` for an unknown command).
 pub fn query_keys(cmd: &str) -> Option<Vec<&'static str>> {
     let own: &[&str] = match cmd {
-        "flow" => &["q", "u", "t", "order"],
+        "flow" => &["q", "u", "t", "order", "jacobian"],
         "retract" | "step" | "lagrangian" => &["q0", "q1", "h"],
         "integrate" => &["q0", "q1", "h", "scheme", "steps"],
         "check" => &["h", "q", "tol", "pairs"],
@@ -905,6 +917,16 @@ impl Query {
                 order: match o.get("order") {
                     None => 0,
                     Some(_) => json_uint(o, "order", 2, 60)? as usize,
+                },
+                jacobian: match o.get("jacobian") {
+                    None => false,
+                    Some(Value::Bool(b)) => *b,
+                    Some(other) => {
+                        return Err(Error::input(format!(
+                            "`jacobian` must be true or false, got {}",
+                            kind(other)
+                        )))
+                    }
                 },
             }),
             "retract" => Ok(Query::Retract(pair(scene)?)),

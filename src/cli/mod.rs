@@ -94,6 +94,9 @@ pub enum Cmd {
         /// Taylor order (default: automatic)
         #[arg(long, allow_hyphen_values = true)]
         order: Option<String>,
+        /// Also enclose the derivative D(q, u)(T) / D(q, u)(0) (JSON key `jacobian`)
+        #[arg(long)]
+        jacobian: bool,
         #[arg(long, allow_hyphen_values = true, help = DEADLINE_HELP)]
         deadline: Option<String>,
         /// Print one JSON object
@@ -386,6 +389,7 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
             u,
             t,
             order,
+            jacobian,
             deadline,
             json,
         } => {
@@ -396,6 +400,7 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
                 u: protocol::parse_vec("--u", &u)?,
                 t,
                 order: order.map_or(Ok(0), |o| protocol::parse_order(&o))?,
+                jacobian,
             };
             (query, seconds(&deadline)?, json)
         }

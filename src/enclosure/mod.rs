@@ -341,6 +341,11 @@ pub fn flow_c1(
     opts: &FlowOptions,
 ) -> Result<(FlowEnclosure, IMat), Error> {
     check_state(model, q, u)?;
+    model.check_at(
+        &q.iter()
+            .map(|x| crate::scalar::point(*x))
+            .collect::<Vec<_>>(),
+    )?;
     if !t.is_finite() || t < 0.0 {
         return Err(Error::input(format!(
             "time must be finite and >= 0 (got {t})"

@@ -1,0 +1,82 @@
+//! `flow --jacobian` (and the batch key `jacobian`): the derivative of the flow,
+//! D(q, u)(T) / D(q, u)(0), as (n+m) x (n+m) intervals. Reference: the particle's y and yd
+//! (y = y0 + u2 t, yd = u2, paper Example 2.1) give exact rows of the derivative.
+
+use std::process::Command;
+
+fn flow_jacobian(args: &[&str]) -> serde_json::Value {
+    let o = Command::new(env!("CARGO_BIN_EXE_dalembert"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+fn contains(iv: &serde_json::Value, x: f64) -> bool {
+    iv[0].as_f64().unwrap() <= x && x <= iv[1].as_f64().unwrap()
+}
+
+#[test]
+fn the_particle_jacobian_has_its_exact_rows() {
+    let t = 7.0;
+    let v = flow_jacobian(&[
+        "flow",
+        "--scene",
+        "particle",
+        "--q",
+        "0.1,0.2,0.3",
+        "--u",
+        "0.8,-0.4",
+        "--t",
+        "7",
+        "--jacobian",
+        "--json",
+    ]);
+    let j = v["jacobian"].as_array().unwrap();
+    assert_eq!(j.len(), 5);
+    assert!(j.iter().all(|r| r.as_array().unwrap().len() == 5));
+    // row of y = y0 + u2 t: d/d(x, y, z, u1, u2) = (0, 1, 0, 0, t)
+    let want_y = [0.0, 1.0, 0.0, 0.0, t];
+    // row of u2 (constant): (0, 0, 0, 0, 1)
+    let want_u2 = [0.0, 0.0, 0.0, 0.0, 1.0];
+    for c in 0..5 {
+        assert!(
+            contains(&j[1][c], want_y[c]),
+            "y row, column {c}: {}",
+            j[1][c]
+        );
+        assert!(
+            contains(&j[4][c], want_u2[c]),
+            "u2 row, column {c}: {}",
+            j[4][c]
+        );
+    }
+    // and it is tight enough to serve a Newton solve
+    for row in j {
+        for e in row.as_array().unwrap() {
+            assert!(
+                e[1].as_f64().unwrap() - e[0].as_f64().unwrap() < 1e-9,
+                "{e}"
+            );
+        }
+    }
+    // without the flag, no jacobian key; the state is the same
+    let w = flow_jacobian(&[
+        "flow",
+        "--scene",
+        "particle",
+        "--q",
+        "0.1,0.2,0.3",
+        "--u",
+        "0.8,-0.4",
+        "--t",
+        "7",
+        "--json",
+    ]);
+    assert!(w.get("jacobian").is_none());
+    for i in 0..3 {
+        let (a, b) = (&v["q"][i], &w["q"][i]);
+        assert!(a[0].as_f64() <= b[1].as_f64() && b[0].as_f64() <= a[1].as_f64());
+    }
+}
