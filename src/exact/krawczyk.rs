@@ -13,6 +13,8 @@ use nalgebra::DMatrix;
 /// `gd(X)` must return an enclosure of `G(guess)` (for every parameter value) and one of
 /// `DG` over the box `X` (one call: a flow of the box `X` gives both, spec eq. (6.3)).
 /// `rad` is the first radius tried: about twice the expected Newton correction.
+/// `scale` is the magnitude the solution's rounding is measured against (the retraction
+/// passes `max |u0|`): every component gets at least a few ulps of it.
 ///
 /// # Containment
 /// If `K(X) = z~ - C G(z~) + (I - C DG(X)) (X - z~)` lies in the interior of `X` (checked
@@ -23,18 +25,43 @@ pub fn krawczyk(
     guess: &[f64],
     c: &DMatrix<f64>,
     rad: &[f64],
+    scale: f64,
     gd: impl Fn(&[Interval]) -> Result<(Vec<Interval>, IMat), Error>,
+) -> Result<Vec<Interval>, Error> {
+    // A floor of a few ulps of what reaches each component (not of the component itself: a
+    // component that is exactly 0 needs room too, since the coupling through I - C DG moves
+    // it by about eps times the other components). First the floor of what couples into
+    // each component through the float C: with a pair far off M_h the defect s can be 1e16
+    // while u0 is 1e5, and a floor of eps |s| on u0 made the box so wide that its flow took
+    // thousands of steps and I - C DG never contracted (a rolling disk with R = 1e-8 ran for
+    // minutes; a sleigh with m = 1e-300 for 16 s). Then, if that fails, also a few ulps of
+    // `scale`: a component that nothing couples into in the float C still moves by the
+    // width of the enclosure of DG (a particle pair with y1 = y0, u2 = s = 0, is certified
+    // only so). Each try is a Krawczyk test on its own: which boxes are tried changes no
+    // answer's soundness.
+    let coupled = coupled_floor(guess, c);
+    let scaled: Vec<f64> = coupled
+        .iter()
+        .map(|f| f.max(2.0 * f64::EPSILON * scale.abs()))
+        .collect();
+    let first = inflate(guess, c, rad, &coupled, &gd);
+    if first.is_ok() || scaled == coupled {
+        return first;
+    }
+    inflate(guess, c, rad, &scaled, &gd)
+}
+
+/// Epsilon-inflation from the radii `rad` with the floor `floor`: at most 8 boxes.
+fn inflate(
+    guess: &[f64],
+    c: &DMatrix<f64>,
+    rad: &[f64],
+    floor: &[f64],
+    gd: &impl Fn(&[Interval]) -> Result<(Vec<Interval>, IMat), Error>,
 ) -> Result<Vec<Interval>, Error> {
     let n = guess.len();
     let zt: Vec<Interval> = guess.iter().map(|x| point(*x)).collect();
     let ci = linalg::imat(c);
-    // A floor of a few ulps of what reaches each component (not of the component itself: a
-    // component that is exactly 0 needs room too, since the coupling through I - C DG moves
-    // it by about eps times the other components). Not one floor for all: with a pair far
-    // off M_h the defect s can be 1e16 while u0 is 1e5, and a floor of eps |s| on u0 made
-    // the box so wide that its flow took thousands of steps and I - C DG never contracted
-    // (a rolling disk with R = 1e-8 ran for minutes; a sleigh with m = 1e-300 for 16 s).
-    let floor = coupled_floor(guess, c);
     let mut rad: Vec<f64> = (0..n)
         .map(|i| rad[i].abs() + 8.0 * f64::EPSILON * guess[i].abs() + floor[i])
         .collect();
@@ -61,19 +88,6 @@ pub fn krawczyk(
         let dx: Vec<Interval> = (0..n).map(|i| x[i] - zt[i]).collect();
         let lin = linalg::mul_vec(&i_minus_cd, &dx);
         let k: Vec<Interval> = (0..n).map(|i| zt[i] - cg[i] + lin[i]).collect();
-        if std::env::var("DBGK").is_ok() {
-            eprintln!(
-                "rad {:?}\n gz {:?}\n cg {:?}\n icd {:?}\n k {:?}",
-                rad,
-                gz.iter().map(|x| x.wid()).collect::<Vec<_>>(),
-                cg.iter().map(|x| x.wid()).collect::<Vec<_>>(),
-                i_minus_cd
-                    .iter()
-                    .map(|r| r.iter().map(|x| x.mag()).fold(0.0f64, f64::max))
-                    .collect::<Vec<_>>(),
-                k.iter().map(|x| x.wid()).collect::<Vec<_>>()
-            );
-        }
         if k.iter().zip(&x).all(|(a, b)| finite(*a) && a.interior(*b)) {
             return Ok(k);
         }
@@ -118,7 +132,14 @@ mod tests {
         let r2 = point(std::f64::consts::SQRT_2);
         let gd = |z: &[Interval]| Ok((vec![r2 * r2 - point(2.0)], vec![vec![point(2.0) * z[0]]]));
         let c = DMatrix::from_element(1, 1, 1.0 / (2.0 * std::f64::consts::SQRT_2));
-        let r = krawczyk(&[std::f64::consts::SQRT_2], &c, &[0.0], gd).unwrap();
+        let r = krawczyk(
+            &[std::f64::consts::SQRT_2],
+            &c,
+            &[0.0],
+            std::f64::consts::SQRT_2,
+            gd,
+        )
+        .unwrap();
         assert!(r[0].contains(std::f64::consts::SQRT_2));
         assert!(r[0].wid() < 1e-15);
         assert!(r[0].interior(iv(1.0, 2.0)));
@@ -130,6 +151,6 @@ mod tests {
             ))
         };
         let c = DMatrix::from_element(1, 1, 1.0 / 2e-9);
-        assert!(krawczyk(&[1e-9], &c, &[0.0], gd).is_err());
+        assert!(krawczyk(&[1e-9], &c, &[0.0], 1e-9, gd).is_err());
     }
 }

@@ -168,7 +168,8 @@ pub fn retract(
     };
     // first radius: twice the float Newton correction still left at the guess
     let rad: Vec<f64> = (&c * residual).iter().map(|x| 2.0 * x.abs()).collect();
-    let z = krawczyk(&guess, &c, &rad, gd)?;
+    let scale = guess[..m].iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let z = krawczyk(&guess, &c, &rad, scale, gd)?;
     let (u0, s) = (z[..m].to_vec(), z[m..].to_vec());
     let v0 = velocity(model, &x0_of(&u0))?;
     let mut set = last_set
