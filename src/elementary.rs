@@ -1,4 +1,6 @@
-//! Rigorous interval elementary functions built on a correctly rounded libm (spec (1.3)).
+//! Rigorous interval elementary functions built on a correctly rounded libm (spec (1.3)):
+//! sin, cos, tan, exp, ln, atan, sinh, cosh, tanh, asinh; sqrt is inari's own (exact
+//! rounding, no libm).
 //!
 //! Each point value comes from CORE-MATH (the `core-math` crate), whose binary64 functions
 //! are correctly rounded: the returned double `r` is a neighbour of the exact value `y`, so
@@ -179,6 +181,11 @@ pub fn atan(x: Interval) -> Interval {
 /// Interval hyperbolic sine (spec eq. (1.3.2)).
 pub fn sinh(x: Interval) -> Interval {
     odd_increasing(x, cm::sinh, f64::INFINITY)
+}
+
+/// Interval inverse hyperbolic sine (spec eq. (1.3.2)).
+pub fn asinh(x: Interval) -> Interval {
+    odd_increasing(x, cm::asinh, f64::INFINITY)
 }
 
 /// Interval hyperbolic tangent (spec eq. (1.3.2)); within `[-1, 1]`.

@@ -32,9 +32,10 @@ enum F {
     Sinh,
     Cosh,
     Tanh,
+    Asinh,
 }
 
-const ALL: [F; 9] = [
+const ALL: [F; 10] = [
     F::Sin,
     F::Cos,
     F::Tan,
@@ -44,6 +45,7 @@ const ALL: [F; 9] = [
     F::Sinh,
     F::Cosh,
     F::Tanh,
+    F::Asinh,
 ];
 
 fn interval_fn(f: F) -> fn(Interval) -> Interval {
@@ -57,6 +59,7 @@ fn interval_fn(f: F) -> fn(Interval) -> Interval {
         F::Sinh => el::sinh,
         F::Cosh => el::cosh,
         F::Tanh => el::tanh,
+        F::Asinh => el::asinh,
     }
 }
 
@@ -98,6 +101,7 @@ fn reference_at(f: F, x: f64, p: usize) -> BigFloat {
             F::Sinh => b.sinh(p, RM, cc),
             F::Cosh => b.cosh(p, RM, cc),
             F::Tanh => b.tanh(p, RM, cc),
+            F::Asinh => b.asinh(p, RM, cc),
         }
     })
 }
@@ -247,7 +251,7 @@ fn draw(f: F, rng: &mut Rng) -> f64 {
             4 => rng.range(0.0, 10.0),
             _ => rng.log_uniform(-1074.0, 1024.0).abs(),
         },
-        F::Atan | F::Tanh => match k {
+        F::Atan | F::Tanh | F::Asinh => match k {
             0..=2 => rng.range(-10.0, 10.0),
             3..=5 => rng.log_uniform(-1074.0, 1024.0),
             _ => rng.any_finite(),
@@ -416,11 +420,12 @@ fn random_campaign_exp_ln() {
 }
 
 #[test]
-fn random_campaign_atan_sinh_cosh_tanh() {
+fn random_campaign_atan_sinh_cosh_tanh_asinh() {
     campaign(F::Atan, 6);
     campaign(F::Sinh, 7);
     campaign(F::Cosh, 8);
     campaign(F::Tanh, 9);
+    campaign(F::Asinh, 10);
 }
 
 #[test]
