@@ -10,6 +10,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod dynamics;
+pub mod elementary;
 pub mod enclosure;
 pub mod exact;
 #[cfg(feature = "fuzzing")]

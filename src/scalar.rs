@@ -1,6 +1,7 @@
 //! The scalar abstraction: mechanics is written once over `S: Scalar` (spec/01-scalars.md).
 //!
-//! Instances: `f64` (fast float schemes), `inari::Interval` (rigorous point evaluation),
+//! Instances: `f64` (fast float schemes), `inari::Interval` (rigorous point evaluation; its
+//! elementary functions are those of [`crate::elementary`], spec (1.3)),
 //! [`Dual`] (forward-mode derivatives in several directions, nestable) and
 //! [`crate::tape::Tracer`] (records the computation once so that it can be replayed over
 //! Taylor series of intervals).
@@ -8,6 +9,7 @@
 //! Every constant enters through [`Scalar::cst`], which takes an exact `f64`: the interval
 //! instance turns it into the degenerate interval `[c, c]`, so no rounding happens on input.
 
+use crate::elementary;
 use inari::Interval;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -93,31 +95,37 @@ impl Scalar for Interval {
         point(c)
     }
     fn sin(&self) -> Self {
-        Interval::sin(*self)
+        elementary::sin(*self)
     }
     fn cos(&self) -> Self {
-        Interval::cos(*self)
+        elementary::cos(*self)
     }
     fn sqrt(&self) -> Self {
         Interval::sqrt(*self)
     }
     fn exp(&self) -> Self {
-        Interval::exp(*self)
+        elementary::exp(*self)
     }
     fn ln(&self) -> Self {
-        Interval::ln(*self)
+        elementary::ln(*self)
     }
     fn atan(&self) -> Self {
-        Interval::atan(*self)
+        elementary::atan(*self)
     }
     fn sinh(&self) -> Self {
-        Interval::sinh(*self)
+        elementary::sinh(*self)
     }
     fn cosh(&self) -> Self {
-        Interval::cosh(*self)
+        elementary::cosh(*self)
     }
     fn pi() -> Self {
-        Interval::PI
+        elementary::pi()
+    }
+    fn tan(&self) -> Self {
+        elementary::tan(*self)
+    }
+    fn tanh(&self) -> Self {
+        elementary::tanh(*self)
     }
     fn sqr(&self) -> Self {
         Interval::sqr(*self)

@@ -55,7 +55,8 @@
 mod common;
 
 use common::{describe, hex, model, rk4, run, show, SplitMix64};
-use dalembert::scalar::{iv, point as pt};
+use dalembert::elementary::asinh;
+use dalembert::scalar::{iv, point as pt, Scalar};
 use dalembert::{Error, FlowEnclosure, Model};
 use inari::Interval;
 use proptest::prelude::*;
@@ -126,7 +127,7 @@ fn asinhc(v: Interval) -> Interval {
             .collect();
         alternating_series(v.sqr(), &coef)
     } else {
-        v.asinh() / v
+        asinh(v) / v
     }
 }
 
@@ -185,7 +186,7 @@ fn particle_paper(q: [f64; 3], u: [f64; 2], t: f64) -> Exact {
     let k = xd0 / yd0 * r0;
     let xd = xd0 * r0 / r1;
     Exact {
-        q: [k * (y.asinh() - y0.asinh()) + x0, y, k * (r1 - r0) + z0],
+        q: [k * (asinh(y) - asinh(y0)) + x0, y, k * (r1 - r0) + z0],
         u: [xd, yd0],
         v: [xd, yd0, y * xd],
     }

@@ -21,6 +21,7 @@ mod common;
 
 use common::*;
 use dalembert::exact::{self, Retraction};
+use dalembert::scalar::Scalar;
 use dalembert::{AnyScene, Error, FlowOptions, Model};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, RngSeed};

@@ -35,17 +35,217 @@
 //! For eps = 0 the flow is known in closed form (phi = phi0 + u2 t,
 //! u1 = u10 + (sin(phi) - sin(phi0))/(2 u2), x and y by quadrature), used as a second check.
 //!
-//! The ODE is integrated by a Taylor series method of order 40 with 256-bit `rug::Float`
-//! arithmetic and a fixed step 2^-m that is small against the distance of the complex
+//! The ODE is integrated by a Taylor series method of order 40 with 256-bit floating-point
+//! arithmetic (astro-float, pure Rust, behind the small `mp::Float` shim below) and a fixed step 2^-m that is small against the distance of the complex
 //! singularities of 1/D; its accuracy is verified in the test itself (step halving,
 //! energy, closed form).
 
 use dalembert::{flow, AnyScene, FlowEnclosure, FlowOptions, Model};
 use inari::Interval;
-use rug::Float;
+use mp::Float;
 use std::time::Instant;
 
 const PREC: u32 = 256;
+
+/// 256-bit floats with round-to-nearest-even: astro-float behind the few operations the
+/// reference needs, spelled as before (`Float::with_val(PREC, expr)`, `sin_ref`, ...).
+mod mp {
+    use astro_float::{BigFloat, Consts, RoundingMode};
+    use std::cell::RefCell;
+    use std::cmp::Ordering;
+    use std::fmt;
+    use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
+
+    const P: usize = super::PREC as usize;
+    const RM: RoundingMode = RoundingMode::ToEven;
+
+    thread_local! {
+        static CC: RefCell<Consts> = RefCell::new(Consts::new().expect("constants cache"));
+    }
+
+    #[derive(Clone, Debug)]
+    pub struct Float(BigFloat);
+
+    impl Float {
+        pub fn with_val(_prec: u32, x: impl Into<Float>) -> Float {
+            x.into()
+        }
+        pub fn new(_prec: u32) -> Float {
+            Float::from(0.0)
+        }
+        /// m 2^e
+        pub fn u_exp(m: u32, e: i32) -> Float {
+            let mut b = BigFloat::from_word(m as u64, P);
+            let be = b.exponent().expect("finite");
+            b.set_exponent(be + e);
+            Float(b)
+        }
+        pub fn is_zero(&self) -> bool {
+            self.0.is_zero()
+        }
+        pub fn abs(self) -> Float {
+            Float(self.0.abs())
+        }
+        pub fn sin_ref(&self) -> Float {
+            CC.with(|cc| Float(self.0.sin(P, RM, &mut cc.borrow_mut())))
+        }
+        pub fn cos_ref(&self) -> Float {
+            CC.with(|cc| Float(self.0.cos(P, RM, &mut cc.borrow_mut())))
+        }
+        pub fn square_ref(&self) -> Float {
+            Float(self.0.mul(&self.0, P, RM))
+        }
+        /// The nearest double of the printed value (messages and loose comparisons only).
+        pub fn to_f64(&self) -> f64 {
+            self.0.to_string().parse().unwrap_or(f64::NAN)
+        }
+    }
+
+    /// The double exactly (astro-float's own `from_f64` halves subnormals).
+    impl From<f64> for Float {
+        fn from(x: f64) -> Float {
+            if x == 0.0 || !x.is_finite() {
+                return Float(BigFloat::from_f64(x, P));
+            }
+            let bits = x.to_bits();
+            let field = ((bits >> 52) & 0x7ff) as i32;
+            let frac = (bits & ((1u64 << 52) - 1)) as i64;
+            let (m, e) = if field == 0 {
+                (frac, -1074)
+            } else {
+                (frac | (1i64 << 52), field - 1075)
+            };
+            let mut b = BigFloat::from_i64(if x < 0.0 { -m } else { m }, P);
+            let be = b.exponent().expect("finite");
+            b.set_exponent(be + e);
+            Float(b)
+        }
+    }
+    impl From<u32> for Float {
+        fn from(x: u32) -> Float {
+            Float(BigFloat::from_word(x as u64, P))
+        }
+    }
+    impl From<&Float> for Float {
+        fn from(x: &Float) -> Float {
+            x.clone()
+        }
+    }
+
+    macro_rules! binop {
+        ($tr:ident, $m:ident, $assign:ident, $am:ident) => {
+            impl $tr<&Float> for &Float {
+                type Output = Float;
+                fn $m(self, o: &Float) -> Float {
+                    Float(self.0.$m(&o.0, P, RM))
+                }
+            }
+            impl $tr<Float> for &Float {
+                type Output = Float;
+                fn $m(self, o: Float) -> Float {
+                    self.$m(&o)
+                }
+            }
+            impl $tr<&Float> for Float {
+                type Output = Float;
+                fn $m(self, o: &Float) -> Float {
+                    (&self).$m(o)
+                }
+            }
+            impl $tr<Float> for Float {
+                type Output = Float;
+                fn $m(self, o: Float) -> Float {
+                    (&self).$m(&o)
+                }
+            }
+            impl $tr<u32> for &Float {
+                type Output = Float;
+                fn $m(self, o: u32) -> Float {
+                    self.$m(&Float::from(o))
+                }
+            }
+            impl $tr<u32> for Float {
+                type Output = Float;
+                fn $m(self, o: u32) -> Float {
+                    (&self).$m(&Float::from(o))
+                }
+            }
+            impl $tr<f64> for Float {
+                type Output = Float;
+                fn $m(self, o: f64) -> Float {
+                    (&self).$m(&Float::from(o))
+                }
+            }
+            impl $tr<&Float> for u32 {
+                type Output = Float;
+                fn $m(self, o: &Float) -> Float {
+                    (&Float::from(self)).$m(o)
+                }
+            }
+            impl $tr<Float> for u32 {
+                type Output = Float;
+                fn $m(self, o: Float) -> Float {
+                    (&Float::from(self)).$m(&o)
+                }
+            }
+            impl $assign<&Float> for Float {
+                fn $am(&mut self, o: &Float) {
+                    *self = (&*self).$m(o);
+                }
+            }
+            impl $assign<Float> for Float {
+                fn $am(&mut self, o: Float) {
+                    *self = (&*self).$m(&o);
+                }
+            }
+        };
+    }
+    binop!(Add, add, AddAssign, add_assign);
+    binop!(Sub, sub, SubAssign, sub_assign);
+    binop!(Mul, mul, MulAssign, mul_assign);
+    binop!(Div, div, DivAssign, div_assign);
+
+    impl Neg for Float {
+        type Output = Float;
+        fn neg(self) -> Float {
+            Float(self.0.neg())
+        }
+    }
+
+    impl PartialEq for Float {
+        fn eq(&self, o: &Float) -> bool {
+            self.partial_cmp(o) == Some(Ordering::Equal)
+        }
+    }
+    impl PartialOrd for Float {
+        fn partial_cmp(&self, o: &Float) -> Option<Ordering> {
+            self.0.cmp(&o.0).map(|c| c.cmp(&0))
+        }
+    }
+    impl PartialEq<f64> for Float {
+        fn eq(&self, o: &f64) -> bool {
+            self.partial_cmp(o) == Some(Ordering::Equal)
+        }
+    }
+    impl PartialOrd<f64> for Float {
+        fn partial_cmp(&self, o: &f64) -> Option<Ordering> {
+            self.partial_cmp(&Float::from(*o))
+        }
+    }
+
+    impl fmt::Display for Float {
+        fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            write!(f, "{:e}", self.to_f64())
+        }
+    }
+
+    /// All the digits the reference has.
+    impl fmt::LowerExp for Float {
+        fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            write!(f, "{}", self.0)
+        }
+    }
+}
 const ORDER: usize = 40;
 
 /// A reference state: (x, y, phi, u1, u2).

@@ -25,7 +25,8 @@ mod common;
 
 use common::{describe, model, rk4, run, show, SplitMix64};
 use dalembert::dynamics::Geometry;
-use dalembert::scalar::{iv, point as pt};
+use dalembert::elementary::asinh;
+use dalembert::scalar::{iv, point as pt, Scalar};
 use dalembert::scene::{Scene, Sleigh};
 use dalembert::{FlowEnclosure, Model};
 use inari::Interval;
@@ -310,7 +311,7 @@ fn sleigh_exact(
     let w = (k / m).sqrt() * pt(u[1].abs());
     let vinf = (pt(u[0]).sqr() + w.sqr()).sqrt();
     let c = a * m * vinf / k;
-    let alpha = (pt(u[0]) / w).asinh();
+    let alpha = asinh(pt(u[0]) / w);
     let s = c * pt(t) + alpha;
     let gd = |x: Interval| x.sinh().atan();
     let v = vinf * s.tanh();

@@ -24,7 +24,7 @@
 //!   `D xd / D xd0 = sqrt(1 + y0^2) / sqrt(1 + y^2)`, `D v / D v0 = 1`.
 
 use dalembert::enclosure::{flow_c1, flow_set, FlowOptions, LohnerSet};
-use dalembert::scalar::point;
+use dalembert::scalar::{point, Scalar};
 use dalembert::{AnyScene, Model};
 use inari::Interval;
 

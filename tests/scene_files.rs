@@ -11,7 +11,7 @@
 //!
 //! Random points come from SplitMix64 with fixed seeds: the same cases on every run.
 
-use dalembert::scalar::{iv, point};
+use dalembert::scalar::{iv, point, Scalar};
 use dalembert::scene::{Particle, Scene, SceneFile};
 use dalembert::{Error, FlowOptions, Model};
 use inari::Interval;

@@ -20,7 +20,7 @@ pub mod strategies;
 
 use crate::integrator::{NewtonOptions, Scheme};
 use crate::oracle::{check_step, check_trajectory, CheckOptions};
-use crate::scalar::point;
+use crate::scalar::{point, Scalar};
 use crate::{flow, Error, FlowOptions, Model};
 use inari::Interval;
 

@@ -3,10 +3,12 @@
 //! the library is between two *enclosures* of one exact real quantity.
 //!
 //! Nothing here calls the library's mathematics; only `point`/`iv` are borrowed to build
-//! intervals.
+//! intervals, and the interval elementary functions (`dalembert::elementary`, through the
+//! `Scalar` trait: inari is built without MPFR), which tests/elementary.rs checks on its own.
 #![allow(dead_code)]
 
-use dalembert::scalar::{iv, point};
+use dalembert::elementary::asinh;
+use dalembert::scalar::{iv, point, Scalar};
 use inari::Interval;
 
 pub type I = Interval;
@@ -80,7 +82,7 @@ fn asinh_over_at(a: f64) -> I {
         let p = point(1.0) - t * q(1.0, 6.0) + t.sqr() * q(3.0, 40.0);
         p - up_to(t * t.sqr() * q(5.0, 112.0))
     } else {
-        point(a).asinh() / point(a)
+        asinh(point(a)) / point(a)
     }
 }
 
@@ -109,7 +111,7 @@ pub fn ratio(y0: I, y1: I, d: I) -> I {
         let g = (y1 + y0) / (y1 * sq1(y0) + y0 * sq1(y1));
         point(1.0) / (g * asinh_over(d * g))
     } else {
-        d / (y1.asinh() - y0.asinh())
+        d / (asinh(y1) - asinh(y0))
     }
 }
 
