@@ -226,6 +226,14 @@ pub fn flow(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<FlowEnclosure, Error> {
+    let x = flow_query(model, q, u, t)?;
+    let (set, stats) = flow_set(&model.dynamics, LohnerSet::point(&x), t, opts)?;
+    finish(model, &set, stats)
+}
+
+/// The initial state `x = (q, u)` of a flow query, after the checks every flow makes: the
+/// state (dimensions, finite numbers), the scene at `q` (spec eq. (3.17)), and `t >= 0`.
+fn flow_query(model: &Model, q: &[f64], u: &[f64], t: f64) -> Result<Vec<f64>, Error> {
     check_state(model, q, u)?;
     model.check_at(
         &q.iter()
@@ -237,9 +245,7 @@ pub fn flow(
             "time must be finite and >= 0 (got {t})"
         )));
     }
-    let x: Vec<f64> = q.iter().chain(u).copied().collect();
-    let (set, stats) = flow_set(&model.dynamics, LohnerSet::point(&x), t, opts)?;
-    finish(model, &set, stats)
+    Ok(q.iter().chain(u).copied().collect())
 }
 
 /// Validate dimensions and finiteness of a state.
@@ -340,18 +346,7 @@ pub fn flow_c1(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(FlowEnclosure, IMat), Error> {
-    check_state(model, q, u)?;
-    model.check_at(
-        &q.iter()
-            .map(|x| crate::scalar::point(*x))
-            .collect::<Vec<_>>(),
-    )?;
-    if !t.is_finite() || t < 0.0 {
-        return Err(Error::input(format!(
-            "time must be finite and >= 0 (got {t})"
-        )));
-    }
-    let x: Vec<f64> = q.iter().chain(u).copied().collect();
+    let x = flow_query(model, q, u, t)?;
     let (set, jac, stats) = flow_set_jacobian(&model.dynamics, LohnerSet::point(&x), t, opts)?;
     Ok((finish(model, &set, stats)?, jac))
 }
