@@ -1,7 +1,8 @@
 //! Soundness of `flow` against the closed-form solutions of the two integrable scenes.
 //!
-//! The closed forms are evaluated in interval arithmetic (inari, whose elementary functions
-//! are correctly rounded by MPFR) from the exact f64 inputs, so each reference is itself an
+//! The closed forms are evaluated in interval arithmetic (inari, with the elementary functions
+//! of spec (1.3), proved against a 256-bit reference in tests/elementary.rs) from the exact
+//! f64 inputs, so each reference is itself an
 //! enclosure of the true state. The property is therefore: for every component of q, u and
 //! v, the enclosure returned by `flow` and the reference enclosure intersect. Where the
 //! reference is narrower than 1e-14 * max(1, |value|) this pins the true value, and the
