@@ -627,3 +627,41 @@ fn batch_fed_arbitrary_bytes_answers_every_line_that_is_not_blank() {
         })
         .unwrap();
 }
+
+/// A reader that stops early (`dalembert batch < q | head -1`) ends the stream quietly:
+/// exit 0, nothing on stderr (it used to print "invalid input: writing stdout: Broken pipe").
+#[test]
+fn batch_ends_quietly_when_its_reader_goes_away() {
+    use std::io::{BufRead, BufReader, Write};
+    use std::process::{Command, Stdio};
+    for jobs in ["1", "2"] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_dalembert"))
+            .args(["batch", "--jobs", jobs])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut stdin = child.stdin.take().unwrap();
+        let mut stdout = BufReader::new(child.stdout.take().unwrap());
+        let q = r#"{"id":1,"cmd":"flow","scene":"particle","q":[0,0,0],"u":[0.8,0.8],"t":0.5}"#;
+        writeln!(stdin, "{q}").unwrap();
+        let mut first = String::new();
+        stdout.read_line(&mut first).unwrap();
+        assert!(first.contains("\"ok\""), "{first}");
+        drop(stdout); // the reader goes away
+        for _ in 0..50 {
+            if writeln!(stdin, "{q}").is_err() {
+                break;
+            }
+        }
+        drop(stdin);
+        let out = child.wait_with_output().unwrap();
+        assert_eq!(out.status.code(), Some(0), "jobs {jobs}");
+        assert!(
+            out.stderr.is_empty(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}

@@ -39,9 +39,9 @@ pub fn run(jobs: &str, deadline: Option<&str>) -> Result<(), Error> {
         while let Some(line) = lines.next_line().map_err(read)? {
             no += 1;
             if let Some(answer) = session.batch_answer(no, &line) {
-                writeln!(out, "{}", answer.text)
-                    .and_then(|_| out.flush())
-                    .map_err(broken_pipe)?;
+                if !write_line(&mut out, &answer.text)? {
+                    return Ok(());
+                }
             }
         }
         return Ok(());
@@ -78,9 +78,9 @@ pub fn run(jobs: &str, deadline: Option<&str>) -> Result<(), Error> {
             pending.insert(i, answer);
             while let Some(a) = pending.remove(&next) {
                 if let Some(a) = a {
-                    writeln!(out, "{a}")
-                        .and_then(|_| out.flush())
-                        .map_err(broken_pipe)?;
+                    if !write_line(&mut out, &a)? {
+                        return Ok(());
+                    }
                 }
                 next += 1;
             }
@@ -115,6 +115,12 @@ pub fn run(jobs: &str, deadline: Option<&str>) -> Result<(), Error> {
     printed.and(failed.map_or(Ok(()), Err))
 }
 
-fn broken_pipe(e: std::io::Error) -> Error {
-    Error::input(format!("writing stdout: {e}"))
+/// Write one answer line and flush it. `Ok(false)` when the reader has closed the pipe
+/// (`dalembert batch < q | head -1`): nobody is left to answer, so the stream ends quietly.
+fn write_line(out: &mut impl Write, text: &str) -> Result<bool, Error> {
+    match writeln!(out, "{text}").and_then(|_| out.flush()) {
+        Ok(()) => Ok(true),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(false),
+        Err(e) => Err(Error::uncertified(format!("writing stdout: {e}"))),
+    }
 }
