@@ -13,6 +13,9 @@ pub enum Error {
     Input(String),
     /// The request is well formed but no enclosure could be proved; nothing is returned.
     Uncertified(String),
+    /// A fault of this crate, not of the request and not a failed proof (a bug to report);
+    /// nothing is returned. Exit status 3, like every answer that certifies nothing.
+    Internal(String),
 }
 
 impl Error {
@@ -21,6 +24,9 @@ impl Error {
     }
     pub fn uncertified(msg: impl Into<String>) -> Self {
         Error::Uncertified(msg.into())
+    }
+    pub fn internal(msg: impl Into<String>) -> Self {
+        Error::Internal(msg.into())
     }
     /// The refusal of work that ran past its time budget (exit 3). Its message starts with
     /// [`OVER_BUDGET`] so that a client can tell it from other refusals.
@@ -38,12 +44,12 @@ impl Error {
     pub fn code(&self) -> i32 {
         match self {
             Error::Input(_) => 2,
-            Error::Uncertified(_) => 3,
+            Error::Uncertified(_) | Error::Internal(_) => 3,
         }
     }
     pub fn message(&self) -> &str {
         match self {
-            Error::Input(m) | Error::Uncertified(m) => m,
+            Error::Input(m) | Error::Uncertified(m) | Error::Internal(m) => m,
         }
     }
 }
@@ -53,6 +59,7 @@ impl fmt::Display for Error {
         match self {
             Error::Input(m) => write!(f, "invalid input: {m}"),
             Error::Uncertified(m) => write!(f, "could not certify: {m}"),
+            Error::Internal(m) => write!(f, "internal error (a bug of dalembert): {m}"),
         }
     }
 }

@@ -172,6 +172,7 @@ fn retraction_invariant(scene: usize, q0: &[f64], q1: &[f64], h: f64) {
         let pts = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
         match exact::retract(model, &pts(q0), &pts(q1), h, &budget()) {
             Err(Error::Input(_)) | Err(Error::Uncertified(_)) => {}
+            Err(Error::Internal(m)) => panic!("internal fault: {m}"),
             Ok(r) => {
                 let all =
                     r.u0.iter()
@@ -479,6 +480,7 @@ pub fn scene_file(data: &[u8]) {
                     let _ = m.check_at(&vec![point(0.25); n]);
                 }
                 Err(Error::Input(_)) | Err(Error::Uncertified(_)) => {}
+                Err(Error::Internal(m)) => panic!("internal fault: {m}"),
             }
         }
     };

@@ -549,6 +549,10 @@ fn check(
             "valid input rejected as invalid ({msg})\n{}",
             describe(scene.name(), &[], &q, &u, t)
         )),
+        Err(Error::Internal(msg)) => Err(format!(
+            "internal fault ({msg})\n{}",
+            describe(scene.name(), &[], &q, &u, t)
+        )),
     }
 }
 

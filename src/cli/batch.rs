@@ -110,7 +110,7 @@ pub fn run(jobs: &str, deadline: Option<&str>) -> Result<(), Error> {
     }
     let printed = match printer.join() {
         Ok(r) => r,
-        Err(_) => Err(Error::uncertified("internal error in the batch printer")),
+        Err(_) => Err(Error::internal("the batch printer stopped")),
     };
     printed.and(failed.map_or(Ok(()), Err))
 }

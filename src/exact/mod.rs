@@ -152,7 +152,7 @@ pub fn retract(
         let (set, jac, _) = flow_set_c1(&model.dynamics, set, h, opts)?;
         let qh = set
             .sub_hull()
-            .ok_or_else(|| Error::uncertified("internal: the marked point was lost"))?;
+            .ok_or_else(|| Error::internal("the marked point was lost"))?;
         let g = (0..n).map(|i| qh[i] - q1[i] - ns_guess[i]).collect();
         let dg = (0..n)
             .map(|i| {
@@ -174,7 +174,7 @@ pub fn retract(
     let v0 = velocity(model, &x0_of(&u0))?;
     let mut set = last_set
         .into_inner()
-        .ok_or_else(|| Error::uncertified("internal: no state set from the Krawczyk box"))?;
+        .ok_or_else(|| Error::internal("no state set from the Krawczyk box"))?;
     set.sub = None;
     let hull = set.hull();
     let v1 = set_velocity(model, &set)?;

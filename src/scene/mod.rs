@@ -323,8 +323,8 @@ impl Params<'_> {
                     .map(|p| p.default)
             })
             .ok_or_else(|| {
-                Error::uncertified(format!(
-                    "internal: scene `{}` reads an undeclared parameter `{name}`",
+                Error::internal(format!(
+                    "scene `{}` reads an undeclared parameter `{name}`",
                     self.info.name
                 ))
             })
