@@ -15,6 +15,8 @@
 //! assert!(ladder.orders[2].inf() > 2.5); // proved: the local error shrinks faster than h^2.5 here
 //! ```
 
+#[cfg(feature = "quickcheck")]
+pub mod gen;
 #[cfg(feature = "proptest")]
 pub mod strategies;
 
@@ -285,4 +287,57 @@ pub fn observed_order(ea: Interval, eb: Interval, ha: f64, hb: f64) -> Interval 
     } else {
         Interval::ENTIRE
     }
+}
+
+/// A start pair for a scheme, with what the oracle proved about it.
+#[derive(Clone, Debug)]
+pub struct Pair {
+    pub q0: Vec<f64>,
+    /// The quasi-velocities the pair was made from.
+    pub u0: Vec<f64>,
+    pub q1: Vec<f64>,
+    pub h: f64,
+    /// Encloses the defect s of `(q0, q1)` with respect to `M_h^{e,nh}` (spec eq. (6.2)).
+    pub defect: Vec<Interval>,
+}
+
+#[cfg(any(feature = "proptest", feature = "quickcheck"))]
+pub(crate) fn points(v: &[f64]) -> Vec<Interval> {
+    v.iter().map(|x| point(*x)).collect()
+}
+
+#[cfg(any(feature = "proptest", feature = "quickcheck"))]
+pub(crate) fn exact_pair(
+    model: &Model,
+    q0: Vec<f64>,
+    u0: Vec<f64>,
+    h: f64,
+    distance: f64,
+) -> Option<Pair> {
+    let opts = FlowOptions::default();
+    let mut q1: Vec<f64> = flow(model, &q0, &u0, h, &opts)
+        .ok()?
+        .q
+        .iter()
+        .map(|x| x.mid())
+        .collect();
+    if distance != 0.0 {
+        let mu = model.constraints.eval::<f64>(&q1);
+        let normal = &mu[..model.n];
+        let len = normal.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(len > 0.0 && len.is_finite()) {
+            return None;
+        }
+        for (x, nx) in q1.iter_mut().zip(normal) {
+            *x += distance * nx / len;
+        }
+    }
+    let r = crate::exact::retract(model, &points(&q0), &points(&q1), h, &opts).ok()?;
+    Some(Pair {
+        q0,
+        u0,
+        q1,
+        h,
+        defect: r.s,
+    })
 }

@@ -17,28 +17,11 @@
 //! });
 //! ```
 
-use crate::scalar::point;
-use crate::{exact, flow, FlowOptions, Model};
-use inari::Interval;
+use super::{exact_pair, points, Pair};
+use crate::Model;
 use proptest::prelude::*;
 use std::ops::RangeInclusive;
 use std::sync::Arc;
-
-/// A start pair for a scheme, with what the oracle proved about it.
-#[derive(Clone, Debug)]
-pub struct Pair {
-    pub q0: Vec<f64>,
-    /// The quasi-velocities the pair was made from.
-    pub u0: Vec<f64>,
-    pub q1: Vec<f64>,
-    pub h: f64,
-    /// Encloses the defect s of `(q0, q1)` with respect to `M_h^{e,nh}` (spec eq. (6.2)).
-    pub defect: Vec<Interval>,
-}
-
-fn points(v: &[f64]) -> Vec<Interval> {
-    v.iter().map(|x| point(*x)).collect()
-}
 
 /// Configurations in `[-bound, bound]^n` at which the scene passes the checks of spec
 /// eq. (3.17) (others are rejected, not answered).
@@ -90,35 +73,6 @@ pub fn pairs_near(
         .prop_filter_map("the oracle certified the start", move |(q0, u0, h)| {
             exact_pair(&model, q0, u0, h, distance)
         })
-}
-
-fn exact_pair(model: &Model, q0: Vec<f64>, u0: Vec<f64>, h: f64, distance: f64) -> Option<Pair> {
-    let opts = FlowOptions::default();
-    let mut q1: Vec<f64> = flow(model, &q0, &u0, h, &opts)
-        .ok()?
-        .q
-        .iter()
-        .map(|x| x.mid())
-        .collect();
-    if distance != 0.0 {
-        let mu = model.constraints.eval::<f64>(&q1);
-        let normal = &mu[..model.n];
-        let len = normal.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if !(len > 0.0 && len.is_finite()) {
-            return None;
-        }
-        for (x, nx) in q1.iter_mut().zip(normal) {
-            *x += distance * nx / len;
-        }
-    }
-    let r = exact::retract(model, &points(&q0), &points(&q1), h, &opts).ok()?;
-    Some(Pair {
-        q0,
-        u0,
-        q1,
-        h,
-        defect: r.s,
-    })
 }
 
 /// The step sizes of the stability table's extremes, smallest first (shrinks toward it).
