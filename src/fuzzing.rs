@@ -2,6 +2,12 @@
 //! that `cargo test` replays the committed corpus on the stable toolchain
 //! (`tests/fuzz_corpus.rs`). Each function decodes arbitrary bytes and panics exactly when
 //! the invariant written above it is broken (spec/08-oracle.md, "Fuzzing").
+//!
+//! The `panic!`, `expect` and `assert!` calls in this module are those invariants: a panic is
+//! how a fuzz target reports a finding, so each is reachable only through a bug of the crate
+//! (an answer that is not JSON, a number changed on the way, an `Error::Internal`). Reading
+//! the batch bytes goes through an in-memory slice, whose reads cannot fail. The module is
+//! behind the `fuzzing` feature; nothing else in `src/` panics outside its tests.
 
 use crate::enclosure::{flow_set, LohnerSet};
 use crate::integrator::{step_residual, NewtonOptions, Scheme, SchemeKind};

@@ -4,9 +4,22 @@
 
 use std::process::Command;
 
-fn flow_jacobian(args: &[&str]) -> serde_json::Value {
+/// The particle's flow from q = (0.1, 0.2, 0.3), u = (0.8, -0.4) to t = 7, with `extra`.
+fn flow_jacobian(extra: &[&str]) -> serde_json::Value {
     let o = Command::new(env!("CARGO_BIN_EXE_dalembert"))
-        .args(args)
+        .args([
+            "flow",
+            "--scene",
+            "particle",
+            "--q",
+            "0.1,0.2,0.3",
+            "--u",
+            "0.8,-0.4",
+            "--t",
+            "7",
+            "--json",
+        ])
+        .args(extra)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -20,19 +33,7 @@ fn contains(iv: &serde_json::Value, x: f64) -> bool {
 #[test]
 fn the_particle_jacobian_has_its_exact_rows() {
     let t = 7.0;
-    let v = flow_jacobian(&[
-        "flow",
-        "--scene",
-        "particle",
-        "--q",
-        "0.1,0.2,0.3",
-        "--u",
-        "0.8,-0.4",
-        "--t",
-        "7",
-        "--jacobian",
-        "--json",
-    ]);
+    let v = flow_jacobian(&["--jacobian"]);
     let j = v["jacobian"].as_array().unwrap();
     assert_eq!(j.len(), 5);
     assert!(j.iter().all(|r| r.as_array().unwrap().len() == 5));
@@ -62,18 +63,7 @@ fn the_particle_jacobian_has_its_exact_rows() {
         }
     }
     // without the flag, no jacobian key; the state is the same
-    let w = flow_jacobian(&[
-        "flow",
-        "--scene",
-        "particle",
-        "--q",
-        "0.1,0.2,0.3",
-        "--u",
-        "0.8,-0.4",
-        "--t",
-        "7",
-        "--json",
-    ]);
+    let w = flow_jacobian(&[]);
     assert!(w.get("jacobian").is_none());
     for i in 0..3 {
         let (a, b) = (&v["q"][i], &w["q"][i]);

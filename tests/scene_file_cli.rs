@@ -333,33 +333,26 @@ fn bad_scene_files_are_one_line_input_errors() {
 #[test]
 fn the_readme_unicycle_answers_and_refuses_where_its_basis_is_singular() {
     let u = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/scenes/unicycle.toml");
-    let o = run(&[
-        "flow",
-        "--scene-file",
-        u,
-        "--q",
-        "0.2,-0.1,0.3",
-        "--u",
-        "0.6,0.9",
-        "--t",
-        "1",
-        "--json",
-    ]);
+    let flow_to = |t: &str| {
+        run(&[
+            "flow",
+            "--scene-file",
+            u,
+            "--q",
+            "0.2,-0.1,0.3",
+            "--u",
+            "0.6,0.9",
+            "--t",
+            t,
+            "--json",
+        ])
+    };
+    let o = flow_to("1");
     let v: serde_json::Value = serde_json::from_str(&ok_stdout(&o)).unwrap();
     // theta(1) = 0.3 + 0.9 exactly in the real numbers
     let th = &v["q"][2];
     assert!(th[0].as_f64().unwrap() <= 1.2 && 1.2 <= th[1].as_f64().unwrap() + 1e-15);
-    let o = run(&[
-        "flow",
-        "--scene-file",
-        u,
-        "--q",
-        "0.2,-0.1,0.3",
-        "--u",
-        "0.6,0.9",
-        "--t",
-        "2",
-    ]);
+    let o = flow_to("2");
     refused(&o, 3, "");
 }
 
