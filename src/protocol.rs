@@ -540,14 +540,19 @@ pub fn stats(s: &FlowStats) -> Value {
 /// is proved (or no tolerance is given), `false` when `max_distance > tol` is proved; a
 /// distance enclosure straddling `tol` decides nothing and is refused (exit 3).
 pub fn tolerance_verdict(v: &crate::oracle::Verdict, tol: Option<f64>) -> Result<bool, Error> {
+    tolerance_decision(v.max_distance, tol)
+}
+
+/// [`tolerance_verdict`] on the certified maximum distance alone.
+pub fn tolerance_decision(max_distance: Interval, tol: Option<f64>) -> Result<bool, Error> {
     match tol {
         None => Ok(true),
-        Some(t) if v.max_distance.sup() <= t => Ok(true),
-        Some(t) if v.max_distance.inf() > t => Ok(false),
+        Some(t) if max_distance.sup() <= t => Ok(true),
+        Some(t) if max_distance.inf() > t => Ok(false),
         Some(t) => Err(Error::uncertified(format!(
             "undecided: the certified distance [{:e}, {:e}] straddles the tolerance {t:e}",
-            v.max_distance.inf(),
-            v.max_distance.sup()
+            max_distance.inf(),
+            max_distance.sup()
         ))),
     }
 }

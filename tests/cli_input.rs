@@ -314,6 +314,65 @@ fn check_refuses_what_it_cannot_read_exactly() {
     assert!(m.contains("line 3") && m.contains("t = 0.2"), "{m}");
 }
 
+/// `check` streams CSV rows (issue "Total and bounded"): the verdict read row by row
+/// equals the one read from the same rows as JSON (read whole), and a row refused at the
+/// end of the file leaves stdout empty: no partial table is printed as whole.
+#[test]
+fn check_streams_csv_rows_and_prints_nothing_on_a_late_refusal() {
+    let csv = integrate_csv("40");
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').skip(1).take(3).collect())
+        .collect();
+    assert_eq!(rows.len(), 41);
+    let json = format!(
+        "{{\"q\": [{}]}}",
+        rows.iter()
+            .map(|r| format!("[{}]", r.join(",")))
+            .collect::<Vec<_>>()
+            .join(",")
+    );
+    let args = |f: &str| {
+        run(&[
+            "check",
+            "--scene",
+            "particle",
+            "--h",
+            "0.1",
+            "--trajectory",
+            f,
+            "--json",
+        ])
+    };
+    let from_csv = args(&temp_file("stream.csv", &csv));
+    let from_json = args(&temp_file("stream.json", &json));
+    assert_eq!(from_csv.code, 0, "{from_csv:?}");
+    assert_eq!(from_csv.stdout, from_json.stdout);
+    let v: Value = serde_json::from_str(&from_csv.stdout).unwrap();
+    // a distance per row, a defect and an energy error per pair
+    assert_eq!(v["distance"].as_array().unwrap().len(), 41);
+    assert_eq!(v["defect"].as_array().unwrap().len(), 40);
+    assert_eq!(v["energy_error"].as_array().unwrap().len(), 40);
+    // the same rows with a last row that is not a number: refused, nothing printed
+    let bad = format!("{csv}41,1,1,nan\n");
+    let m = refused(&args(&temp_file("late.csv", &bad)), 2);
+    assert!(m.contains("line 43"), "{m}");
+    let m = refused(
+        &run(&[
+            "check",
+            "--scene",
+            "particle",
+            "--h",
+            "0.1",
+            "--trajectory",
+            &temp_file("late2.csv", &bad),
+        ]),
+        2,
+    );
+    assert!(m.contains("line 43"), "{m}");
+}
+
 #[test]
 fn check_reads_a_header_by_name_whatever_the_column_order() {
     let csv = integrate_csv("4");

@@ -1,16 +1,24 @@
 //! `dalembert check`: read a candidate trajectory, ask the oracle, print a verdict table.
 
+use super::integrate::io;
+use super::progress::Bar;
+use super::spool::Spool;
 use super::SceneArgs;
-use dalembert::oracle::{check_trajectory, CheckOptions};
+use dalembert::oracle::{check_each, CheckOptions, RowVerdict};
 use dalembert::protocol::{self, Session, STEP_DEADLINE};
 use dalembert::scene::Scene;
 use dalembert::Error;
 use inari::Interval;
 use serde_json::Value;
-use std::io::BufRead;
+use std::fs::File;
+use std::io::{BufRead, BufReader, Write};
 
-/// Returns the text to print and whether the check passed (exit 0) or proved the tolerance
-/// exceeded (exit 1); an undecided comparison is `Error::Uncertified` (exit 3).
+/// Check the trajectory in `file` and write the verdict (a table, or with `as_json` the
+/// object of the batch `check` answer) to stdout. Returns whether the check passed (exit
+/// 0) or proved the tolerance exceeded (exit 1); an undecided comparison is
+/// `Error::Uncertified` (exit 3). CSV rows are read, checked and written one at a time
+/// (through a spool, so that a refusal still leaves stdout empty), in memory independent
+/// of their number; a JSON file is read whole.
 pub fn run(
     scene: &SceneArgs,
     h: &str,
@@ -19,7 +27,7 @@ pub fn run(
     tol: Option<&str>,
     no_pairs: bool,
     as_json: bool,
-) -> Result<(String, bool), Error> {
+) -> Result<bool, Error> {
     let spec = super::scene_spec(scene)?;
     let model = Session::default().model(&spec)?;
     let h = protocol::parse_num("--h", h)?;
@@ -29,83 +37,124 @@ pub fn run(
         .transpose()?;
     let coordinates = model.scene.description().coordinates;
     let m = model.n - model.k;
-    let q = read_trajectory(file, &coordinates, m, h)?;
+    let (rows, count) = read_trajectory(file, &coordinates, m, h)?;
     // the budget: as given for the whole check, else STEP_DEADLINE for each pair
-    let budget = deadline.unwrap_or(STEP_DEADLINE * q.len().max(1) as f64);
+    let budget = deadline.unwrap_or(STEP_DEADLINE * count.max(1) as f64);
     let mut opts = CheckOptions {
         pairs: !no_pairs,
         ..CheckOptions::default()
     };
     opts.flow.deadline = protocol::deadline_in(budget);
-    let v = check_trajectory(&model, h, &q, &opts)?;
-    let passed = protocol::tolerance_verdict(&v, tol)?;
-    let out = if as_json {
-        protocol::verdict(&v, passed).to_string()
-    } else {
-        table(
-            &v.distance,
-            &v.defect,
-            &v.energy_error,
-            v.max_distance,
-            passed,
-            tol,
+    let mut bar = Bar::new();
+    // text: one spool; JSON: distance, defect and energy_error each in its own
+    let mut spools: Vec<Spool> = (0..if as_json { 3 } else { 1 })
+        .map(|i| Spool::new(&format!("check{i}")))
+        .collect::<Result<_, _>>()?;
+    if !as_json {
+        writeln!(
+            spools[0].out,
+            "{:>6} {:>24} {:>24} {:>24}",
+            "k", "|q_k - q^e_k| <=", "defect(q_k,q_k+1) in", "energy error in"
         )
-    };
-    Ok((out, passed))
+        .map_err(io)?;
+    }
+    let summary = check_each(&model, h, rows, &opts, |row| {
+        bar.update("check", row.k + 1, count);
+        if as_json {
+            json_row(&mut spools, &row).map_err(io)
+        } else {
+            text_row(&mut spools[0].out, &row).map_err(io)
+        }
+    })?;
+    bar.clear();
+    let passed = protocol::tolerance_decision(summary.max_distance, tol)?;
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    let w = &mut out;
+    let done = (|| -> std::io::Result<()> {
+        if as_json {
+            // the keys in the order of the batch answer (protocol::verdict)
+            w.write_all(b"{\"defect\":[")?;
+            spools[1].copy_to(w)?;
+            w.write_all(b"],\"distance\":[")?;
+            spools[0].copy_to(w)?;
+            w.write_all(b"],\"energy_error\":[")?;
+            spools[2].copy_to(w)?;
+            write!(
+                w,
+                "],\"max_distance\":{},\"passed\":{passed}}}",
+                protocol::interval(summary.max_distance)
+            )?;
+        } else {
+            spools[0].copy_to(w)?;
+            write!(w, "max distance <= {:.3e}", summary.max_distance.sup())?;
+            if let Some(t) = tol {
+                let word = if passed { "PASS" } else { "FAIL (proved)" };
+                write!(w, "; tolerance {t:e}: {word}")?;
+            }
+        }
+        writeln!(w)?;
+        w.flush()
+    })();
+    done.map_err(io)?;
+    Ok(passed)
 }
 
-fn table(
-    dist: &[Interval],
-    defect: &[Vec<Interval>],
-    energy: &[Interval],
-    max: Interval,
-    passed: bool,
-    tol: Option<f64>,
-) -> String {
-    let mut s = format!(
-        "{:>6} {:>24} {:>24} {:>24}\n",
-        "k", "|q_k - q^e_k| <=", "defect(q_k,q_k+1) in", "energy error in"
-    );
-    for (k, d) in dist.iter().enumerate() {
-        let def = defect
-            .get(k)
-            .map(|s| {
-                s.iter()
-                    .map(|x| format!("[{:.2e},{:.2e}]", x.inf(), x.sup()))
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            })
-            .unwrap_or_default();
-        let en = energy
-            .get(k)
-            .map(|e| format!("[{:.2e},{:.2e}]", e.inf(), e.sup()))
-            .unwrap_or_default();
-        s.push_str(&format!("{k:>6} {:>24.3e} {def:>24} {en:>24}\n", d.sup()));
-    }
-    s.push_str(&format!("max distance <= {:.3e}", max.sup()));
-    if let Some(t) = tol {
-        s.push_str(&format!(
-            "; tolerance {t:e}: {}",
-            if passed { "PASS" } else { "FAIL (proved)" }
-        ));
-    }
-    s
+/// `[lo,hi]` with three significant digits, for the table.
+fn short(x: Interval) -> String {
+    format!("[{:.2e},{:.2e}]", x.inf(), x.sup())
 }
+
+fn text_row(w: &mut impl Write, row: &RowVerdict) -> std::io::Result<()> {
+    let (def, en) = match &row.pair {
+        Some(p) => (
+            p.defect
+                .iter()
+                .map(|x| short(*x))
+                .collect::<Vec<_>>()
+                .join(" "),
+            short(p.energy_error),
+        ),
+        None => (String::new(), String::new()),
+    };
+    writeln!(
+        w,
+        "{:>6} {:>24.3e} {def:>24} {en:>24}",
+        row.k,
+        row.distance.sup()
+    )
+}
+
+fn json_row(spools: &mut [Spool], row: &RowVerdict) -> std::io::Result<()> {
+    let sep = if row.k > 0 { "," } else { "" };
+    write!(spools[0].out, "{sep}{}", protocol::interval(row.distance))?;
+    if let Some(p) = &row.pair {
+        write!(spools[1].out, "{sep}{}", protocol::intervals(&p.defect))?;
+        write!(spools[2].out, "{sep}{}", protocol::interval(p.energy_error))?;
+    }
+    Ok(())
+}
+
+/// The rows of a candidate trajectory, read as they are needed.
+type Rows = Box<dyn Iterator<Item = Result<Vec<f64>, Error>>>;
 
 /// The candidate in `file`: JSON `{"q": [[..]..]}` (as `integrate --json` prints it) or
-/// `[[..]..]`, or CSV. Strict (README, "Input rules"): every number finite, every row the
-/// scene's length, no key or column that is not known, the refusal naming file, line and
-/// column.
+/// `[[..]..]`, or CSV; and the number of rows (for the default budget and the progress
+/// bar: CSV lines are counted in a first pass). Strict (README, "Input rules"): every
+/// number finite, every row the scene's length, no key or column that is not known, the
+/// refusal naming file, line and column.
 fn read_trajectory(
     file: &str,
     coordinates: &[String],
     m: usize,
     h: f64,
-) -> Result<Vec<Vec<f64>>, Error> {
+) -> Result<(Rows, usize), Error> {
     let cannot =
         |e: std::io::Error| Error::input(format!("--trajectory: cannot read `{file}`: {e}"));
-    let f = std::fs::File::open(file).map_err(cannot)?;
-    let mut r = std::io::BufReader::new(f);
+    let open = || -> Result<BufReader<File>, Error> {
+        Ok(BufReader::new(File::open(file).map_err(cannot)?))
+    };
+    let mut r = open()?;
     // JSON or CSV: the first byte that is not white space decides
     let first = loop {
         let buf = r.fill_buf().map_err(cannot)?;
@@ -126,9 +175,32 @@ fn read_trajectory(
             let mut text = String::new();
             std::io::Read::read_to_string(&mut r, &mut text)
                 .map_err(|e| Error::input(format!("--trajectory `{file}`: {e}")))?;
-            json_trajectory(file, &text, coordinates.len())
+            let rows = json_trajectory(file, &text, coordinates.len())?;
+            let count = rows.len();
+            Ok((Box::new(rows.into_iter().map(Ok)), count))
         }
-        Some(_) => csv_trajectory(file, r, coordinates, m, h),
+        Some(_) => {
+            // lines that are not blank, less the header if any: an upper bound is enough
+            let mut count = 0;
+            let mut lines = open()?.split(b'\n');
+            for line in &mut lines {
+                let line = line.map_err(cannot)?;
+                count += usize::from(line.iter().any(|b| !b.is_ascii_whitespace()));
+            }
+            let rows = CsvRows {
+                file: file.to_string(),
+                lines: open()?.lines(),
+                coordinates: coordinates.to_vec(),
+                m,
+                h,
+                columns: None,
+                blank_since: None,
+                no: 0,
+                k: 0,
+                done: false,
+            };
+            Ok((Box::new(rows), count))
+        }
     }
 }
 
@@ -178,90 +250,124 @@ enum Column {
     Ignored,
 }
 
-fn csv_trajectory(
-    file: &str,
-    r: impl BufRead,
-    coordinates: &[String],
+/// The CSV rows of `file`, one per call; the first error ends them.
+struct CsvRows {
+    file: String,
+    lines: std::io::Lines<BufReader<File>>,
+    coordinates: Vec<String>,
     m: usize,
     h: f64,
-) -> Result<Vec<Vec<f64>>, Error> {
-    let n = coordinates.len();
-    let at = |line: usize| format!("--trajectory `{file}` line {line}");
-    let mut columns: Option<Vec<(Column, String)>> = None;
-    let mut rows: Vec<Vec<f64>> = Vec::new();
-    let mut blank_since: Option<usize> = None;
-    for (i, line) in r.lines().enumerate() {
-        let no = i + 1;
-        let line = line.map_err(|e| Error::input(format!("{}: {e}", at(no))))?;
-        let line = line.strip_suffix('\r').unwrap_or(&line);
-        if line.trim().is_empty() {
-            blank_since.get_or_insert(no);
-            continue;
+    columns: Option<Vec<(Column, String)>>,
+    blank_since: Option<usize>,
+    /// The line number last read.
+    no: usize,
+    /// The row index of the next row.
+    k: usize,
+    done: bool,
+}
+
+impl Iterator for CsvRows {
+    type Item = Result<Vec<f64>, Error>;
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.done {
+            return None;
         }
-        if let Some(b) = blank_since {
-            return Err(Error::input(format!(
-                "{}: an empty line in the middle of the data; remove it",
-                at(b)
-            )));
+        let row = self.row().transpose();
+        if !matches!(row, Some(Ok(_))) {
+            self.done = true;
         }
-        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
-        if columns.is_none() {
-            // a first line with a cell that is not a number is the header
-            if cells.iter().any(|c| protocol::parse_num("", c).is_err()) {
-                let cols = header_columns(&cells, coordinates, m)
-                    .map_err(|e| Error::input(format!("{}: {}", at(no), e.message())))?;
-                columns = Some(cols);
+        row
+    }
+}
+
+impl CsvRows {
+    fn at(&self) -> String {
+        format!("--trajectory `{}` line {}", self.file, self.no)
+    }
+
+    /// The next row, `None` at the end of the file.
+    fn row(&mut self) -> Result<Option<Vec<f64>>, Error> {
+        let n = self.coordinates.len();
+        loop {
+            let Some(line) = self.lines.next() else {
+                return Ok(None);
+            };
+            self.no += 1;
+            let line = line.map_err(|e| Error::input(format!("{}: {e}", self.at())))?;
+            let line = line.strip_suffix('\r').unwrap_or(&line);
+            if line.trim().is_empty() {
+                self.blank_since.get_or_insert(self.no);
                 continue;
             }
-            columns = Some(
-                (0..n)
-                    .map(|i| (Column::Coordinate(i), coordinates[i].clone()))
-                    .collect(),
-            );
-        }
-        let cols = columns.as_deref().unwrap_or_default();
-        if cells.len() != cols.len() {
-            return Err(Error::input(format!(
-                "{}: {} cells, expected {} ({}){}",
-                at(no),
-                cells.len(),
-                cols.len(),
-                cols.iter()
-                    .map(|c| c.1.as_str())
-                    .collect::<Vec<_>>()
-                    .join(","),
-                if rows.is_empty() && cols.len() == n {
-                    "; without a header line the columns are the coordinates in order"
-                } else {
-                    ""
-                }
-            )));
-        }
-        let k = rows.len();
-        let mut q = vec![f64::NAN; n];
-        for (c, (cell, (what, name))) in cells.iter().zip(cols).enumerate() {
-            let x = protocol::parse_num(&format!("{}, column {} (`{name}`)", at(no), c + 1), cell)?;
-            match what {
-                Column::Coordinate(i) => q[*i] = x,
-                Column::K if x != k as f64 => {
-                    return Err(Error::input(format!(
-                        "{}: k = {x}, but this is row {k} of the data (rows must be q_0, q_1, .. in order)",
-                        at(no)
-                    )))
-                }
-                Column::T if (x - k as f64 * h).abs() > 1e-6 * (k as f64 * h).abs().max(h) => {
-                    return Err(Error::input(format!(
-                        "{}: t = {x}, but k h = {} for row {k} with --h {h}",
-                        at(no),
-                        k as f64 * h
-                    )))
-                }
-                _ => {}
+            if let Some(b) = self.blank_since {
+                self.no = b;
+                return Err(Error::input(format!(
+                    "{}: an empty line in the middle of the data; remove it",
+                    self.at()
+                )));
             }
+            let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+            if self.columns.is_none() {
+                // a first line with a cell that is not a number is the header
+                if cells.iter().any(|c| protocol::parse_num("", c).is_err()) {
+                    let cols = header_columns(&cells, &self.coordinates, self.m)
+                        .map_err(|e| Error::input(format!("{}: {}", self.at(), e.message())))?;
+                    self.columns = Some(cols);
+                    continue;
+                }
+                self.columns = Some(
+                    (0..n)
+                        .map(|i| (Column::Coordinate(i), self.coordinates[i].clone()))
+                        .collect(),
+                );
+            }
+            let cols = self.columns.as_deref().unwrap_or_default();
+            if cells.len() != cols.len() {
+                return Err(Error::input(format!(
+                    "{}: {} cells, expected {} ({}){}",
+                    self.at(),
+                    cells.len(),
+                    cols.len(),
+                    cols.iter()
+                        .map(|c| c.1.as_str())
+                        .collect::<Vec<_>>()
+                        .join(","),
+                    if self.k == 0 && cols.len() == n {
+                        "; without a header line the columns are the coordinates in order"
+                    } else {
+                        ""
+                    }
+                )));
+            }
+            let (k, h) = (self.k, self.h);
+            let mut q = vec![f64::NAN; n];
+            for (c, (cell, (what, name))) in cells.iter().zip(cols).enumerate() {
+                let x = protocol::parse_num(
+                    &format!("{}, column {} (`{name}`)", self.at(), c + 1),
+                    cell,
+                )?;
+                match what {
+                    Column::Coordinate(i) => q[*i] = x,
+                    Column::K if x != k as f64 => {
+                        return Err(Error::input(format!(
+                            "{}: k = {x}, but this is row {k} of the data (rows must be q_0, q_1, .. in order)",
+                            self.at()
+                        )))
+                    }
+                    Column::T if (x - k as f64 * h).abs() > 1e-6 * (k as f64 * h).abs().max(h) => {
+                        return Err(Error::input(format!(
+                            "{}: t = {x}, but k h = {} for row {k} with --h {h}",
+                            self.at(),
+                            k as f64 * h
+                        )))
+                    }
+                    _ => {}
+                }
+            }
+            self.k += 1;
+            return Ok(Some(q));
         }
-        rows.push(q);
     }
-    Ok(rows)
 }
 
 /// The role of each header cell; every coordinate once (by its name or as `q0`..).

@@ -5,71 +5,18 @@
 //! as whole.
 
 use super::progress::Bar;
+use super::spool::Spool;
 use dalembert::integrator::SchemeKind;
 use dalembert::protocol::{Pair, Row, Session};
 use dalembert::Error;
-use std::fs::File;
-use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
+use std::io::{BufWriter, Write};
 
-/// A temporary file for output in the making: removed from the file system as soon as it
-/// is open (on Unix), and in any case when dropped.
-struct Spool {
-    out: BufWriter<File>,
-    path: std::path::PathBuf,
-}
-
-impl Spool {
-    fn new(tag: &str) -> Result<Spool, Error> {
-        let dir = std::env::temp_dir();
-        let stamp = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_nanos());
-        let path = dir.join(format!(
-            "dalembert-{}-{stamp}-{tag}.tmp",
-            std::process::id()
-        ));
-        let file = std::fs::OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create_new(true)
-            .open(&path)
-            .map_err(|e| {
-                Error::input(format!(
-                    "cannot create a temporary file in {}: {e}",
-                    dir.display()
-                ))
-            })?;
-        // an open file needs no name on Unix: nothing is left behind even if killed
-        #[cfg(unix)]
-        let _ = std::fs::remove_file(&path);
-        Ok(Spool {
-            out: BufWriter::new(file),
-            path,
-        })
-    }
-
-    /// Append everything written so far to `to`.
-    fn copy_to(&mut self, to: &mut impl Write) -> std::io::Result<()> {
-        self.out.flush()?;
-        let f = self.out.get_mut();
-        f.seek(SeekFrom::Start(0))?;
-        std::io::copy(&mut Read::by_ref(f), to)?;
-        Ok(())
-    }
-}
-
-impl Drop for Spool {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_file(&self.path);
-    }
-}
-
-fn io(e: std::io::Error) -> Error {
+pub(super) fn io(e: std::io::Error) -> Error {
     Error::input(format!("writing the output: {e}"))
 }
 
 /// One f64 as serde_json prints it (shortest round-trip form), as the JSON answers do.
-fn num(w: &mut impl Write, x: f64) -> std::io::Result<()> {
+pub(super) fn num(w: &mut impl Write, x: f64) -> std::io::Result<()> {
     serde_json::to_writer(&mut *w, &x).map_err(std::io::Error::other)
 }
 

@@ -11,6 +11,7 @@ mod order;
 mod progress;
 mod render;
 mod scenes;
+mod spool;
 mod stability;
 
 use clap::{Parser, Subcommand};
@@ -306,10 +307,7 @@ pub fn run(args: Vec<String>) -> i32 {
             no_pairs,
             json,
         ) {
-            Ok((text, passed)) => {
-                println!("{text}");
-                return if passed { 0 } else { 1 };
-            }
+            Ok(passed) => return if passed { 0 } else { 1 },
             Err(e) => Err(e),
         },
         Some(Cmd::Figures { out, quick, json }) => figures::run(&out, quick, json).map(Some),

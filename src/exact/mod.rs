@@ -439,6 +439,7 @@ pub struct ExactTrajectory {
 /// iterates are `q_k = q(kh)` of the one trajectory through `Q0` with `u0 = R^{e-}(Q0, Q1)`.
 /// The certificate is carried as that trajectory's Lohner set, so correlations between
 /// consecutive iterates are kept and widths grow like the flow's, not like a box iteration's.
+/// Collects [`ExactFlow`]'s iterates.
 ///
 /// # Containment
 /// `q[k] ∋ q(kh)`, `v[k] ∋ qd(kh)`, `p[k] ∋` the D*-momentum at `kh`, for the trajectory
@@ -451,33 +452,96 @@ pub fn trajectory(
     steps: usize,
     opts: &FlowOptions,
 ) -> Result<ExactTrajectory, Error> {
-    let n = model.n;
-    let r = retract(model, q0, q1, h, opts)?;
-    let mut q = vec![q0.to_vec()];
-    let mut v = vec![r.v0.clone()];
-    let mut p = vec![momentum(model, q0, &r.v0)?];
-    let mut set = r.set.clone();
-    for k in 1..=steps {
-        if k > 1 {
-            set = flow_set(&model.dynamics, set, h, opts)?.0;
-        }
-        let hull = set.hull();
-        let qk = if k == 1 {
-            intersect_checked(&hull[..n], &r.q1)?
-        } else {
-            hull[..n].to_vec()
-        };
-        let vk = set_velocity(model, &set)?;
-        p.push(momentum(model, &qk, &vk)?);
-        q.push(qk);
-        v.push(vk);
+    let mut flow = ExactFlow::start(model, q0, q1, h, opts)?;
+    let (mut q, mut v, mut p) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..=steps {
+        let it = flow.next_iterate()?;
+        q.push(it.q);
+        v.push(it.v);
+        p.push(it.p);
     }
     Ok(ExactTrajectory {
-        retraction: r,
+        retraction: flow.retraction,
         q,
         v,
         p,
     })
+}
+
+/// One iterate of the exact discrete flow: `q ∋ q(kh)`, `v ∋ qd(kh)`, `p ∋` the
+/// D*-momentum at `kh` (as the rows of [`ExactTrajectory`]).
+#[derive(Clone, Debug)]
+pub struct Iterate {
+    pub k: usize,
+    pub q: Vec<Interval>,
+    pub v: Vec<Interval>,
+    pub p: Vec<Interval>,
+}
+
+/// The exact discrete flow from `(Q0, Q1)` one iterate at a time, in memory independent of
+/// the number of iterates (spec eq. (6.6)): the state is the trajectory's Lohner set at
+/// the last iterate. [`trajectory`] and the oracle's streaming check
+/// ([`crate::oracle::check_each`]) are built on it.
+///
+/// # Containment
+/// As [`trajectory`]: the `k`-th call of [`ExactFlow::next_iterate`] (from 0) encloses
+/// `q(kh)`, `qd(kh)` and the momentum there, for the trajectory of the unique solution of
+/// (6.2) in the Krawczyk box.
+pub struct ExactFlow<'m> {
+    model: &'m Model,
+    h: f64,
+    opts: FlowOptions,
+    set: LohnerSet,
+    k: usize,
+    q0: Vec<Interval>,
+    /// The retraction of `(Q0, Q1)` the trajectory starts from.
+    pub retraction: Retraction,
+}
+
+impl<'m> ExactFlow<'m> {
+    /// Retract `(Q0, Q1)` (spec eq. (6.2)); nothing is flown yet.
+    pub fn start(
+        model: &'m Model,
+        q0: &[Interval],
+        q1: &[Interval],
+        h: f64,
+        opts: &FlowOptions,
+    ) -> Result<Self, Error> {
+        let retraction = retract(model, q0, q1, h, opts)?;
+        Ok(ExactFlow {
+            model,
+            h,
+            opts: opts.clone(),
+            set: retraction.set.clone(),
+            k: 0,
+            q0: q0.to_vec(),
+            retraction,
+        })
+    }
+
+    /// The iterate `k` (0 for `Q0`, 1 for `q(h)`, then one flow of the set by `h` each).
+    pub fn next_iterate(&mut self) -> Result<Iterate, Error> {
+        let (model, n, k) = (self.model, self.model.n, self.k);
+        let (q, v) = match k {
+            0 => (self.q0.clone(), self.retraction.v0.clone()),
+            _ => {
+                if k > 1 {
+                    // on an error the set stays as it was: a later call tries again
+                    self.set = flow_set(&model.dynamics, self.set.clone(), self.h, &self.opts)?.0;
+                }
+                let hull = self.set.hull();
+                let q = if k == 1 {
+                    intersect_checked(&hull[..n], &self.retraction.q1)?
+                } else {
+                    hull[..n].to_vec()
+                };
+                (q, set_velocity(model, &self.set)?)
+            }
+        };
+        let p = momentum(model, &q, &v)?;
+        self.k += 1;
+        Ok(Iterate { k, q, v, p })
+    }
 }
 
 /// The exact discrete Lagrangian `l^{e,h}_{d,nh}(Q0, Q1) = int_0^h L(q(t), qd(t)) dt` along
