@@ -44,11 +44,42 @@ pub fn krawczyk(
         .iter()
         .map(|f| f.max(2.0 * f64::EPSILON * scale.abs()))
         .collect();
-    let first = inflate(guess, c, rad, &coupled, &gd);
-    if first.is_ok() || scaled == coupled {
-        return first;
+    match inflate(guess, c, rad, &coupled, &gd) {
+        Err(Failed::Other(_)) if scaled != coupled => {
+            inflate(guess, c, rad, &scaled, &gd).map_err(Failed::into_error)
+        }
+        first => first.map_err(Failed::into_error),
     }
-    inflate(guess, c, rad, &scaled, &gd)
+}
+
+/// Why [`inflate`] gave up.
+enum Failed {
+    /// `I - C DG(X)` does not contract on the box: no larger box can pass (below).
+    Hopeless(Error),
+    Other(Error),
+}
+
+impl Failed {
+    fn into_error(self) -> Error {
+        match self {
+            Failed::Hopeless(e) | Failed::Other(e) => e,
+        }
+    }
+}
+
+/// `min_i (|M| r)_i / r_i`, `|M|` the magnitudes of `M = I - C DG(X)` and `r` the box's
+/// radii. It is a lower bound of the spectral radius of `|M|` (Collatz-Wielandt). The
+/// inclusion `K(X) ⊂ int X` needs `(|M| r)_i < r_i` for every i, impossible once the
+/// spectral radius is 1 or more; a larger box only widens `DG(X)` and so `|M|`. So when
+/// this is above 1, inflating further is work without hope, and the test stops (a policy
+/// that decides how soon to refuse; it changes no answer's soundness).
+fn contraction_floor(m: &IMat, rad: &[f64]) -> f64 {
+    (0..rad.len())
+        .map(|i| {
+            let mr: f64 = m[i].iter().zip(rad).map(|(x, r)| x.mag() * r).sum();
+            mr / rad[i]
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Epsilon-inflation from the radii `rad` with the floor `floor`: at most 8 boxes.
@@ -58,7 +89,7 @@ fn inflate(
     rad: &[f64],
     floor: &[f64],
     gd: &impl Fn(&[Interval]) -> Result<(Vec<Interval>, IMat), Error>,
-) -> Result<Vec<Interval>, Error> {
+) -> Result<Vec<Interval>, Failed> {
     let n = guess.len();
     let zt: Vec<Interval> = guess.iter().map(|x| point(*x)).collect();
     let ci = linalg::imat(c);
@@ -70,12 +101,12 @@ fn inflate(
         if !x.iter().all(|v| finite(*v)) {
             break;
         }
-        let (gz, d) = gd(&x)?;
+        let (gz, d) = gd(&x).map_err(Failed::Other)?;
         let cg = linalg::mul_vec(&ci, &gz);
         if !cg.iter().all(|x| finite(*x)) {
-            return Err(Error::uncertified(
+            return Err(Failed::Other(Error::uncertified(
                 "shooting map not finite at the Newton point",
-            ));
+            )));
         }
         let cd = linalg::mul(&ci, &d);
         let i_minus_cd: IMat = (0..n)
@@ -91,6 +122,13 @@ fn inflate(
         if k.iter().zip(&x).all(|(a, b)| finite(*a) && a.interior(*b)) {
             return Ok(k);
         }
+        let rho = contraction_floor(&i_minus_cd, &rad);
+        if rho > 1.0 {
+            return Err(Failed::Hopeless(Error::uncertified(format!(
+                "Krawczyk test failed: I - C DG does not contract (spectral radius of its \
+                 magnitudes >= {rho:.3e}; h too large or the Newton point too far)"
+            ))));
+        }
         // epsilon-inflation: grow the box towards K(X), and at least to twice the Newton
         // correction C G(z~)
         for i in 0..n {
@@ -98,9 +136,9 @@ fn inflate(
             rad[i] = (rad[i] * 2.0).max(reach * 2.0).max(2.0 * cg[i].mag()) + floor[i];
         }
     }
-    Err(Error::uncertified(
+    Err(Failed::Other(Error::uncertified(
         "Krawczyk test failed: no existence and uniqueness proof (step too large, or a singular Jacobian)",
-    ))
+    )))
 }
 
 /// `2 eps (|C| |C^-1| |guess|)_i`: the room component i needs for the rounding of the
