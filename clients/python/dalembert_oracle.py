@@ -221,12 +221,12 @@ class Oracle:
             raise ValueError("one non-blank line, without a newline")
         try:
             obj = json.loads(line)
-            want = obj.get("id") if isinstance(obj, dict) else None
         except ValueError:
-            want = None
+            obj = None
+        obj = obj if isinstance(obj, dict) else {}
         self.queries += 1
         self._write([line])
-        return self._result((self._read(), want, None))
+        return self._result((self._read(), obj.get("id"), obj.get("cmd")))
 
     def run(self, queries):
         """Many queries at once (pipelined: written by a thread while answers are read).
