@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """A Python DLA step for the nonholonomic particle, checked against the dalembert oracle.
 
-The oracle is used through `dalembert batch` (JSON lines in, JSON lines out), so nothing
-here links Rust. For each step size h the script takes one DLA step (q0, q1) -> q2 from a
-pair on an exact trajectory and asks the oracle for the exact discrete flow from the same
+The oracle is used through `dalembert batch` (JSON lines in, JSON lines out) by the module
+clients/python/dalembert_oracle.py, so nothing here links Rust. For each step size h the
+script takes one DLA step (q0, q1) -> q2 from a pair on an exact trajectory and asks the oracle for the exact discrete flow from the same
 pair: `step` returns certified enclosures of q(2h) on the exact trajectory through
 (q0, q1 moved onto M_h^{e,nh}). The one-step error |q2_dla - q(2h)|_inf is then known as a
 certified interval (the distance from a point to a box, rounded outwards), and so is the
@@ -27,13 +27,14 @@ For the particle (mu = (-y, 0, 1), y = y0 + u2 t, xd sqrt(1 + y^2) constant) thi
 The script asserts both limits on the certified intervals. Exit status 0 when every check
 passes.
 
-Usage: check_dla.py [path/to/dalembert]     (default: `dalembert` on PATH, or $DALEMBERT)
+Usage: check_dla.py [path/to/dalembert]     (default: $DALEMBERT, or `dalembert` on PATH)
 """
-import json
 import math
 import os
-import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../clients/python"))
+from dalembert_oracle import InputError, Oracle, distance, quotient  # noqa: E402
 
 
 def dla_particle_step(q0, q1, h):
@@ -51,68 +52,18 @@ def dla_particle_step(q0, q1, h):
     return [x2, y2, z2]
 
 
-class Oracle:
-    def __init__(self, exe):
-        self.p = subprocess.Popen([exe, "batch"], stdin=subprocess.PIPE,
-                                  stdout=subprocess.PIPE, text=True)
-        self.n = 0
-
-    def ask(self, query):
-        self.n += 1
-        query = dict(query, id=self.n)
-        self.p.stdin.write(json.dumps(query) + "\n")
-        self.p.stdin.flush()
-        answer = json.loads(self.p.stdout.readline())
-        assert answer["id"] == self.n, answer
-        if "error" in answer:
-            raise RuntimeError(answer["error"]["message"])
-        return answer["ok"]
-
-    def close(self):
-        self.p.stdin.close()
-        return self.p.wait()
-
-
-def down(x):
-    return math.nextafter(x, -math.inf)
-
-
-def up(x):
-    return math.nextafter(x, math.inf)
-
-
-def distance(x, box):
-    """Certified [lo, hi] containing max_i |x_i - b_i| for every b in the box (spec 8,
-    `distance`): each float operation is exact to half an ulp, so stepping its result one
-    ulp outwards bounds the exact value."""
-    lo, hi = 0.0, 0.0
-    for xi, (a, b) in zip(x, box):
-        far = max(abs(xi - a), abs(xi - b))
-        near = 0.0 if a <= xi <= b else min(abs(xi - a), abs(xi - b))
-        hi = max(hi, up(far))
-        lo = max(lo, down(near) if near > 0 else 0.0)
-    return lo, hi
-
-
-def quotient(a, b):
-    """[a_lo / b_hi, a_hi / b_lo] rounded outwards, for intervals of positive numbers."""
-    assert a[0] >= 0 and b[0] > 0, (a, b)
-    return down(a[0] / b[1]), up(a[1] / b[0])
-
-
 def one_step_errors(oracle, q0, u, hs):
     """For each h: the certified error interval of one DLA step from the exact pair."""
     errors = []
     for h in hs:
         # q1 on the exact trajectory (so the pair is on M_h^{e,nh} up to rounding)
-        f = oracle.ask({"cmd": "flow", "scene": "particle", "q": q0, "u": u, "t": h})
-        q1 = [(lo + hi) / 2 for lo, hi in f["q"]]
+        q1 = [iv.mid for iv in oracle.flow(q0, u, h).q]
         q2 = dla_particle_step(q0, q1, h)
-        s = oracle.ask({"cmd": "step", "scene": "particle", "q0": q0, "q1": q1, "h": h})
-        err = distance(q2, s["q2"])
-        width = max(hi - lo for lo, hi in s["q2"])
+        exact = oracle.step(q0, q1, h).q2
+        err = distance(q2, exact)
+        width = max(iv.hi - iv.lo for iv in exact)
         errors.append(err)
-        print(f"  h = 2^{int(math.log2(h)):<3}  |q2_dla - q(2h)| in [{err[0]:.9e}, {err[1]:.9e}]"
+        print(f"  h = 2^{int(math.log2(h)):<3}  |q2_dla - q(2h)| in [{err.lo:.9e}, {err.hi:.9e}]"
               f"   (oracle width {width:.1e})")
     return errors
 
@@ -123,17 +74,16 @@ def check_case(oracle, name, q0, u, order, constant):
     print(f"{name}: q0 = {q0}, u = {u}; expected error ~ {constant:.5g} h^{order}")
     hs = [2.0 ** -k for k in range(2, 9)]
     errors = one_step_errors(oracle, q0, u, hs)
-    assert all(e[0] > 0 for e in errors), errors          # proved non-zero
+    assert all(e.lo > 0 for e in errors), errors          # proved non-zero
     ratios = [quotient(a, b) for a, b in zip(errors, errors[1:])]
     print("  ratios as h halves:", ", ".join(f"[{lo:.6f}, {hi:.6f}]" for lo, hi in ratios))
     scaled = quotient(errors[-1], (hs[-1] ** order, hs[-1] ** order))
-    print(f"  error / h^{order} at h = 2^-8 in [{scaled[0]:.9g}, {scaled[1]:.9g}]")
+    print(f"  error / h^{order} at h = 2^-8 in [{scaled.lo:.9g}, {scaled.hi:.9g}]")
     return ratios, scaled
 
 
 def main():
-    exe = sys.argv[1] if len(sys.argv) > 1 else os.environ.get("DALEMBERT", "dalembert")
-    oracle = Oracle(exe)
+    oracle = Oracle(sys.argv[1] if len(sys.argv) > 1 else None, scene="particle")
     u = [0.8, 0.8]                     # quasi-velocities: xd = 0.8, yd = 0.8, zd = y xd
     u1, u2 = u
     # general case: y0 != 0, local error O(h^3)
@@ -145,19 +95,19 @@ def main():
     r4, s4 = check_case(oracle, "q0 = 0", [0.0, 0.0, 0.0], u, 4, c4)
     # a malformed query gets an error answer and the stream goes on
     try:
-        oracle.ask({"cmd": "step", "scene": "particle", "q0": [0, 0], "q1": [0, 0, 0], "h": 0.1})
+        oracle.step([0, 0], [0, 0, 0], 0.1)
         raise SystemExit("a wrong dimension was accepted")
-    except RuntimeError as e:
+    except InputError as e:
         print(f"bad query answered with an error: {e}")
     assert oracle.close() == 0
     # O(h^3): the last ratio is proved within 8 +- 0.5 and the error constant within 2 %
-    assert 7.5 < r3[-1][0] and r3[-1][1] < 8.5, r3
-    assert 0.98 * c3 < s3[0] and s3[1] < 1.02 * c3, (s3, c3)
+    assert 7.5 < r3[-1].lo and r3[-1].hi < 8.5, r3
+    assert 0.98 * c3 < s3.lo and s3.hi < 1.02 * c3, (s3, c3)
     # O(h^4) at q0 = 0: every ratio is proved above 12 (so not the O(h^3) ratio 8), the
     # last within 16 +- 0.5, and the error constant within 1 %
     assert all(lo > 12.0 for lo, _ in r4), r4
-    assert 15.5 < r4[-1][0] and r4[-1][1] < 16.5, r4
-    assert 0.99 * c4 < s4[0] and s4[1] < 1.01 * c4, (s4, c4)
+    assert 15.5 < r4[-1].lo and r4[-1].hi < 16.5, r4
+    assert 0.99 * c4 < s4.lo and s4.hi < 1.01 * c4, (s4, c4)
     print("ok")
 
 

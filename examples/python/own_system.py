@@ -7,7 +7,8 @@ mass m and moment of inertia J,
     L = m/2 (xd^2 + yd^2) + J/2 thetad^2,   constraint  -sin(theta) xd + cos(theta) yd = 0,
 
 sent as a JSON object in the `scene` field of each `dalembert batch` query (the same keys
-as a scene file; see the README, "Your own system"). With free = ["x", "theta"] the basis of
+as a scene file; see the README, "Your own system"), here by the module
+clients/python/dalembert_oracle.py (`Oracle(scene=UNICYCLE)`). With free = ["x", "theta"] the basis of
 D is derived: e1 = (1, tan theta, 0), e2 = (0, 0, 1), so u = (xd, thetad).
 
 The script checks the certified answers against the closed form (speed along the blade
@@ -15,13 +16,14 @@ s = u1 / cos(theta0) and turning rate w = u2 are constant), then checks a Python
 implementation of a first-order step against the exact discrete flow. Exit status 0 when
 every check passes.
 
-Usage: own_system.py [path/to/dalembert]     (default: `dalembert` on PATH, or $DALEMBERT)
+Usage: own_system.py [path/to/dalembert]     (default: $DALEMBERT, or `dalembert` on PATH)
 """
-import json
 import math
 import os
-import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../clients/python"))
+from dalembert_oracle import Oracle, distance  # noqa: E402
 
 UNICYCLE = {
     "name": "unicycle",
@@ -42,40 +44,17 @@ def closed_form(q0, u, t):
             y0 - s / w * (math.cos(th) - math.cos(th0)), th]
 
 
-class Oracle:
-    def __init__(self, exe):
-        self.p = subprocess.Popen([exe, "batch"], stdin=subprocess.PIPE,
-                                  stdout=subprocess.PIPE, text=True)
-        self.n = 0
-
-    def ask(self, query):
-        self.n += 1
-        query = dict(query, id=self.n, scene=UNICYCLE)
-        self.p.stdin.write(json.dumps(query) + "\n")
-        self.p.stdin.flush()
-        answer = json.loads(self.p.stdout.readline())
-        assert answer["id"] == self.n, answer
-        if "error" in answer:
-            raise RuntimeError(answer["error"]["message"])
-        return answer["ok"]
-
-    def close(self):
-        self.p.stdin.close()
-        assert self.p.wait() == 0
-
-
 def inside(x, iv, slack=0.0):
-    return iv[0] - slack <= x <= iv[1] + slack
+    return iv.lo - slack <= x <= iv.hi + slack
 
 
 def main():
-    exe = sys.argv[1] if len(sys.argv) > 1 else os.environ.get("DALEMBERT", "dalembert")
-    oracle = Oracle(exe)
+    oracle = Oracle(sys.argv[1] if len(sys.argv) > 1 else None, scene=UNICYCLE)
 
     # 1. The certified flow contains the closed form (up to the float error of evaluating
     #    the closed form here, a few 1e-16).
     q0, u, t = [0.2, -0.1, 0.3], [0.6, 0.9], 1.0  # theta stays below pi/2
-    flow = oracle.ask({"cmd": "flow", "q": q0, "u": u, "t": t})
+    flow = oracle.flow(q0, u, t)
     ref = closed_form(q0, u, t)
     for i in range(3):
         assert inside(ref[i], flow["q"][i], 1e-14), (i, ref[i], flow["q"][i])
@@ -84,7 +63,7 @@ def main():
     # 2. A pair taken from the exact motion lies on M_h^{e,nh} (defect ~ 0) ...
     h = 0.25
     q1 = closed_form(q0, u, h)
-    r = oracle.ask({"cmd": "retract", "q0": q0, "q1": q1, "h": h})
+    r = oracle.retract(q0, q1, h)
     assert r["member"] == "possible", r
     assert all(abs(a) < 1e-14 and abs(b) < 1e-14 for a, b in r["defect"]), r["defect"]
 
@@ -94,16 +73,16 @@ def main():
     for h in [0.2, 0.1, 0.05]:
         q1 = closed_form(q0, u, h)
         q2_user = [2 * b - a for a, b in zip(q0, q1)]
-        exact = oracle.ask({"cmd": "step", "q0": q0, "q1": q1, "h": h})["q2"]
-        # |q2_user - q2_exact|_inf, certified lower bound
-        lower = max(max(a - x, x - b, 0.0) for x, (a, b) in zip(q2_user, exact))
+        exact = oracle.step(q0, q1, h).q2
+        # |q2_user - q2_exact|_inf, certified lower bound (rounded downwards)
+        lower = distance(q2_user, exact).lo
         errors.append(lower)
         print(f"h = {h}: certified |q2_user - q2_exact| >= {lower:.3e}")
     ratios = [errors[i] / errors[i + 1] for i in range(len(errors) - 1)]
     # the step is the central difference q'' = 0: its error is h^2 |q''| (ratio 4)
     assert all(3.5 < x < 4.5 for x in ratios), ratios
     print("ratios", [f"{x:.2f}" for x in ratios])
-    oracle.close()
+    assert oracle.close() == 0
     print("ok")
 
 
