@@ -29,6 +29,6 @@ pub mod testing;
 mod error;
 
 pub use enclosure::{flow, FlowEnclosure, FlowOptions, FlowStats};
-pub use error::Error;
+pub use error::{Error, Reason, Refusal};
 pub use model::Model;
 pub use scene::AnyScene;

@@ -478,9 +478,10 @@ impl Model {
         match self.scene.violation_at(q, &mirror, true) {
             None => Ok(()),
             Some(Violation::Input(m)) => Err(Error::input(format!("scene `{name}`: {m}"))),
-            Some(Violation::Undefined(m) | Violation::Rank(m)) => {
-                Err(Error::uncertified(format!("scene `{name}`: {m}")))
-            }
+            Some(Violation::Undefined(m) | Violation::Rank(m)) => Err(Error::refused(
+                crate::Reason::Undefined,
+                format!("scene `{name}`: {m}"),
+            )),
         }
     }
 

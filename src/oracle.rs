@@ -12,7 +12,7 @@
 use crate::exact::{self, ExactFlow, ExactTrajectory, Iterate};
 use crate::scalar::point;
 use crate::tape::finite;
-use crate::{Error, FlowOptions, Model};
+use crate::{Error, FlowOptions, Model, Reason};
 use inari::Interval;
 
 /// What to compute besides the distances.
@@ -65,7 +65,7 @@ pub(crate) fn energy(model: &Model, q: &[Interval], v: &[Interval]) -> Result<In
         .energy
         .eval_checked(&x)
         .map(|e| e[0])
-        .ok_or_else(|| Error::uncertified("energy enclosure not finite"))
+        .ok_or_else(|| Error::refused(Reason::Unbounded, "energy enclosure not finite"))
 }
 
 /// Check a candidate trajectory of step `h` against the exact discrete flow.
@@ -186,7 +186,10 @@ pub fn check_each(
         let exact = flow.next_iterate()?;
         let d = distance(q, &exact.q);
         if !finite(d) {
-            return Err(Error::uncertified("distance enclosure not finite"));
+            return Err(Error::refused(
+                Reason::Unbounded,
+                "distance enclosure not finite",
+            ));
         }
         max_distance = max_distance.max(d);
         Ok((d, exact))

@@ -404,7 +404,7 @@ impl Session {
         };
         let out = match result {
             Ok(ok) => json!({"id": id, "ok": ok}),
-            Err(e) => json!({"id": id, "error": {"code": e.code(), "message": e.message()}}),
+            Err(e) => json!({"id": id, "error": error_object(&e)}),
         };
         Some(BatchAnswer {
             text: out.to_string(),
@@ -541,6 +541,25 @@ pub fn stats(s: &FlowStats) -> Value {
 /// distance enclosure straddling `tol` decides nothing and is refused (exit 3).
 pub fn tolerance_verdict(v: &crate::oracle::Verdict, tol: Option<f64>) -> Result<bool, Error> {
     tolerance_decision(v.max_distance, tol)
+}
+
+/// The batch error object (contract, E10): `code` and `message`; for a refusal also its
+/// `reason` (`budget`, `no_proof`, `unbounded`, `undefined`) and, when a flow was under
+/// way, `reached` (the time up to which it was proved); `reason` `internal` for a fault of
+/// the crate.
+pub fn error_object(e: &Error) -> Value {
+    let mut o = json!({"code": e.code(), "message": e.message()});
+    match e {
+        Error::Uncertified(r) => {
+            o["reason"] = json!(r.reason.name());
+            if let Some(t) = r.reached {
+                o["reached"] = json!(t);
+            }
+        }
+        Error::Internal(_) => o["reason"] = json!("internal"),
+        Error::Input(_) => {}
+    }
+    o
 }
 
 /// [`tolerance_verdict`] on the certified maximum distance alone.

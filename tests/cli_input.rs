@@ -724,3 +724,36 @@ fn batch_ends_quietly_when_its_reader_goes_away() {
         );
     }
 }
+
+/// A refusal says what kind it is (contract E10): a spent budget (the deadline, or more
+/// steps than allowed) is `budget`, with the time the flow had been proved up to; input
+/// errors have no reason (a singularity of the data: tests/user_scene.rs).
+#[test]
+fn batch_refusals_carry_their_reason_and_the_time_reached() {
+    let input = b"{\"id\":1,\"cmd\":\"flow\",\"scene\":\"knife\",\"q\":[0,0,0],\"u\":[0.8,0.8],\"t\":1e9}\n\
+{\"id\":2,\"cmd\":\"flow\",\"scene\":\"knife\",\"q\":[0,0,0],\"u\":[0.8,0.8],\"t\":600,\"deadline\":1e-9}\n\
+{\"id\":3,\"cmd\":\"flow\",\"scene\":\"knife\",\"q\":[0,0],\"u\":[0.8,0.8],\"t\":1}\n";
+    let (_, a) = batch(input, &[]);
+    assert_eq!(a.len(), 3);
+    // 20,000 steps cannot reach 1e9: refused early, having proved some time
+    let e = &a[0]["error"];
+    assert_eq!(
+        (e["code"].as_i64(), e["reason"].as_str()),
+        (Some(3), Some("budget")),
+        "{e}"
+    );
+    let reached = e["reached"].as_f64().unwrap();
+    assert!(reached > 0.0 && reached < 1e9, "{e}");
+    // past the deadline at once: nothing proved beyond t = 0
+    let e = &a[1]["error"];
+    assert_eq!(e["reason"], "budget", "{e}");
+    assert!(e["message"]
+        .as_str()
+        .unwrap()
+        .starts_with("not certified within the budget"));
+    assert!(e["reached"].as_f64().is_none_or(|t| t == 0.0), "{e}");
+    // input errors: code 2, no reason
+    let e = &a[2]["error"];
+    assert_eq!(e["code"], 2, "{e}");
+    assert!(e.get("reason").is_none(), "{e}");
+}

@@ -7,7 +7,7 @@ pub mod linalg;
 use crate::model::{Model, System};
 use crate::scalar::{iv, point};
 use crate::tape::{finite, Coef};
-use crate::Error;
+use crate::{Error, Reason};
 use inari::Interval;
 use linalg::IMat;
 use nalgebra::DMatrix;
@@ -275,7 +275,7 @@ fn finish(model: &Model, set: &LohnerSet, stats: FlowStats) -> Result<FlowEnclos
     let x = set.hull();
     let v = set
         .image(&model.velocity_jac)
-        .ok_or_else(|| Error::uncertified("velocity enclosure is not finite"))?;
+        .ok_or_else(|| Error::refused(Reason::Unbounded, "velocity enclosure is not finite"))?;
     Ok(FlowEnclosure {
         q: x[..model.n].to_vec(),
         u: x[model.n..].to_vec(),
@@ -434,16 +434,16 @@ fn flow_set_general(
     let mut jac_order = 0;
     while done.sup() < t {
         if stats.steps >= opts.max_steps {
-            return Err(too_many(opts.max_steps, t));
+            return Err(too_many(opts.max_steps, t).reached(done.inf()));
         }
-        Error::check_deadline(opts.deadline)?;
+        Error::check_deadline(opts.deadline).map_err(|e| e.reached(done.inf()))?;
         let rem = (total - done).intersection(iv(0.0, f64::MAX));
         // (5.3) Taylor coefficients at the centre, for every try of this step.
         let centre: Vec<Interval> = set.m.iter().map(|x| point(*x)).collect();
-        let c = sys
-            .field
-            .ode_taylor(&centre, p)
-            .ok_or_else(|| Error::uncertified("vector field not defined at the state"))?;
+        let c = sys.field.ode_taylor(&centre, p).ok_or_else(|| {
+            Error::refused(Reason::Undefined, "vector field not defined at the state")
+                .reached(done.inf())
+        })?;
         // A fixed step (spec eq. (5.13)) or the rule of (5.8).
         let fixed = opts.step > 0.0;
         let mut h = if fixed {
@@ -481,9 +481,11 @@ fn flow_set_general(
                         let acc = total_jac.take().unwrap_or_else(|| JacobianSet::identity(d));
                         let next = acc.step(j, ba, b_inv);
                         if !linalg::all_finite(&next.r) {
-                            return Err(Error::uncertified(
+                            return Err(Error::refused(
+                                Reason::Unbounded,
                                 "derivative enclosure became unbounded",
-                            ));
+                            )
+                            .reached(done.inf()));
                         }
                         total_jac = Some(next);
                     }
@@ -499,11 +501,13 @@ fn flow_set_general(
                     // refuse early when the steps now taken would not reach t in time
                     let left = (t - done.sup()) / hi.sup();
                     if !last && stats.steps as f64 + left > 4.0 * opts.max_steps as f64 {
-                        return Err(too_many(opts.max_steps, t));
+                        return Err(too_many(opts.max_steps, t).reached(done.inf()));
                     }
                     break;
                 }
-                Err(StepFail::Fatal(why)) => return Err(Error::uncertified(why)),
+                Err(StepFail::Fatal(why)) => {
+                    return Err(Error::uncertified(why).reached(done.inf()))
+                }
                 Err(fail @ (StepFail::Shrink | StepFail::TooWide(_))) => {
                     tries += 1;
                     stats.rejected += 1;
@@ -523,7 +527,8 @@ fn flow_set_general(
                         return Err(Error::uncertified(format!(
                             "no a priori enclosure could be proved near t = {} (step size underflow)",
                             done.sup()
-                        )));
+                        ))
+                        .reached(done.inf()));
                     }
                 }
             }
@@ -535,11 +540,17 @@ fn flow_set_general(
     // No answer with an infinite endpoint (contract, Numbers): every consumer of a flow
     // reads the set through its hull.
     if !set.hull().iter().all(|x| finite(*x)) {
-        return Err(Error::uncertified("the state enclosure is not finite"));
+        return Err(Error::refused(
+            Reason::Unbounded,
+            "the state enclosure is not finite",
+        ));
     }
     let jac = total_jac.map(|j| j.hull(&set.b));
     if jac.as_ref().is_some_and(|j| !linalg::all_finite(j)) {
-        return Err(Error::uncertified("derivative enclosure became unbounded"));
+        return Err(Error::refused(
+            Reason::Unbounded,
+            "derivative enclosure became unbounded",
+        ));
     }
     Ok((set, jac, stats))
 }
@@ -556,9 +567,10 @@ const REMAINDER_TOL: f64 = f64::EPSILON;
 const REMAINDER_TARGET: f64 = 0.15;
 
 fn too_many(max: usize, t: f64) -> Error {
-    Error::uncertified(format!(
-        "more than {max} steps would be needed to reach t = {t}"
-    ))
+    Error::refused(
+        Reason::Budget,
+        format!("more than {max} steps would be needed to reach t = {t}"),
+    )
 }
 
 /// Round a positive step down to three significant bits (`{1, 1.25, 1.5, 1.75} * 2^e`), so

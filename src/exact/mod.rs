@@ -12,7 +12,7 @@ use crate::integrator::newton::{self, NewtonFailure, NewtonOptions, NewtonOutcom
 use crate::model::Model;
 use crate::scalar::point;
 use crate::tape::finite;
-use crate::Error;
+use crate::{Error, Reason};
 use inari::Interval;
 use nalgebra::{DMatrix, DVector};
 
@@ -62,13 +62,13 @@ fn velocity(model: &Model, x: &[Interval]) -> Result<Vec<Interval>, Error> {
     model
         .velocity
         .eval_checked(x)
-        .ok_or_else(|| Error::uncertified("velocity enclosure is not finite"))
+        .ok_or_else(|| Error::refused(Reason::Unbounded, "velocity enclosure is not finite"))
 }
 
 /// Velocities over a state set, by the centred form (spec eq. (5.12)).
 fn set_velocity(model: &Model, set: &LohnerSet) -> Result<Vec<Interval>, Error> {
     set.image(&model.velocity_jac)
-        .ok_or_else(|| Error::uncertified("velocity enclosure is not finite"))
+        .ok_or_else(|| Error::refused(Reason::Unbounded, "velocity enclosure is not finite"))
 }
 
 /// `N(q) = mu(q)^T`, n x k, enclosed over a box (spec eq. (6.2)).
@@ -77,7 +77,7 @@ pub fn normal_matrix(model: &Model, q: &[Interval]) -> Result<IMat, Error> {
     let mu = model
         .constraints
         .eval_checked(q)
-        .ok_or_else(|| Error::uncertified("constraint covectors not finite"))?;
+        .ok_or_else(|| Error::refused(Reason::Unbounded, "constraint covectors not finite"))?;
     Ok((0..n)
         .map(|i| (0..k).map(|a| mu[a * n + i]).collect())
         .collect())
@@ -198,7 +198,8 @@ pub fn retract(
 pub fn intersect_checked(a: &[Interval], b: &[Interval]) -> Result<Vec<Interval>, Error> {
     let r: Vec<Interval> = a.iter().zip(b).map(|(x, y)| x.intersection(*y)).collect();
     if r.iter().any(|x| x.is_empty()) {
-        return Err(Error::uncertified(
+        // both enclose the same exact value: disjoint only through a fault of the crate
+        return Err(Error::internal(
             "self-check failed: two enclosures of the same quantity are disjoint",
         ));
     }
@@ -262,7 +263,7 @@ fn newton_guess(
     let u = (&e * e.transpose())
         .lu()
         .solve(&(&e * rhs))
-        .ok_or_else(|| Error::uncertified("basis of D is degenerate at q0"))?;
+        .ok_or_else(|| Error::refused(Reason::Undefined, "basis of D is degenerate at q0"))?;
     let mu = model.constraints.eval::<f64>(&b);
     // The total number of float Taylor steps over all evaluations is bounded by
     // NEWTON_WORK * max_steps, so that no input makes the retraction slow (a fuzz finding:
@@ -351,13 +352,14 @@ fn newton_guess(
         r
     };
     let outcome = newton::solve(&mut z, |z| remembered_shoot(z).unwrap_or_else(nan), &nopts);
-    match outcome {
+    let answer = match outcome {
         NewtonOutcome::Converged { .. }
         | NewtonOutcome::Failed(NewtonFailure::Diverged | NewtonFailure::IterationLimit)
             if z.iter().all(|x| x.is_finite()) =>
         {
-            let (g, j) = remembered_shoot(&z).ok_or_else(not_converged)?;
-            Ok((z.iter().copied().collect(), j, g))
+            remembered_shoot(&z)
+                .ok_or_else(not_converged)
+                .map(|(g, j)| (z.iter().copied().collect(), j, g))
         }
         NewtonOutcome::Failed(NewtonFailure::SingularJacobian) => {
             Err(Error::uncertified("singular Jacobian of the shooting map"))
@@ -366,7 +368,22 @@ fn newton_guess(
             "Newton iteration for the retraction failed: {f}"
         ))),
         NewtonOutcome::Converged { .. } => Err(not_converged()),
-    }
+    };
+    // a failure once the work budget is spent is the budget's, not the proof's
+    answer.map_err(|e| {
+        if work.get() >= budget {
+            Error::refused(
+                Reason::Budget,
+                format!(
+                    "the retraction's Newton iteration spent its work budget ({budget} float \
+                     Taylor steps, 4 FlowOptions::max_steps): {}",
+                    e.message()
+                ),
+            )
+        } else {
+            e
+        }
+    })
 }
 
 /// The exact discrete flow and Legendre transforms at a pair (spec eqs. (6.5)-(6.7)).
@@ -417,7 +434,7 @@ pub fn momentum(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Vec<Int
     model
         .momentum_d
         .eval_checked(&x)
-        .ok_or_else(|| Error::uncertified("momentum enclosure not finite"))
+        .ok_or_else(|| Error::refused(Reason::Unbounded, "momentum enclosure not finite"))
 }
 
 /// The exact discrete trajectory `q_0 .. q_N` from `(Q0, Q1)` (spec eq. (6.6)).
@@ -569,7 +586,10 @@ pub fn discrete_lagrangian(
     let (set, _) = flow_set(&model.with_action, LohnerSet::from_box(&x0), h, opts)?;
     let l = set.hull()[x0.len() - 1];
     if !finite(l) {
-        return Err(Error::uncertified("action enclosure not finite"));
+        return Err(Error::refused(
+            Reason::Unbounded,
+            "action enclosure not finite",
+        ));
     }
     Ok((r, l))
 }

@@ -256,11 +256,12 @@ impl From<SchemeError> for Error {
         match e {
             SchemeError::Input(m) => Error::Input(m),
             SchemeError::Newton { step, failure } => {
-                Error::Uncertified(format!("Newton solver failed at step {step}: {failure}"))
+                Error::uncertified(format!("Newton solver failed at step {step}: {failure}"))
             }
-            SchemeError::NonFinite { step } => Error::Uncertified(format!(
-                "momentum or energy not finite at step {step} (overflow)"
-            )),
+            SchemeError::NonFinite { step } => Error::refused(
+                crate::Reason::Unbounded,
+                format!("momentum or energy not finite at step {step} (overflow)"),
+            ),
         }
     }
 }
