@@ -28,6 +28,75 @@ fn budget() -> FlowOptions {
     }
 }
 
+/// What the inputs of a fuzz target came to, for the corpus replay's shares
+/// (`tests/fuzz_corpus.rs`): every check function returns its input's tally (a line of
+/// `batch_line` or a query of `scenes_step` each count once).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Tally {
+    /// Answered: a certified answer that passed its re-check, or (float scheme targets) a
+    /// step whose residual was checked, or (scene files) a scene read and compiled.
+    pub answered: usize,
+    /// Refused because the budget was spent ([`crate::Reason::Budget`]).
+    pub budget: usize,
+    /// Refused for a stated reason that is not the budget (a failed proof, an unbounded
+    /// enclosure, undefined data, a Newton failure of a float scheme).
+    pub refused: usize,
+    /// Input refused (exit 2), or bytes that decode to no input.
+    pub input: usize,
+}
+
+impl Tally {
+    fn one(e: &Error) -> Tally {
+        match e {
+            Error::Input(_) => Tally::input(),
+            e if e.is_budget() => Tally {
+                budget: 1,
+                ..Tally::default()
+            },
+            _ => Tally {
+                refused: 1,
+                ..Tally::default()
+            },
+        }
+    }
+    fn answered() -> Tally {
+        Tally {
+            answered: 1,
+            ..Tally::default()
+        }
+    }
+    fn input() -> Tally {
+        Tally {
+            input: 1,
+            ..Tally::default()
+        }
+    }
+    /// Add another tally to this one.
+    pub fn add(&mut self, o: Tally) {
+        self.answered += o.answered;
+        self.budget += o.budget;
+        self.refused += o.refused;
+        self.input += o.input;
+    }
+    pub fn total(&self) -> usize {
+        self.answered + self.budget + self.refused + self.input
+    }
+}
+
+impl std::fmt::Display for Tally {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let pc = |x: usize| 100.0 * x as f64 / self.total().max(1) as f64;
+        write!(
+            f,
+            "answered {:.0}%, refused by the budget {:.0}%, refused for a stated reason {:.0}%, input refused {:.0}%",
+            pc(self.answered),
+            pc(self.budget),
+            pc(self.refused),
+            pc(self.input)
+        )
+    }
+}
+
 const EPS: [f64; 5] = [0.1, 0.5, -0.3, 0.9, 0.99];
 
 /// The scenes added after the first three targets' corpora were made, fuzzed by
@@ -101,7 +170,7 @@ fn vec3(u: &mut Unstructured) -> arbitrary::Result<Vec<f64>> {
 /// Invariant: a scheme step or projection on arbitrary scenes, states and steps never
 /// panics or hangs, and either fails with a named Newton failure or returns finite numbers
 /// that satisfy the discrete equations to a residual consistent with the one reported.
-pub fn newton_step(data: &[u8]) {
+pub fn newton_step(data: &[u8]) -> Tally {
     let mut u = Unstructured::new(data);
     let Ok((scene, mla, qm, qk, h)) = (|| -> arbitrary::Result<_> {
         Ok((
@@ -112,12 +181,12 @@ pub fn newton_step(data: &[u8]) {
             num(&mut u)?.abs(),
         ))
     })() else {
-        return;
+        return Tally::input();
     };
-    newton_invariant(scene, mla, &qm, &qk, h);
+    newton_invariant(scene, mla, &qm, &qk, h)
 }
 
-fn newton_invariant(scene: usize, mla: bool, qm: &[f64], qk: &[f64], h: f64) {
+fn newton_invariant(scene: usize, mla: bool, qm: &[f64], qk: &[f64], h: f64) -> Tally {
     with_model(scene, |model, dla, mla_s| {
         let s = if mla { mla_s } else { dla };
         let opts = NewtonOptions::default();
@@ -129,9 +198,18 @@ fn newton_invariant(scene: usize, mla: bool, qm: &[f64], qk: &[f64], h: f64) {
             assert!(tr.max_residual.is_finite());
         }
         if !(h.is_finite() && h > 0.0) || qm.iter().chain(qk).any(|x| !x.is_finite()) {
-            return;
+            return Tally::input();
         }
-        if let Ok((next, _, reported)) = s.step(qm, qk, h, &opts) {
+        let stepped = s.step(qm, qk, h, &opts);
+        // a named Newton failure of the float scheme: refused for a stated reason
+        let tally = match &stepped {
+            Ok(_) => Tally::answered(),
+            Err(_) => Tally {
+                refused: 1,
+                ..Tally::default()
+            },
+        };
+        if let Ok((next, _, reported)) = stepped {
             assert!(next.iter().all(|x| x.is_finite()), "non-finite step");
             let kind = if mla {
                 SchemeKind::Mla
@@ -147,7 +225,9 @@ fn newton_invariant(scene: usize, mla: bool, qm: &[f64], qk: &[f64], h: f64) {
                 "residual {norm:e} against reported {reported:e}"
             );
         }
-    });
+        tally
+    })
+    .unwrap_or_else(Tally::input)
 }
 
 fn scale(a: &[f64], b: &[f64], h: f64) -> f64 {
@@ -158,7 +238,7 @@ fn scale(a: &[f64], b: &[f64], h: f64) -> f64 {
 /// Invariant: the certified retraction on arbitrary pairs never panics, and a success
 /// passes the oracle's own re-check: finite intervals, and the flow from the `u0` box
 /// encloses a `q(h)` that meets the returned `q1` box (two enclosures of one point).
-pub fn retraction(data: &[u8]) {
+pub fn retraction(data: &[u8]) -> Tally {
     let mut u = Unstructured::new(data);
     let Ok((scene, q0, q1, h)) = (|| -> arbitrary::Result<_> {
         Ok((
@@ -168,17 +248,17 @@ pub fn retraction(data: &[u8]) {
             num(&mut u)?,
         ))
     })() else {
-        return;
+        return Tally::input();
     };
-    retraction_invariant(scene, &q0, &q1, h);
+    retraction_invariant(scene, &q0, &q1, h)
 }
 
-fn retraction_invariant(scene: usize, q0: &[f64], q1: &[f64], h: f64) {
+fn retraction_invariant(scene: usize, q0: &[f64], q1: &[f64], h: f64) -> Tally {
     with_model(scene, |model, _, _| {
         let pts = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
         match exact::retract(model, &pts(q0), &pts(q1), h, &budget()) {
-            Err(Error::Input(_)) | Err(Error::Uncertified(_)) => {}
             Err(Error::Internal(m)) => panic!("internal fault: {m}"),
+            Err(e) => Tally::one(&e),
             Ok(r) => {
                 let all =
                     r.u0.iter()
@@ -199,14 +279,16 @@ fn retraction_invariant(scene: usize, q0: &[f64], q1: &[f64], h: f64) {
                         );
                     }
                 }
+                Tally::answered()
             }
         }
-    });
+    })
+    .unwrap_or_else(Tally::input)
 }
 
 /// Invariant: on the newer scenes (two constraints, a mass matrix depending on q, a
 /// one-form in L), the invariants of [`newton_step`] and, when asked, of [`retraction`].
-pub fn scenes_step(data: &[u8]) {
+pub fn scenes_step(data: &[u8]) -> Tally {
     let mut u = Unstructured::new(data);
     let Ok((scene, mla, retract)) = (|| -> arbitrary::Result<_> {
         Ok((
@@ -215,10 +297,10 @@ pub fn scenes_step(data: &[u8]) {
             bool::arbitrary(&mut u)?,
         ))
     })() else {
-        return;
+        return Tally::input();
     };
     let Some(n) = with_model(scene, |model, _, _| model.n) else {
-        return;
+        return Tally::input();
     };
     let Ok((qm, qk, h)) = (|| -> arbitrary::Result<_> {
         let v = |u: &mut Unstructured| {
@@ -228,12 +310,13 @@ pub fn scenes_step(data: &[u8]) {
         };
         Ok((v(&mut u)?, v(&mut u)?, num(&mut u)?))
     })() else {
-        return;
+        return Tally::input();
     };
-    newton_invariant(scene, mla, &qm, &qk, h.abs());
+    let mut tally = newton_invariant(scene, mla, &qm, &qk, h.abs());
     if retract {
-        retraction_invariant(scene, &qm, &qk, h);
+        tally.add(retraction_invariant(scene, &qm, &qk, h));
     }
+    tally
 }
 
 /// Invariant: any bytes given to the batch protocol, read as a stream of lines (each kept
@@ -242,12 +325,13 @@ pub fn scenes_step(data: &[u8]) {
 /// `error` (code 2 or 3); every interval in an `ok` answer is finite with lo <= hi; and an
 /// answered query used exactly the numbers given: every key of the line is one its command
 /// reads, and each number the query used is bit for bit the one in the line. Never a panic.
-pub fn batch_line(data: &[u8]) {
+pub fn batch_line(data: &[u8]) -> Tally {
     let mut session = Session::default();
     session.flow = budget();
     session.max_integrate_steps = 1000;
     let mut reader = LineReader::new(data, 1024);
     let (mut lines, mut answers, mut blank) = (0, 0, 0);
+    let mut tally = Tally::default();
     while let Some(line) = reader.next_line().expect("reading bytes cannot fail") {
         lines += 1;
         let is_blank = matches!(&line, Line::Text(b)
@@ -258,7 +342,7 @@ pub fn batch_line(data: &[u8]) {
             continue;
         };
         answers += 1;
-        check_answer(&line, &answer);
+        tally.add(check_answer(&line, &answer));
     }
     assert_eq!(
         answers + blank,
@@ -271,9 +355,10 @@ pub fn batch_line(data: &[u8]) {
         data.split(|b| *b == b'\n').count() - usize::from(data.ends_with(b"\n"))
     };
     assert_eq!(lines, expected, "every line read");
+    tally
 }
 
-fn check_answer(line: &Line, answer: &BatchAnswer) {
+fn check_answer(line: &Line, answer: &BatchAnswer) -> Tally {
     let out = &answer.text;
     assert!(!out.contains('\n'));
     let v: Value = serde_json::from_str(out).expect("answer is JSON");
@@ -291,12 +376,25 @@ fn check_answer(line: &Line, answer: &BatchAnswer) {
                 .as_ref()
                 .expect("an ok answer names its query");
             used_exactly(&given, q);
+            Tally::answered()
         }
         (None, Some(e)) => {
             let code = e["code"].as_i64();
             assert!(code == Some(2) || code == Some(3), "bad code {e}");
             assert!(e["message"].is_string());
             assert!(answer.answered.is_none());
+            assert_ne!(e["reason"], "internal", "internal fault: {e}");
+            match (code, e["reason"].as_str()) {
+                (Some(2), _) => Tally::input(),
+                (_, Some("budget")) => Tally {
+                    budget: 1,
+                    ..Tally::default()
+                },
+                _ => Tally {
+                    refused: 1,
+                    ..Tally::default()
+                },
+            }
         }
         _ => panic!("answer needs exactly one of ok/error: {out}"),
     }
@@ -461,16 +559,17 @@ fn check_numbers(v: &Value, intervals: bool) {
 /// has a stable key and a description of its sizes, and either compiles with
 /// [`Model::new`] or is refused with a typed error; an expression that is read parses
 /// back from its canonical text (found in the key) to the same scene.
-pub fn scene_file(data: &[u8]) {
+pub fn scene_file(data: &[u8]) -> Tally {
     use crate::scene::{Scene, SceneFile};
     let Some((&mode, rest)) = data.split_first() else {
-        return;
+        return Tally::input();
     };
     let one_line = |e: &Error| {
         assert!(
             matches!(e, Error::Input(_)) && !e.message().contains('\n'),
             "a refusal must be one input-error line: {e:?}"
         );
+        Tally::input()
     };
     let accepted = |sf: &SceneFile, compile: bool| {
         let d = sf.description();
@@ -479,15 +578,17 @@ pub fn scene_file(data: &[u8]) {
         assert_eq!((d.coordinates.len(), d.constraints.len()), (n, k));
         assert_eq!((d.velocities.len(), d.basis.len()), (n - k, n - k));
         assert_eq!(sf.key(), sf.clone().key());
-        if compile {
-            match Model::new(sf) {
-                Ok(m) => {
-                    assert_eq!((m.n, m.k), (n, k));
-                    let _ = m.check_at(&vec![point(0.25); n]);
-                }
-                Err(Error::Input(_)) | Err(Error::Uncertified(_)) => {}
-                Err(Error::Internal(m)) => panic!("internal fault: {m}"),
+        if !compile {
+            return Tally::answered();
+        }
+        match Model::new(sf) {
+            Ok(m) => {
+                assert_eq!((m.n, m.k), (n, k));
+                let _ = m.check_at(&vec![point(0.25); n]);
+                Tally::answered()
             }
+            Err(Error::Internal(m)) => panic!("internal fault: {m}"),
+            Err(e) => Tally::one(&e),
         }
     };
     match mode % 3 {
@@ -500,7 +601,7 @@ pub fn scene_file(data: &[u8]) {
         }
         1 => {
             let Ok(v) = serde_json::from_slice::<Value>(rest) else {
-                return;
+                return Tally::input();
             };
             match SceneFile::from_json(&v) {
                 Ok(sf) => accepted(&sf, rest.len() < 4096 && sf.dim() <= 8),
@@ -510,11 +611,11 @@ pub fn scene_file(data: &[u8]) {
         _ => {
             let mut u = Unstructured::new(rest);
             let Ok(slot) = u.int_in_range(0u8..=4) else {
-                return;
+                return Tally::input();
             };
             let mut expr = String::new();
             if fuzz_expr(&mut u, 0, &mut expr).is_err() {
-                return;
+                return Tally::input();
             }
             let scene = |e: &str| {
                 let e = Value::String(e.to_string()).to_string();
@@ -557,7 +658,7 @@ pub fn scene_file(data: &[u8]) {
             let q = [point(0.3), point(-1.25), point(2.0)];
             let _ = sf.potential(&q);
             let _ = sf.mass(&[0.3, -1.25, 2.0]);
-            accepted(&sf, true);
+            accepted(&sf, true)
         }
     }
 }

@@ -2,10 +2,12 @@
 //! (`dalembert::fuzzing`) on the stable toolchain: every input must pass its target's
 //! invariant (a panic fails the test and names the file).
 
+use dalembert::fuzzing::Tally;
 use std::path::Path;
 
-fn replay(target: &str, check: fn(&[u8])) {
+fn replay(target: &str, check: fn(&[u8]) -> Tally) -> Tally {
     let mut n = 0;
+    let mut tally = Tally::default();
     for dir in ["corpus", "regressions"] {
         let path = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("fuzz")
@@ -19,15 +21,16 @@ fn replay(target: &str, check: fn(&[u8])) {
         for f in files {
             let data = std::fs::read(&f).expect("readable corpus file");
             let r = std::panic::catch_unwind(|| check(&data));
-            assert!(
-                r.is_ok(),
-                "{target}: input {} broke the invariant",
-                f.display()
-            );
+            match r {
+                Ok(t) => tally.add(t),
+                Err(_) => panic!("{target}: input {} broke the invariant", f.display()),
+            }
             n += 1;
         }
     }
     assert!(n > 0, "no corpus for {target}");
+    println!("{target}: {n} inputs: {tally}");
+    tally
 }
 
 #[test]
