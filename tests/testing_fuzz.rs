@@ -5,8 +5,8 @@
 
 use dalembert::integrator::{Scheme, SchemeKind};
 use dalembert::testing::fuzz::{
-    check_answer, fuzz_solver, fuzz_solver_with, FuzzOptions, FuzzOutcome, InputSpace, PairKind,
-    SolverAnswer, SolverInput, Tally, Unstructured,
+    check_answer, fuzz_solver, fuzz_solver_with, Claimed, FuzzOptions, FuzzOutcome, InputSpace,
+    PairKind, SolverAnswer, SolverInput, Tally, Unstructured,
 };
 use dalembert::{AnyScene, Model};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -245,6 +245,21 @@ fn failures_and_unconverged_answers_are_not_findings() {
             FuzzOutcome::NotConverged
         );
     }
+}
+
+#[test]
+fn a_stepper_claimed_converged_is_a_solver() {
+    let model = model("particle");
+    let dla = Claimed(Scheme::new(&model, SchemeKind::Dla));
+    let mut tally = Tally::default();
+    for data in inputs(29, 20, 64) {
+        tally.add(&fuzz_solver(&model, &dla, dla_tolerance, &data));
+    }
+    assert_eq!(
+        tally.not_converged, 0,
+        "a stepper's answers are claimed converged"
+    );
+    assert!(tally.certified > 0, "{tally}");
 }
 
 #[test]

@@ -13,6 +13,7 @@
 //!   small budget) and the lower end of the enclosure of `|q2 - q^e_2|_inf` exceeds the
 //!   tolerance.
 //!
+//! (An internal fault of the oracle panics too, saying that it is a bug of dalembert.)
 //! A failure of the solver (`Err`), an answer not claimed converged, and a step the oracle
 //! cannot certify within its budget are outcomes ([`FuzzOutcome`]), never findings. A panic
 //! of the solver itself propagates unchanged: libFuzzer records it with its input. A hung
@@ -32,8 +33,10 @@
 //! };
 //! // the accuracy it claims against the exact discrete flow: DLA's local error is O(h^3)
 //! let tol = |i: &SolverInput| i.tolerance(1e-9, 2.0, 3);
-//! let outcome = fuzz_solver(&model, &solver, tol, b"any bytes at all");
-//! assert!(!matches!(outcome, FuzzOutcome::SolverFailed(_))); // (a panic would be a finding)
+//! let outcome = fuzz_solver(&model, &solver, tol, b"any bytes at all"); // panics on a finding
+//! if let FuzzOutcome::Certified { distance, tol } = outcome {
+//!     assert!(distance.inf() <= tol); // not proved outside the tolerance
+//! }
 //! ```
 
 use super::{pair_point, Stepper};
