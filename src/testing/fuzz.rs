@@ -13,12 +13,13 @@
 //!   small budget) and the lower end of the enclosure of `|q2 - q^e_2|_inf` exceeds the
 //!   tolerance.
 //!
-//! (An internal fault of the oracle panics too, saying that it is a bug of dalembert.)
+//! (A stated tolerance that is NaN or negative panics too, as a fault of the fuzz target, and
+//! so does an internal fault of the oracle, saying that it is a bug of dalembert.)
 //! A failure of the solver (`Err`), an answer not claimed converged, and a step the oracle
 //! cannot certify within its budget are outcomes ([`FuzzOutcome`]), never findings. A panic
 //! of the solver itself propagates unchanged: libFuzzer records it with its input. A hung
 //! solver is caught by libFuzzer's `-timeout`; the harness's own work is bounded
-//! ([`FuzzOptions`]: a step count and a deadline for every certified flow).
+//! ([`FuzzOptions`]: a step count for every certified flow, a deadline for the oracle's).
 //!
 //! ```
 //! use dalembert::integrator::{Scheme, SchemeKind};
