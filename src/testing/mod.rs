@@ -15,6 +15,8 @@
 //! assert!(ladder.orders[2].inf() > 2.5); // proved: the local error shrinks faster than h^2.5 here
 //! ```
 
+#[cfg(feature = "fuzzing")]
+pub mod fuzz;
 #[cfg(feature = "quickcheck")]
 pub mod gen;
 #[cfg(feature = "proptest")]
@@ -315,7 +317,30 @@ pub(crate) fn exact_pair(
     distance: f64,
 ) -> Option<Pair> {
     let opts = FlowOptions::default();
-    let mut q1: Vec<f64> = flow(model, &q0, &u0, h, &opts)
+    let q1 = pair_point(model, &q0, &u0, h, distance, &opts)?;
+    let r = crate::exact::retract(model, &points(&q0), &points(&q1), h, &opts).ok()?;
+    Some(Pair {
+        q0,
+        u0,
+        q1,
+        h,
+        defect: r.s,
+    })
+}
+
+/// The second point of the pair builder: `q1 = mid(flow(q0, u0, h).q)`, then moved by
+/// `distance` along the unit first constraint normal at that point; `None` when the flow
+/// refuses (within `opts`) or the normal is zero or not finite.
+#[cfg(any(feature = "proptest", feature = "quickcheck", feature = "fuzzing"))]
+pub(crate) fn pair_point(
+    model: &Model,
+    q0: &[f64],
+    u0: &[f64],
+    h: f64,
+    distance: f64,
+    opts: &FlowOptions,
+) -> Option<Vec<f64>> {
+    let mut q1: Vec<f64> = flow(model, q0, u0, h, opts)
         .ok()?
         .q
         .iter()
@@ -332,12 +357,5 @@ pub(crate) fn exact_pair(
             *x += distance * nx / len;
         }
     }
-    let r = crate::exact::retract(model, &points(&q0), &points(&q1), h, &opts).ok()?;
-    Some(Pair {
-        q0,
-        u0,
-        q1,
-        h,
-        defect: r.s,
-    })
+    Some(q1)
 }
