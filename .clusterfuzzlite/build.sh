@@ -6,7 +6,8 @@
 # tests/clusterfuzzlite.rs checks that TARGETS is exactly the [[bin]] list of fuzz/Cargo.toml.
 TARGETS=(newton_step retraction batch_line scenes_step scene_file)
 
-# inari needs AVX2/FMA. cargo-fuzz sets RUSTFLAGS itself, which hides the flag of
+# inari needs AVX2/FMA (haswell, not native: the binaries may run on other runners than the
+# one that built them). cargo-fuzz sets RUSTFLAGS itself, which hides the flag of
 # .cargo/config.toml: give it here, after whatever the build environment set.
 export RUSTFLAGS="${RUSTFLAGS:-} -Ctarget-cpu=haswell"
 flags=()
