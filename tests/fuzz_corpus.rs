@@ -3,6 +3,7 @@
 //! invariant (a panic fails the test and names the file).
 
 use dalembert::fuzzing::Tally;
+use std::io::Write;
 use std::path::Path;
 
 fn replay(target: &str, check: fn(&[u8]) -> Tally) -> Tally {
@@ -29,7 +30,8 @@ fn replay(target: &str, check: fn(&[u8]) -> Tally) -> Tally {
         }
     }
     assert!(n > 0, "no corpus for {target}");
-    println!("{target}: {n} inputs: {tally}");
+    // written past the test harness's capture, so that every run shows the shares
+    let _ = writeln!(std::io::stderr(), "{target}: {n} inputs: {tally}");
     tally
 }
 
