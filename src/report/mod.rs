@@ -4,6 +4,7 @@
 //! Markdown table or JSON). Long computations report progress through a callback.
 
 pub mod figures;
+pub mod orders;
 pub mod stability;
 
 use crate::scalar::point;
