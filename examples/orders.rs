@@ -1,10 +1,12 @@
 //! The certified local and global orders of DLA and MLA on every scene (README table):
 //! `cargo run --release --example orders`. Each entry is the observed order between the
-//! last two rungs of the ladder, a certified interval (spec eqs. (11.1)-(11.3)).
+//! last two rungs of the ladder, a certified interval (spec eqs. (11.1)-(11.3)). The starts
+//! and ladders are `dalembert::report::orders`, shared with the figure `orders`.
 
-use dalembert::integrator::{Scheme, SchemeKind};
-use dalembert::testing::{global_order, local_order};
-use dalembert::{AnyScene, FlowOptions, Model};
+use dalembert::report::no_progress;
+use dalembert::report::orders::{ladders, starts, GLOBAL_H, LOCAL_H, T_END};
+use dalembert::testing::Ladder;
+use dalembert::Error;
 
 fn show(x: inari::Interval) -> String {
     if x.is_entire() {
@@ -17,41 +19,30 @@ fn show(x: inari::Interval) -> String {
     }
 }
 
+/// The last observed order of a ladder, or the refusal.
+fn cell(l: &Result<Ladder, Error>) -> String {
+    l.as_ref().map_or_else(
+        |e| format!("refused: {e}"),
+        |l| show(l.orders[l.orders.len() - 1]),
+    )
+}
+
 fn main() {
-    let local_h = [0.125, 0.0625, 0.03125, 0.015625, 0.0078125];
-    let global_h = [0.0625, 0.03125, 0.015625];
-    let opts = FlowOptions::default();
+    let rows =
+        ladders(&starts(), &LOCAL_H, &GLOBAL_H, T_END, &mut no_progress).expect("built-in scene");
     println!(
-        "| scene | q0, u0 | DLA local | MLA local | DLA global (T = 1) | MLA global (T = 1) |"
+        "| scene | q0, u0 | DLA local | MLA local | DLA global (T = {T_END}) | MLA global (T = {T_END}) |"
     );
     println!("|---|---|---|---|---|---|");
-    for info in dalembert::scene::SCENES {
-        let m = Model::new(&AnyScene::new(info.name, &[]).expect("scene")).expect("model");
-        let mut q0 = vec![0.0; m.n];
-        q0[1] = 0.5;
-        q0[m.n - 1] = 0.3;
-        let u0: Vec<f64> = (0..m.n - m.k).map(|a| 0.8 - 0.3 * a as f64).collect();
-        let mut row = format!("| `{}` | {:?}, {:?} |", info.name, q0, u0);
-        let mut globals = String::new();
-        for kind in [SchemeKind::Dla, SchemeKind::Mla] {
-            let s = Scheme::new(&m, kind);
-            let l = local_order(&m, &s, &q0, &u0, &local_h, &opts);
-            row += &format!(
-                " {} |",
-                l.map_or_else(
-                    |e| format!("refused: {e}"),
-                    |l| show(l.orders[l.orders.len() - 1])
-                )
-            );
-            let g = global_order(&m, &s, &q0, &u0, 1.0, &global_h, &opts);
-            globals += &format!(
-                " {} |",
-                g.map_or_else(
-                    |e| format!("refused: {e}"),
-                    |g| show(g.orders[g.orders.len() - 1])
-                )
-            );
-        }
-        println!("{row}{globals}");
+    for r in &rows {
+        let s = &r.start;
+        let cells: Vec<String> = r.local.iter().chain(&r.global).map(cell).collect();
+        println!(
+            "| `{}` | {:?}, {:?} | {} |",
+            s.scene,
+            s.q0,
+            s.u0,
+            cells.join(" | ")
+        );
     }
 }

@@ -113,15 +113,16 @@ fn read_svg(path: &Path) -> (usize, usize, String) {
     (polylines, circles, words)
 }
 
-const SVGS: [&str; 6] = [
+const SVGS: [&str; 7] = [
     "particle_energy",
     "particle_error",
     "discrete_space",
     "knife_energy",
     "knife_eps_energy",
     "work_precision",
+    "orders",
 ];
-const CSVS: [&str; 7] = [
+const CSVS: [&str; 9] = [
     "particle_energy",
     "particle_error",
     "discrete_space",
@@ -129,6 +130,8 @@ const CSVS: [&str; 7] = [
     "knife_eps_energy",
     "work_precision_schemes",
     "work_precision_certified",
+    "orders_local",
+    "orders_global",
 ];
 
 #[test]
@@ -259,7 +262,74 @@ fn figures_quick_writes_well_formed_svg_and_csv() {
     let (hs, widths) = (column(h, r, "h"), column(h, r, "width"));
     assert!(widths.iter().all(|w| *w >= 0.0));
     assert!(hs.iter().zip(&widths).any(|(h, w)| *h == 0.0 && *w < 1e-12));
+    orders_show_what_the_library_certifies(&csv, &dir.join("orders.svg"));
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The orders figure (spec (9.6)): every start of the README table is plotted; per start and
+/// scheme the certified errors are intervals of positive numbers whose upper ends fall with
+/// h, and the slope of the plotted upper ends between the last two rungs lies in the order
+/// interval that `testing::local_order` / `global_order` certify for the same start and
+/// ladder (recomputed here through the library, not read from the program); the SVG draws
+/// the reference slope h^p for the whole p nearest each certified local order.
+fn orders_show_what_the_library_certifies(
+    csv: &BTreeMap<&str, (Vec<String>, Vec<Vec<f64>>)>,
+    svg: &Path,
+) {
+    use dalembert::integrator::Scheme;
+    use dalembert::report::orders::{starts, SCHEMES, T_END};
+    use dalembert::testing::{global_order, local_order};
+    use dalembert::{AnyScene, FlowOptions, Model};
+    let (_, _, words) = read_svg(svg);
+    let starts = starts();
+    let opts = FlowOptions::default();
+    for table in ["orders_local", "orders_global"] {
+        let (h, r) = &csv[table];
+        let start = column(h, r, "start");
+        let mut shown: Vec<usize> = start.iter().map(|s| *s as usize).collect();
+        shown.dedup();
+        assert_eq!(shown, (0..starts.len()).collect::<Vec<_>>(), "{table}");
+        for (i, st) in starts.iter().enumerate() {
+            let rows: Vec<Vec<f64>> = r.iter().filter(|row| row[0] == i as f64).cloned().collect();
+            let hs = column(h, &rows, "h");
+            assert!(
+                hs.len() >= 2 && hs.windows(2).all(|w| w[0] > w[1]),
+                "{table} {i}: {hs:?}"
+            );
+            let m = Model::new(&AnyScene::new(st.scene, &[]).unwrap()).unwrap();
+            for (kind, name) in SCHEMES.into_iter().zip(["dla", "mla"]) {
+                let lo = column(h, &rows, &format!("{name}_lo"));
+                let hi = column(h, &rows, &format!("{name}_hi"));
+                let at = format!("{table}, start {i} ({}), {name}", st.scene);
+                assert!(
+                    lo.iter().zip(&hi).all(|(a, b)| 0.0 < *a && a <= b),
+                    "{at}: {lo:?} {hi:?}"
+                );
+                assert!(hi.windows(2).all(|w| w[1] < w[0]), "{at}: {hi:?}");
+                let n = hs.len() - 1;
+                let slope = (hi[n - 1] / hi[n]).ln() / (hs[n - 1] / hs[n]).ln();
+                let s = Scheme::new(&m, kind);
+                let ladder = if table == "orders_local" {
+                    local_order(&m, &s, &st.q0, &st.u0, &hs, &opts)
+                } else {
+                    global_order(&m, &s, &st.q0, &st.u0, T_END, &hs, &opts)
+                }
+                .unwrap();
+                let certified = ladder.orders[n - 1];
+                // the plotted slope, widened by float rounding of its three operations
+                let tol = 1e-12 * slope.abs();
+                assert!(
+                    certified.inf() - tol <= slope && slope <= certified.sup() + tol,
+                    "{at}: plotted slope {slope} outside the certified order {certified:?}"
+                );
+                if table == "orders_local" {
+                    let p = certified.mid().round();
+                    let reference = format!("h^{p} (reference)");
+                    assert!(words.contains(&reference), "{at}: no {reference} drawn");
+                }
+            }
+        }
+    }
 }
 
 #[test]

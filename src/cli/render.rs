@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 
-const PALETTE: [RGBColor; 8] = [
+const PALETTE: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
@@ -18,6 +18,8 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(140, 86, 75),
     RGBColor(227, 119, 194),
     RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
 ];
 
 const PANEL: (u32, u32) = (640, 460);
@@ -135,7 +137,9 @@ fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
 fn draw_panel(area: &Area, p: &Panel) -> Result<(), String> {
     let all = || p.series.iter().flat_map(|s| s.points.iter());
     let (x0, x1) = range(all().map(|q| q.0), p.x_log);
-    let (y0, y1) = range(all().map(|q| q.1), p.y_log);
+    // The lower ends of error bars count too.
+    let lower = p.series.iter().flat_map(|s| s.lower.iter().copied());
+    let (y0, y1) = range(all().map(|q| q.1).chain(lower), p.y_log);
     let frame = Frame {
         x: (x0, x1),
         y: (y0, y1),
@@ -269,6 +273,22 @@ where
             c.draw_series(pts.iter().map(|q| Circle::new(*q, 2, color.filled())))
                 .map_err(err)?;
         }
+        // Error bars from each shown point down to its lower end (on a log axis, a lower end
+        // at or below 0 is drawn at the bottom of the frame).
+        let bar = ShapeStyle::from(color).stroke_width(1);
+        let bottom = frame.y.0;
+        let bars = s.points.iter().zip(&s.lower).filter(|((a, b), lo)| {
+            a.is_finite()
+                && b.is_finite()
+                && lo.is_finite()
+                && (!xl || *a > 0.0)
+                && (!yl || *b > 0.0)
+        });
+        c.draw_series(bars.map(|(&(a, b), &lo)| {
+            let lo = if yl && lo <= 0.0 { bottom } else { lo.min(b) };
+            ErrorBar::new_vertical(a, lo, b, b, bar, 6)
+        }))
+        .map_err(err)?;
     }
     c.configure_series_labels()
         .position(frame.legend_corner(p))

@@ -1,11 +1,13 @@
 //! The paper's figures (section 5 examples), reproduced from this crate's own runs, and a
 //! work-precision diagram (spec/09-report.md, (9.1)-(9.4)).
 
+use super::orders::{self, Orders, SCHEMES};
 use super::{max_width, points, Figure, Panel, Progress, Series, Style, Table};
 use crate::exact;
 use crate::integrator::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use crate::oracle::{distance, energy};
 use crate::scalar::point;
+use crate::testing::Ladder;
 use crate::{flow, AnyScene, Error, FlowOptions, Model};
 use inari::Interval;
 use std::time::Instant;
@@ -28,6 +30,11 @@ pub struct Settings {
     pub wp_orders: Vec<usize>,
     pub wp_flow_h: Vec<f64>,
     pub wp_min_seconds: f64,
+    /// Orders: the local and global ladders and the number of starts of
+    /// [`super::orders::starts`] used (all of them: the README table's).
+    pub orders_local_h: Vec<f64>,
+    pub orders_global_h: Vec<f64>,
+    pub orders_starts: usize,
 }
 
 impl Settings {
@@ -42,6 +49,9 @@ impl Settings {
             wp_orders: vec![6, 10, 15, 20, 30],
             wp_flow_h: (2..=7).map(|i| 0.5f64.powi(i)).collect(),
             wp_min_seconds: 0.05,
+            orders_local_h: orders::LOCAL_H.to_vec(),
+            orders_global_h: orders::GLOBAL_H.to_vec(),
+            orders_starts: usize::MAX,
         }
     }
     pub fn quick() -> Self {
@@ -55,6 +65,9 @@ impl Settings {
             wp_orders: vec![10, 20],
             wp_flow_h: vec![0.5, 0.25],
             wp_min_seconds: 0.0,
+            orders_local_h: orders::LOCAL_H[..3].to_vec(),
+            orders_global_h: vec![0.25, 0.125],
+            orders_starts: usize::MAX,
         }
     }
 }
@@ -481,5 +494,187 @@ pub fn all(s: &Settings, progress: Progress) -> Result<Vec<Figure>, Error> {
     figs.push(knife(None, s.knife_steps, progress)?);
     figs.push(knife(Some(0.1), s.knife_steps, progress)?);
     figs.push(work_precision(s, progress)?);
+    figs.push(orders(s, progress)?);
     Ok(figs)
+}
+
+/// Palette indices of the starts: every colour but grey (7) and cyan (9), which draw the
+/// reference slopes.
+const START_COLORS: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 8];
+const REFERENCE_COLORS: [usize; 2] = [7, 9];
+
+/// The legend's name of start `i`: the scene, and its q0 when an earlier start has the same
+/// scene.
+fn start_label(starts: &[orders::Start], i: usize) -> String {
+    let s = &starts[i];
+    if starts[..i].iter().any(|t| t.scene == s.scene) {
+        format!("{}, q0 = {:?}", s.scene, s.q0)
+    } else {
+        s.scene.to_string()
+    }
+}
+
+/// One panel of the orders figure: the certified errors of one scheme against h for every
+/// start (upper ends as points, the intervals as bars), and dashed reference slopes c h^p for
+/// each integer p that some start's last certified order is nearest to (c: half the least
+/// e / h^p at the last rung over those starts, so the line runs just below them).
+fn order_panel(
+    title: String,
+    y_label: &str,
+    rows: &[(usize, String, &Ladder)],
+    min_order: i32,
+) -> Panel {
+    let mut series = vec![];
+    let mut slopes: Vec<(i32, f64, f64, f64)> = vec![]; // (p, c, h_lo, h_hi)
+    for (i, label, l) in rows {
+        let pts: Vec<(f64, f64)> =
+            l.h.iter()
+                .zip(&l.error)
+                .map(|(h, e)| (*h, e.sup()))
+                .collect();
+        let lower = l.error.iter().map(|e| e.inf()).collect();
+        series.push(
+            Series::new(label.clone(), Style::LineMarkers, pts)
+                .lower(lower)
+                .color(START_COLORS[i % START_COLORS.len()]),
+        );
+        let last = l.orders[l.orders.len() - 1];
+        if last.is_entire() {
+            continue;
+        }
+        let p = (last.mid().round() as i32).max(min_order);
+        let (h, e) = (l.h[l.h.len() - 1], l.error[l.error.len() - 1].sup());
+        let c = 0.5 * e / h.powi(p);
+        let (h_lo, h_hi) = (h, l.h[0]);
+        match slopes.iter_mut().find(|s| s.0 == p) {
+            Some(s) => *s = (p, s.1.min(c), s.2.min(h_lo), s.3.max(h_hi)),
+            None => slopes.push((p, c, h_lo, h_hi)),
+        }
+    }
+    slopes.sort_by_key(|s| s.0);
+    for (j, (p, c, a, b)) in slopes.into_iter().enumerate() {
+        series.push(
+            Series::new(
+                format!("h^{p} (reference)"),
+                Style::Dashed,
+                vec![(a, c * a.powi(p)), (b, c * b.powi(p))],
+            )
+            .color(REFERENCE_COLORS[j % REFERENCE_COLORS.len()]),
+        );
+    }
+    Panel {
+        title,
+        x_label: "step h".into(),
+        y_label: y_label.into(),
+        x_log: true,
+        y_log: true,
+        series,
+    }
+}
+
+/// Certified local and global errors of DLA and MLA against h from the starts of the README
+/// table "Certified orders of DLA and MLA" (9.6; `report::orders`): the figure of the table.
+pub fn orders(s: &Settings, progress: Progress) -> Result<Figure, Error> {
+    let starts: Vec<orders::Start> = orders::starts().into_iter().take(s.orders_starts).collect();
+    let t_end = orders::T_END;
+    let rows: Vec<Orders> = orders::ladders(
+        &starts,
+        &s.orders_local_h,
+        &s.orders_global_h,
+        t_end,
+        progress,
+    )?;
+    let columns = ["start", "h", "dla_lo", "dla_hi", "mla_lo", "mla_hi"];
+    let mut local = Table::new("local", &columns);
+    let mut global = Table::new("global", &columns);
+    let mut refused = vec![];
+    let mut widest: f64 = 0.0;
+    // (start, label, ladder) per panel: DLA local, MLA local, DLA global, MLA global.
+    let mut shown: [Vec<(usize, String, &Ladder)>; 4] = Default::default();
+    for (i, r) in rows.iter().enumerate() {
+        let label = start_label(&starts, i);
+        for (g, (ladders, table)) in [(&r.local, &mut local), (&r.global, &mut global)]
+            .into_iter()
+            .enumerate()
+        {
+            let [Ok(dla), Ok(mla)] = ladders else {
+                refused.push(format!(
+                    "{label} ({})",
+                    if g == 0 { "local" } else { "global" }
+                ));
+                continue;
+            };
+            for k in 0..dla.h.len() {
+                let (a, b) = (dla.error[k], mla.error[k]);
+                table
+                    .rows
+                    .push(vec![i as f64, dla.h[k], a.inf(), a.sup(), b.inf(), b.sup()]);
+                widest = widest.max(a.wid() / a.sup()).max(b.wid() / b.sup());
+            }
+            shown[2 * g].push((i, label.clone(), dla));
+            shown[2 * g + 1].push((i, label.clone(), mla));
+        }
+    }
+    let names = ["DLA", "MLA"];
+    let panels = shown
+        .iter()
+        .enumerate()
+        .map(|(j, rows)| {
+            let (name, g) = (names[j % 2], j / 2);
+            debug_assert_eq!(SCHEMES.len(), names.len());
+            if g == 0 {
+                order_panel(
+                    format!("{name}: local error of one step"),
+                    "|q_2 - q^e_2|_inf",
+                    rows,
+                    1,
+                )
+            } else {
+                order_panel(
+                    format!("{name}: global error over [0, {t_end}]"),
+                    "max_k |q_k - q^e_k|_inf",
+                    rows,
+                    1,
+                )
+            }
+        })
+        .collect();
+    let list = starts
+        .iter()
+        .enumerate()
+        .map(|(i, st)| format!("{i} {} from q0 = {:?}, u0 = {:?}", st.scene, st.q0, st.u0))
+        .collect::<Vec<_>>()
+        .join("; ");
+    let fmt_list = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    Ok(Figure {
+        name: "orders".into(),
+        caption: format!(
+            "Certified errors of DLA and MLA against the step h (log-log), from the starts of \
+             the README table \"Certified orders of DLA and MLA\" (CSV column start: {list}). \
+             Local (left two panels): |q_2 - q^e_2|_inf of one step from (q_0, q_1 = q(h)) \
+             against the exact discrete flow from that pair (spec (11.1)), h = {}. Global \
+             (right two): max_k |q_k - q^e_k|_inf over [0, {t_end}] (spec (11.3)), h = {}. \
+             Points: upper ends of the certified error intervals; bars: the intervals (at \
+             most {widest:.0e} of the error wide, so they hide under the points). Dashed: c \
+             h^p for each whole p nearest to some start's last certified order, c putting \
+             the line just below those starts at the smallest h.{}",
+            fmt_list(&s.orders_local_h),
+            fmt_list(&s.orders_global_h),
+            if refused.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    " Refused by the oracle or a scheme, not shown: {}.",
+                    refused.join(", ")
+                )
+            }
+        ),
+        panels,
+        tables: vec![local, global],
+    })
 }

@@ -4,6 +4,7 @@
 //! Markdown table or JSON). Long computations report progress through a callback.
 
 pub mod figures;
+pub mod orders;
 pub mod stability;
 
 use crate::scalar::point;
@@ -54,6 +55,9 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// Index into the renderer's palette (default: the series' position in its panel).
     pub color: Option<usize>,
+    /// Empty, or the lower ends of vertical error bars, one per point, each drawn from the
+    /// point (the upper end) down to it.
+    pub lower: Vec<f64>,
 }
 
 /// Numbers with a header; `name` is empty for a figure's only table.
@@ -71,11 +75,18 @@ impl Series {
             style,
             points,
             color: None,
+            lower: Vec::new(),
         }
     }
     /// The same colour as another series (e.g. two forms of one curve).
     pub fn color(mut self, index: usize) -> Self {
         self.color = Some(index);
+        self
+    }
+    /// Error bars: each point `(x, y)` is the upper end of an interval `[lower[i], y]`.
+    pub fn lower(mut self, lower: Vec<f64>) -> Self {
+        assert_eq!(lower.len(), self.points.len(), "one lower end per point");
+        self.lower = lower;
         self
     }
 }
