@@ -52,13 +52,15 @@ fn main() {
         let Some((max, slowest)) = times.last() else {
             continue;
         };
+        let tail: f64 = times[times.len() * 9 / 10..].iter().map(|t| t.0).sum();
         println!(
             "{name:12} {:5} inputs  total {total:7.3} s  median {:8.3} ms  max {:8.3} ms  \
-             {:8.0} inputs/s  {tally}\n             slowest: {}",
+             {:8.0} inputs/s  (the slowest tenth: {:.0}% of the time)\n             {tally}\n             slowest: {}",
             times.len(),
             1e3 * times[times.len() / 2].0,
             1e3 * max,
             times.len() as f64 / total,
+            100.0 * tail / total,
             slowest.display()
         );
     }

@@ -20,10 +20,13 @@ use arbitrary::{Arbitrary, Unstructured};
 use serde_json::Value;
 use std::cell::RefCell;
 
-/// A bounded step budget so that one input runs in well under a second.
+/// The certified targets' budget: 16 validated steps a flow (the retraction's Newton: 64
+/// float steps in all), so that a hard input is refused ([`crate::Reason::Budget`]) at the
+/// cost of a few ordinary ones (issue "Fuzzing at volume"). Steps, not time: a run replays
+/// the same on every machine.
 fn budget() -> FlowOptions {
     FlowOptions {
-        max_steps: 400,
+        max_steps: 16,
         ..FlowOptions::default()
     }
 }
@@ -167,6 +170,54 @@ fn vec3(u: &mut Unstructured) -> arbitrary::Result<Vec<f64>> {
     (0..3).map(|_| num(u)).collect()
 }
 
+/// A pair `(q0, q1, h)` for the certified targets, mostly where integrators work. A first
+/// byte chooses: 10 in 16 near M_h^{e,nh} (q0 in [-4, 4]^n, u0 in [-2, 2]^m, h = 2^-e (1 + f)
+/// with e in 2..=12, f in [0, 1): 2.4e-4 <= h < 0.5, and q1 the float flow of (q0, u0) over h, moved along the
+/// first constraint normal by 0 or by 2^-k, k in 8..=52); 3 in 16 an Euler pair
+/// q1 = q0 + h E(q0)^T u0; 3 in 16 anything at all ([`num`]: extremes included).
+fn pair(u: &mut Unstructured, model: &Model) -> arbitrary::Result<(Vec<f64>, Vec<f64>, f64)> {
+    let (n, m) = (model.n, model.n - model.k);
+    let choice = u.int_in_range(0u8..=15)?;
+    if choice >= 13 {
+        let v = |u: &mut Unstructured| (0..n).map(|_| num(u)).collect::<arbitrary::Result<_>>();
+        return Ok((v(u)?, v(u)?, num(u)?));
+    }
+    let small = |u: &mut Unstructured, r: f64| -> arbitrary::Result<f64> {
+        Ok(f64::from(i16::arbitrary(u)?) / 32768.0 * r)
+    };
+    let q0: Vec<f64> = (0..n)
+        .map(|_| small(u, 4.0))
+        .collect::<arbitrary::Result<_>>()?;
+    let u0: Vec<f64> = (0..m)
+        .map(|_| small(u, 2.0))
+        .collect::<arbitrary::Result<_>>()?;
+    let e = u.int_in_range(2i32..=12)?;
+    let h = 2f64.powi(-e) * (1.0 + small(u, 1.0)?.abs());
+    let x0: Vec<f64> = q0.iter().chain(&u0).copied().collect();
+    let v0 = model.velocity.eval::<f64>(&x0);
+    let euler: Vec<f64> = q0.iter().zip(&v0).map(|(q, v)| q + h * v).collect();
+    if choice >= 10 {
+        return Ok((q0, euler, h));
+    }
+    let shift = match u.int_in_range(0i32..=48)? {
+        k if k < 8 => 0.0,
+        k => 2f64.powi(-k) * if bool::arbitrary(u)? { 1.0 } else { -1.0 },
+    };
+    let flown = crate::enclosure::float_flow_counted(&model.dynamics, &x0, h, &budget());
+    let Some((x, _)) = flown.filter(|(x, _)| x.iter().all(|v| v.is_finite())) else {
+        return Ok((q0, euler, h));
+    };
+    let mut q1 = x[..n].to_vec();
+    let mu = model.constraints.eval::<f64>(&q1);
+    let len = mu[..n].iter().map(|x| x * x).sum::<f64>().sqrt();
+    if len > 0.0 && len.is_finite() {
+        q1.iter_mut()
+            .zip(&mu[..n])
+            .for_each(|(q, c)| *q += shift * c / len);
+    }
+    Ok((q0, q1, h))
+}
+
 /// Invariant: a scheme step or projection on arbitrary scenes, states and steps never
 /// panics or hangs, and either fails with a named Newton failure or returns finite numbers
 /// that satisfy the discrete equations to a residual consistent with the one reported.
@@ -240,14 +291,10 @@ fn scale(a: &[f64], b: &[f64], h: f64) -> f64 {
 /// encloses a `q(h)` that meets the returned `q1` box (two enclosures of one point).
 pub fn retraction(data: &[u8]) -> Tally {
     let mut u = Unstructured::new(data);
-    let Ok((scene, q0, q1, h)) = (|| -> arbitrary::Result<_> {
-        Ok((
-            u.int_in_range(0..=1 + EPS.len())?,
-            vec3(&mut u)?,
-            vec3(&mut u)?,
-            num(&mut u)?,
-        ))
-    })() else {
+    let Ok(scene) = u.int_in_range(0..=1 + EPS.len()) else {
+        return Tally::input();
+    };
+    let Some(Ok((q0, q1, h))) = with_model(scene, |model, _, _| pair(&mut u, model)) else {
         return Tally::input();
     };
     retraction_invariant(scene, &q0, &q1, h)
@@ -299,17 +346,7 @@ pub fn scenes_step(data: &[u8]) -> Tally {
     })() else {
         return Tally::input();
     };
-    let Some(n) = with_model(scene, |model, _, _| model.n) else {
-        return Tally::input();
-    };
-    let Ok((qm, qk, h)) = (|| -> arbitrary::Result<_> {
-        let v = |u: &mut Unstructured| {
-            (0..n)
-                .map(|_| num(u))
-                .collect::<arbitrary::Result<Vec<_>>>()
-        };
-        Ok((v(&mut u)?, v(&mut u)?, num(&mut u)?))
-    })() else {
+    let Some(Ok((qm, qk, h))) = with_model(scene, |model, _, _| pair(&mut u, model)) else {
         return Tally::input();
     };
     let mut tally = newton_invariant(scene, mla, &qm, &qk, h.abs());

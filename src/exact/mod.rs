@@ -147,9 +147,30 @@ pub fn retract(
     let at_guess: Vec<Interval> = guess.iter().map(|x| point(*x)).collect();
     let marked = x0_of(&at_guess[..m]);
     let ns_guess = linalg::mul_vec(&nq1, &at_guess[m..]);
+    // The validated flows of all Krawczyk boxes share KRAWCZYK_WORK * max_steps steps, so
+    // that a hard pair costs a bounded amount of work whatever the inflations do.
+    let work = std::cell::Cell::new(0usize);
+    let work_budget = KRAWCZYK_WORK * opts.max_steps;
     let gd = |z: &[Interval]| -> Result<(Vec<Interval>, IMat), Error> {
+        let left = work_budget.saturating_sub(work.get());
+        if left == 0 {
+            return Err(Error::refused(
+                Reason::Budget,
+                format!(
+                    "the Krawczyk boxes' flows spent their work budget ({work_budget} \
+                     validated steps, {KRAWCZYK_WORK} FlowOptions::max_steps)"
+                ),
+            ));
+        }
+        let capped = FlowOptions {
+            max_steps: left.min(opts.max_steps),
+            ..opts.clone()
+        };
         let set = LohnerSet::with_subset(&centre, &x0_of(&z[..m]), &marked);
-        let (set, jac, _) = flow_set_c1(&model.dynamics, set, h, opts)?;
+        let flown = flow_set_c1(&model.dynamics, set, h, &capped);
+        // a failed flow is charged all the steps it was allowed
+        work.set(work.get() + flown.as_ref().map_or(capped.max_steps, |f| f.2.steps));
+        let (set, jac, _) = flown?;
         let qh = set
             .sub_hull()
             .ok_or_else(|| Error::internal("the marked point was lost"))?;
@@ -229,6 +250,10 @@ type NewtonGuess = (Vec<f64>, DMatrix<f64>, DVector<f64>);
 
 /// Work bound of the retraction's float Newton, in multiples of `FlowOptions::max_steps`.
 const NEWTON_WORK: usize = 4;
+
+/// Work bound of the validated flows of all Krawczyk boxes of one retraction, in multiples
+/// of `FlowOptions::max_steps` (spec (6.3)).
+const KRAWCZYK_WORK: usize = 3;
 
 /// A float Newton iteration for (u0, s), started from the least-squares velocity
 /// `E(Q0)^T u ~ (Q1 - Q0)/h`, s = 0, on a float Taylor integration of the flow and its
