@@ -90,7 +90,7 @@ pub fn check_trajectory(
 }
 
 /// [`check_trajectory`] for a candidate given at times `t_0 < t_1 < .. < t_N`
-/// (non-uniform steps, spec eq. (8.5)): `q^e_k = q(t_k - t_0)` on the trajectory from
+/// (non-uniform steps, spec eq. (8.4)): `q^e_k = q(t_k - t_0)` on the trajectory from
 /// `q_0` with `u_0` the solution of spec eq. (6.2) for `(q_0, q_1)` with
 /// `h_0 = t_1 - t_0`, and the pair figures of `(q_k, q_{k+1})` with
 /// `h_k = t_{k+1} - t_k`. `times` has one time per row.
@@ -123,7 +123,7 @@ pub fn check_trajectory_at(
 #[derive(Clone, Debug, PartialEq)]
 pub enum Steps {
     Uniform(f64),
-    /// `t_0 < t_1 < .. < t_N`, one per row (spec eq. (8.5)).
+    /// `t_0 < t_1 < .. < t_N`, one per row (spec eq. (8.4)).
     Times(Vec<f64>),
 }
 
@@ -246,7 +246,7 @@ pub fn check_each_at(
     check_rows(model, None, rows, opts, sink)
 }
 
-/// `t_{k+1} - t_k` as a float, when it is one: a retraction's step (spec eq. (8.5)).
+/// `t_{k+1} - t_k` as a float, when it is one: a retraction's step (spec eq. (8.4)).
 fn exact_step(k: usize, t0: f64, t1: f64) -> Result<f64, Error> {
     let d = point(t1) - point(t0);
     if d.inf() == d.sup() && d.inf() > 0.0 {
@@ -383,7 +383,7 @@ fn check_rows(
 }
 
 /// The tolerances of a `check`: on the distance (`tol`, spec (8.3)) and on the pairs'
-/// defects (`defect_tol`, spec (8.6)).
+/// defects (`defect_tol`, spec (8.5)).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Tolerances {
     pub tol: Option<f64>,
@@ -401,7 +401,7 @@ impl Tolerances {
         Ok(())
     }
 
-    /// Whether a check passes both tolerances (spec (8.3), (8.6)): `true` when each given
+    /// Whether a check passes both tolerances (spec (8.3), (8.5)): `true` when each given
     /// one is proved met (`sup <= tol`), `false` when one is proved exceeded (`inf > tol`),
     /// else undecided and refused (`Error::Uncertified`, exit 3). `max_defect` is the
     /// enclosure of `max_k |s_k|_inf` (`None` without pair figures).

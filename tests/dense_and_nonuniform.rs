@@ -1,6 +1,6 @@
 //! Dense output (`flow_at`, `flow --times`), non-uniform steps (`check_trajectory_at`,
 //! `check` without `--h`) and the defect tolerance (`--defect-tol`), issue 17 item 2
-//! (spec (5.16), (8.5), (8.6); contract E11-E13).
+//! (spec (5.16), (8.4), (8.5); contract E11-E13).
 //!
 //! References: the knife's closed form (the textbook form of tests/closed_forms.rs,
 //! derived by hand from the equations of motion s' = cos(phi)/2, phi' = w, x' = s cos(phi),

@@ -542,7 +542,7 @@ impl<'m> ExactFlow<'m> {
         self.next_iterate_after(point(self.h))
     }
 
-    /// Non-uniform steps (spec eq. (8.5)): as [`ExactFlow::next_iterate`], the set flown
+    /// Non-uniform steps (spec eq. (8.4)): as [`ExactFlow::next_iterate`], the set flown
     /// from the last iterate over every span of time in `dt` (the exact `t_k - t_{k-1}`
     /// enclosed) instead of `h`: the `k`-th iterate, `k >= 2`, encloses `q(t_k - t_0)` when
     /// the spans given enclose `t_2 - t_1, .., t_k - t_{k-1}` and `h = t_1 - t_0`. The

@@ -194,7 +194,7 @@ pub struct StepperVerdict {
 impl StepperVerdict {
     /// Whether the run passes the tolerance `tol` on the distance to the exact discrete
     /// flow and `defect_tol` on its pairs' defects (`discrete.max_defect`), decided as the
-    /// `check` command decides (spec (8.3), (8.6)): `Ok(false)` when one is proved
+    /// `check` command decides (spec (8.3), (8.5)): `Ok(false)` when one is proved
     /// exceeded, `Error::Uncertified` when undecided.
     pub fn passes(&self, tol: Option<f64>, defect_tol: Option<f64>) -> Result<bool, Error> {
         crate::oracle::Tolerances { tol, defect_tol }
