@@ -62,13 +62,11 @@ fn dense_flow_contains_the_closed_form_and_is_as_narrow_as_single_flows() {
     let mut steps = 0;
     for (t, e) in times.iter().zip(&at) {
         let r = knife_closed(Q0, U0, *t);
-        for i in 0..3 {
+        for (i, (a, b)) in e.q.iter().zip(&r).enumerate() {
             // both contain the true q_i(t): they must meet
             assert!(
-                !e.q[i].intersection(r[i]).is_empty(),
-                "t = {t}: q_{i} {:?} misses the closed form {:?}",
-                e.q[i],
-                r[i]
+                !a.intersection(*b).is_empty(),
+                "t = {t}: q_{i} {a:?} misses the closed form {b:?}"
             );
         }
         let single = flow(&model, &Q0, &U0, *t, &o).unwrap();
@@ -414,4 +412,21 @@ fn stepper_verdict_passes_with_a_defect_tolerance() {
         defect_tol: None,
     };
     assert!(loose.decide(v.max_distance, v.max_defect).unwrap());
+}
+
+#[test]
+fn dense_flow_step_limit_is_the_whole_integrations() {
+    let model = knife();
+    let o = FlowOptions {
+        max_steps: 6,
+        ..FlowOptions::default()
+    };
+    match flow_at(&model, &Q0, &U0, &[0.5, 1.0, 2.0, 3.0], &o) {
+        Err(Error::Uncertified(r)) => {
+            assert!(r.message.contains("more than 6 steps"), "{}", r.message);
+            assert!(r.message.contains("t = 3"), "{}", r.message);
+            assert!(r.reached.is_some_and(|t| (0.0..3.0).contains(&t)));
+        }
+        other => panic!("expected a refusal, got {other:?}"),
+    }
 }

@@ -172,8 +172,11 @@ fn json_row(spools: &mut [Spool], row: &RowVerdict) -> std::io::Result<()> {
     Ok(())
 }
 
-/// The rows of a candidate trajectory `(t_k if given, q_k)`, read as they are needed.
-type Rows = Box<dyn Iterator<Item = Result<(Option<f64>, Vec<f64>), Error>>>;
+/// A row of a candidate trajectory: `(t_k if given, q_k)`.
+type Row = (Option<f64>, Vec<f64>);
+
+/// The rows of a candidate trajectory, read as they are needed.
+type Rows = Box<dyn Iterator<Item = Result<Row, Error>>>;
 
 /// The candidate in `file`: JSON `{"q": [[..]..]}` (as `integrate --json` prints it) or
 /// `[[..]..]`, or CSV; and the number of rows (for the default budget and the progress
@@ -247,12 +250,7 @@ fn read_trajectory(
 const TRAJECTORY_KEYS: [&str; 6] = ["q", "t", "p", "energy", "newton_iterations", "max_residual"];
 
 /// The rows `(t_k if given, q_k)` of a JSON trajectory; with `h`, a time must be `k h`.
-fn json_trajectory(
-    file: &str,
-    text: &str,
-    n: usize,
-    h: Option<f64>,
-) -> Result<Vec<(Option<f64>, Vec<f64>)>, Error> {
+fn json_trajectory(file: &str, text: &str, n: usize, h: Option<f64>) -> Result<Vec<Row>, Error> {
     let at = format!("--trajectory `{file}`");
     let v = protocol::parse_json(text)
         .map_err(|e| Error::input(format!("{at}: not JSON: {}", e.message())))?;
@@ -328,7 +326,7 @@ struct CsvRows {
 }
 
 impl Iterator for CsvRows {
-    type Item = Result<(Option<f64>, Vec<f64>), Error>;
+    type Item = Result<Row, Error>;
     fn next(&mut self) -> Option<Self::Item> {
         if self.done {
             return None;
@@ -347,7 +345,7 @@ impl CsvRows {
     }
 
     /// The next row, `None` at the end of the file.
-    fn row(&mut self) -> Result<Option<(Option<f64>, Vec<f64>)>, Error> {
+    fn row(&mut self) -> Result<Option<Row>, Error> {
         let n = self.coordinates.len();
         loop {
             let Some(line) = self.lines.next() else {

@@ -286,8 +286,14 @@ pub fn flow_at(
             flow_set_span(&model.dynamics, set, span, &leg).map_err(|e| match &e {
                 // proved up to `from` and then up to `reached` into the leg
                 Error::Uncertified(r) => {
-                    let t = (point(from) + point(r.reached.unwrap_or(0.0))).inf();
-                    e.reached(t)
+                    let reached = (point(from) + point(r.reached.unwrap_or(0.0))).inf();
+                    // the step limit is the whole integration's: say so with its end
+                    let e = if r.reason == Reason::Budget && r.message.starts_with("more than") {
+                        too_many(opts.max_steps, last)
+                    } else {
+                        e
+                    };
+                    e.reached(reached)
                 }
                 _ => e,
             })?;
@@ -395,7 +401,7 @@ pub fn flow_set_span(
     span: Interval,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, FlowStats), Error> {
-    if span.is_empty() || !(span.inf() >= 0.0) || !span.sup().is_finite() {
+    if span.is_empty() || span.inf() < 0.0 || !span.sup().is_finite() {
         return Err(Error::input(format!(
             "a span of time must be finite and >= 0 (got [{}, {}])",
             span.inf(),
