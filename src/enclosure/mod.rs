@@ -268,6 +268,8 @@ pub fn flow_at(
     let mut total = FlowStats::default();
     let mut out = Vec::with_capacity(times.len());
     let mut from = 0.0;
+    // the step rule's memory, carried from one stop to the next
+    let mut memo = None;
     for &t in times {
         // the progress of a leg, as a fraction of the whole span [0, t_last]
         let leg = FlowOptions {
@@ -282,8 +284,8 @@ pub fn flow_at(
         };
         // the exact span t - from, enclosed (exact when Sterbenz's lemma applies)
         let span = point(t) - point(from);
-        let (next, stats) =
-            flow_set_span(&model.dynamics, set, span, &leg).map_err(|e| match &e {
+        let (next, stats) = flow_set_span_memo(&model.dynamics, set, span, &leg, &mut memo)
+            .map_err(|e| match &e {
                 // proved up to `from` and then up to `reached` into the leg
                 Error::Uncertified(r) => {
                     let reached = (point(from) + point(r.reached.unwrap_or(0.0))).inf();
@@ -401,6 +403,19 @@ pub fn flow_set_span(
     span: Interval,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, FlowStats), Error> {
+    flow_set_span_memo(sys, set, span, opts, &mut None)
+}
+
+/// [`flow_set_span`] with the step rule's memory (5.8) taken from and left in `memo`, so
+/// that a flow continued from a stop (5.16) chooses its first step as if it had not
+/// stopped. Only a choice of step sizes: what is proved is [`flow_set_span`]'s.
+fn flow_set_span_memo(
+    sys: &System,
+    set: LohnerSet,
+    span: Interval,
+    opts: &FlowOptions,
+    memo: &mut Option<(f64, f64)>,
+) -> Result<(LohnerSet, FlowStats), Error> {
     if span.is_empty() || span.inf() < 0.0 || !span.sup().is_finite() {
         return Err(Error::input(format!(
             "a span of time must be finite and >= 0 (got [{}, {}])",
@@ -408,7 +423,7 @@ pub fn flow_set_span(
             span.sup()
         )));
     }
-    let (set, _, stats) = flow_set_general(sys, set, span, opts, C1::No)?;
+    let (set, _, stats) = flow_set_general(sys, set, span, opts, C1::No, memo)?;
     Ok((set, stats))
 }
 
@@ -420,7 +435,7 @@ pub fn flow_set_c1(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, IMat, FlowStats), Error> {
-    let (set, jac, stats) = flow_set_general(sys, set, point(t), opts, C1::Cheap)?;
+    let (set, jac, stats) = flow_set_general(sys, set, point(t), opts, C1::Cheap, &mut None)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }
@@ -434,7 +449,7 @@ pub fn flow_set_jacobian(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, IMat, FlowStats), Error> {
-    let (set, jac, stats) = flow_set_general(sys, set, point(t), opts, C1::Precise)?;
+    let (set, jac, stats) = flow_set_general(sys, set, point(t), opts, C1::Precise, &mut None)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }
@@ -508,13 +523,16 @@ impl JacobianSet {
     }
 }
 
-/// Carry `set` over every span of time in `total` (a point for a float time).
+/// Carry `set` over every span of time in `total` (a point for a float time). `memo`: the
+/// last accepted step that was not the final one, and its remainder's width relative to the
+/// tolerance (5.8), read at the start and left for a continuation.
 fn flow_set_general(
     sys: &System,
     mut set: LohnerSet,
     total: Interval,
     opts: &FlowOptions,
     c1_mode: C1,
+    memo: &mut Option<(f64, f64)>,
 ) -> Result<(LohnerSet, Option<IMat>, FlowStats), Error> {
     let t = total.sup();
     let c1 = c1_mode != C1::No;
@@ -538,8 +556,6 @@ fn flow_set_general(
     // The end is reached by the step marked last (whose span is `total - done`), not by a
     // rounded sum of steps that only touches `t`.
     let mut reached = t <= 0.0;
-    // The last accepted step and its remainder's width relative to the tolerance (5.8).
-    let mut memo: Option<(f64, f64)> = None;
     // Index in JAC_ORDERS of the variational order to try first (5.6).
     let mut jac_order = 0;
     while !reached {
@@ -600,7 +616,10 @@ fn flow_set_general(
                         total_jac = Some(next);
                     }
                     set = out.set;
-                    memo = Some((hi.sup(), out.ratio));
+                    // the final step, cut to the end, says little about the next
+                    if !last {
+                        *memo = Some((hi.sup(), out.ratio));
+                    }
                     done = if last { total } else { done + hi };
                     reached = last;
                     stats.steps += 1;
