@@ -11,7 +11,7 @@
 
 use crate::enclosure::{flow_set, LohnerSet};
 use crate::integrator::{step_residual, NewtonOptions, Scheme, SchemeKind};
-use crate::protocol::{BatchAnswer, Line, LineReader, Pair, Query, SceneSpec, Session};
+use crate::protocol::{At, BatchAnswer, Line, LineReader, Pair, Query, SceneSpec, Session, Steps};
 use crate::scalar::point;
 use crate::scene::{Knife, KnifeEps, Particle};
 use crate::tape::finite;
@@ -497,12 +497,18 @@ fn used_exactly(given: &Value, q: &Query) {
             scene_of(scene);
             vec_bits("q", q);
             vec_bits("u", u);
-            assert_eq!(bits("t"), t.to_bits());
+            match t {
+                At::One(t) => assert_eq!(bits("t"), t.to_bits()),
+                At::Many(t) => vec_bits("times", t),
+            }
             assert_eq!(
                 o.get("order").and_then(Value::as_u64).unwrap_or(0),
                 *order as u64
             );
-            ("flow", ["q", "u", "t", "order", "jacobian"].as_slice())
+            (
+                "flow",
+                ["q", "u", "t", "times", "order", "jacobian"].as_slice(),
+            )
         }
         Query::Retract(p) => {
             pair(p);
@@ -533,13 +539,21 @@ fn used_exactly(given: &Value, q: &Query) {
         }
         Query::Check {
             scene,
-            h,
+            steps,
             q,
             tol,
+            defect_tol,
             pairs,
         } => {
             scene_of(scene);
-            assert_eq!(bits("h"), h.to_bits());
+            match steps {
+                Steps::Uniform(h) => assert_eq!(bits("h"), h.to_bits()),
+                Steps::Times(t) => vec_bits("t", t),
+            }
+            assert_eq!(
+                o.get("defect_tol").map(|_| bits("defect_tol")),
+                defect_tol.map(f64::to_bits)
+            );
             let rows = o["q"].as_array().expect("rows");
             assert_eq!(rows.len(), q.len(), "rows dropped or added");
             for (row, given) in q.iter().zip(rows) {
@@ -557,7 +571,10 @@ fn used_exactly(given: &Value, q: &Query) {
                 o.get("pairs").and_then(Value::as_bool).unwrap_or(true),
                 *pairs
             );
-            ("check", ["h", "q", "tol", "pairs"].as_slice())
+            (
+                "check",
+                ["h", "t", "q", "tol", "defect_tol", "pairs"].as_slice(),
+            )
         }
     };
     assert_eq!(o["cmd"].as_str(), Some(cmd));

@@ -42,6 +42,8 @@ pub struct Verdict {
     pub max_distance: Interval,
     /// `defect[k] ∋ s` of the pair `(q_k, q_{k+1})` (empty unless `pairs`).
     pub defect: Vec<Vec<Interval>>,
+    /// `∋ max_k |s_k|_inf` over the pairs' defects (`None` without pair figures).
+    pub max_defect: Option<Interval>,
     /// `energy_error[k] ∋ E_L(q_k, R^{e-}(q_k, q_{k+1})) - E_L(q_0, R^{e-}(q_0, q_1))`
     /// (empty unless `pairs`).
     pub energy_error: Vec<Interval>,
@@ -84,10 +86,72 @@ pub fn check_trajectory(
     q: &[Vec<f64>],
     opts: &CheckOptions,
 ) -> Result<Verdict, Error> {
+    collect(q, |rows, sink| check_each(model, h, rows, opts, sink))
+}
+
+/// [`check_trajectory`] for a candidate given at times `t_0 < t_1 < .. < t_N`
+/// (non-uniform steps, spec eq. (8.4)): `q^e_k = q(t_k - t_0)` on the trajectory from
+/// `q_0` with `u_0` the solution of spec eq. (6.2) for `(q_0, q_1)` with
+/// `h_0 = t_1 - t_0`, and the pair figures of `(q_k, q_{k+1})` with
+/// `h_k = t_{k+1} - t_k`. `times` has one time per row.
+///
+/// # Containment
+/// As [`check_trajectory`], with those `q^e_k` and `h_k`. `Error::Input` also when the
+/// times are not finite and strictly increasing, or when a step `h_k` that a retraction
+/// needs (`h_0`, and every `h_k` with pair figures) is not a float (`t_{k+1} - t_k` not
+/// exact in f64; by Sterbenz's lemma it is whenever `t_{k+1} <= 2 t_k`).
+pub fn check_trajectory_at(
+    model: &Model,
+    times: &[f64],
+    q: &[Vec<f64>],
+    opts: &CheckOptions,
+) -> Result<Verdict, Error> {
+    if times.len() != q.len() {
+        return Err(Error::input(format!(
+            "{} times for {} rows: give one time per row",
+            times.len(),
+            q.len()
+        )));
+    }
+    collect(q, |rows, sink| {
+        let rows = times.iter().zip(rows).map(|(t, r)| r.map(|r| (*t, r)));
+        check_each_at(model, rows, opts, sink)
+    })
+}
+
+/// The steps of a candidate trajectory: uniform of size `h`, or at the given times.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Steps {
+    Uniform(f64),
+    /// `t_0 < t_1 < .. < t_N`, one per row (spec eq. (8.4)).
+    Times(Vec<f64>),
+}
+
+/// [`check_trajectory`] or [`check_trajectory_at`], by `steps`.
+pub fn check_steps(
+    model: &Model,
+    steps: &Steps,
+    q: &[Vec<f64>],
+    opts: &CheckOptions,
+) -> Result<Verdict, Error> {
+    match steps {
+        Steps::Uniform(h) => check_trajectory(model, *h, q, opts),
+        Steps::Times(t) => check_trajectory_at(model, t, q, opts),
+    }
+}
+
+type Sink<'a> = &'a mut dyn FnMut(RowVerdict) -> Result<(), Error>;
+type RowIter<'a> = Box<dyn Iterator<Item = Result<Vec<f64>, Error>> + 'a>;
+
+/// The rows of a streaming check, collected into a [`Verdict`].
+fn collect<'q>(
+    q: &'q [Vec<f64>],
+    check: impl FnOnce(RowIter<'q>, Sink) -> Result<CheckSummary, Error>,
+) -> Result<Verdict, Error> {
     let mut distance = Vec::with_capacity(q.len());
     let (mut defect, mut energy_error) = (Vec::new(), Vec::new());
     let (mut eq, mut ev, mut ep) = (Vec::new(), Vec::new(), Vec::new());
-    let summary = check_each(model, h, q.iter().map(|r| Ok(r.clone())), opts, |row| {
+    let mut sink = |row: RowVerdict| {
         distance.push(row.distance);
         if let Some(pair) = row.pair {
             defect.push(pair.defect);
@@ -97,11 +161,14 @@ pub fn check_trajectory(
         ev.push(row.exact.v);
         ep.push(row.exact.p);
         Ok(())
-    })?;
+    };
+    let summary = check(Box::new(q.iter().map(|r| Ok(r.clone()))), &mut sink)?;
+    let max_defect = summary.max_defect;
     Ok(Verdict {
         distance,
         max_distance: summary.max_distance,
         defect,
+        max_defect,
         energy_error,
         exact: ExactTrajectory {
             retraction: summary.retraction,
@@ -142,6 +209,8 @@ pub struct CheckSummary {
     pub max_distance: Interval,
     /// The retraction of `(q_0, q_1)` the exact discrete flow starts from.
     pub retraction: crate::exact::Retraction,
+    /// `∋ max_k |s_k|_inf` over the pairs' defects (`None` without pair figures).
+    pub max_defect: Option<Interval>,
 }
 
 /// [`check_trajectory`] one row at a time, in memory independent of the number of rows:
@@ -156,11 +225,54 @@ pub fn check_each(
     h: f64,
     rows: impl IntoIterator<Item = Result<Vec<f64>, Error>>,
     opts: &CheckOptions,
+    sink: impl FnMut(RowVerdict) -> Result<(), Error>,
+) -> Result<CheckSummary, Error> {
+    let rows = rows.into_iter().map(|r| r.map(|q| (None, q)));
+    check_rows(model, Some(h), rows, opts, sink)
+}
+
+/// [`check_each`] for rows `(t_k, q_k)` at increasing times (non-uniform steps): row by
+/// row as [`check_trajectory_at`].
+///
+/// # Containment
+/// As [`check_trajectory_at`], row by row.
+pub fn check_each_at(
+    model: &Model,
+    rows: impl IntoIterator<Item = Result<(f64, Vec<f64>), Error>>,
+    opts: &CheckOptions,
+    sink: impl FnMut(RowVerdict) -> Result<(), Error>,
+) -> Result<CheckSummary, Error> {
+    let rows = rows.into_iter().map(|r| r.map(|(t, q)| (Some(t), q)));
+    check_rows(model, None, rows, opts, sink)
+}
+
+/// `t_{k+1} - t_k` as a float, when it is one: a retraction's step (spec eq. (8.4)).
+fn exact_step(k: usize, t0: f64, t1: f64) -> Result<f64, Error> {
+    let d = point(t1) - point(t0);
+    if d.inf() == d.sup() && d.inf() > 0.0 {
+        Ok(d.inf())
+    } else {
+        Err(Error::input(format!(
+            "t_{} - t_{k} = {t1} - {t0} is not a float: the retraction of the pair needs an \
+             exact step (it is exact when t_{} <= 2 t_{k}, e.g. for t_k = k h)",
+            k + 1,
+            k + 1
+        )))
+    }
+}
+
+/// The streaming check: uniform steps `h`, or (`h = None`) the rows' own times.
+fn check_rows(
+    model: &Model,
+    h: Option<f64>,
+    rows: impl Iterator<Item = Result<(Option<f64>, Vec<f64>), Error>>,
+    opts: &CheckOptions,
     mut sink: impl FnMut(RowVerdict) -> Result<(), Error>,
 ) -> Result<CheckSummary, Error> {
     let n = model.n;
-    let mut rows = rows.into_iter().enumerate().map(|(k, row)| {
-        let row = row?;
+    let mut last_t = f64::NEG_INFINITY;
+    let mut rows = rows.enumerate().map(|(k, row)| {
+        let (t, row) = row?;
         if row.len() != n {
             return Err(Error::input(format!(
                 "q_{k} has {} components, scene `{}` needs {n}",
@@ -173,39 +285,60 @@ pub fn check_each(
                 "non-finite number in the trajectory (q_{k})"
             )));
         }
-        Ok(row)
+        if let Some(t) = t {
+            if !t.is_finite() || t <= last_t {
+                return Err(Error::input(format!(
+                    "t_{k} = {t}: times must be finite and strictly increasing"
+                )));
+            }
+            last_t = t;
+        }
+        Ok((t, row))
     });
     let too_short = || Error::input("a trajectory needs at least q_0 and q_1");
-    let q0 = rows.next().ok_or_else(too_short)??;
-    let q1 = rows.next().ok_or_else(too_short)??;
-    let pts = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
-    let mut flow = ExactFlow::start(model, &pts(&q0), &pts(&q1), h, &opts.flow)?;
-    let mut max_distance = point(0.0);
-    // Row k against the iterate k of the exact discrete flow.
-    let mut compare = |flow: &mut ExactFlow, q: &[f64]| -> Result<(Interval, Iterate), Error> {
-        let exact = flow.next_iterate()?;
-        let d = distance(q, &exact.q);
-        if !finite(d) {
-            return Err(Error::refused(
-                Reason::Unbounded,
-                "distance enclosure not finite",
-            ));
-        }
-        max_distance = max_distance.max(d);
-        Ok((d, exact))
+    let (t0, q0) = rows.next().ok_or_else(too_short)??;
+    let (t1, q1) = rows.next().ok_or_else(too_short)??;
+    // the step of the pair (q_k, q_{k+1}), and the span from t_k to t_{k+1}
+    let step = |k: usize, a: Option<f64>, b: Option<f64>| match (h, a, b) {
+        (Some(h), _, _) => Ok(h),
+        (None, Some(a), Some(b)) => exact_step(k, a, b),
+        _ => Err(Error::internal("a row without its time")),
     };
-    let first = compare(&mut flow, &q0)?;
+    let span = |a: Option<f64>, b: Option<f64>| match (h, a, b) {
+        (None, Some(a), Some(b)) => point(b) - point(a),
+        _ => point(h.unwrap_or(0.0)),
+    };
+    let pts = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
+    let h0 = step(0, t0, t1)?;
+    let mut flow = ExactFlow::start(model, &pts(&q0), &pts(&q1), h0, &opts.flow)?;
+    let mut max_distance = point(0.0);
+    let mut max_defect: Option<Interval> = None;
+    // Row k against the iterate k of the exact discrete flow, `dt` after the iterate k-1.
+    let mut compare =
+        |flow: &mut ExactFlow, q: &[f64], dt: Interval| -> Result<(Interval, Iterate), Error> {
+            let exact = flow.next_iterate_after(dt)?;
+            let d = distance(q, &exact.q);
+            if !finite(d) {
+                return Err(Error::refused(
+                    Reason::Unbounded,
+                    "distance enclosure not finite",
+                ));
+            }
+            max_distance = max_distance.max(d);
+            Ok((d, exact))
+        };
+    let first = compare(&mut flow, &q0, point(h0))?;
     let e0 = if opts.pairs {
         Some(energy(model, &first.1.q, &first.1.v)?)
     } else {
         None
     };
-    // The row waiting for its successor: its floats, distance and exact iterate.
-    let mut pending = (q0, first.0, first.1);
+    // The row waiting for its successor: its time, floats, distance and exact iterate.
+    let mut pending = (t0, q0, first.0, first.1);
     let mut count = 1;
-    for next in std::iter::once(Ok(q1)).chain(rows) {
-        let next = next?;
-        let (qk, d, exact) = pending;
+    for next in std::iter::once(Ok((t1, q1))).chain(rows) {
+        let (tn, next) = next?;
+        let (tk, qk, d, exact) = pending;
         let pair = match e0 {
             None => None,
             Some(e0) => {
@@ -213,8 +346,11 @@ pub fn check_each(
                 let r = if exact.k == 0 {
                     flow.retraction.clone()
                 } else {
-                    exact::retract(model, &pts(&qk), &pts(&next), h, &opts.flow)?
+                    let hk = step(exact.k, tk, tn)?;
+                    exact::retract(model, &pts(&qk), &pts(&next), hk, &opts.flow)?
                 };
+                let size = r.s.iter().fold(point(0.0), |m, x| m.max(x.abs()));
+                max_defect = Some(max_defect.map_or(size, |m| m.max(size)));
                 Some(PairVerdict {
                     energy_error: energy(model, &pts(&qk), &r.v0)? - e0,
                     defect: r.s,
@@ -227,11 +363,11 @@ pub fn check_each(
             pair,
             exact,
         })?;
-        let (d, exact) = compare(&mut flow, &next)?;
-        pending = (next, d, exact);
+        let (d, exact) = compare(&mut flow, &next, span(tk, tn))?;
+        pending = (tn, next, d, exact);
         count += 1;
     }
-    let (_, d, exact) = pending;
+    let (_, _, d, exact) = pending;
     sink(RowVerdict {
         k: exact.k,
         distance: d,
@@ -242,7 +378,68 @@ pub fn check_each(
         rows: count,
         max_distance,
         retraction: flow.retraction,
+        max_defect,
     })
+}
+
+/// The tolerances of a `check`: on the distance (`tol`, spec (8.3)) and on the pairs'
+/// defects (`defect_tol`, spec (8.5)).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Tolerances {
+    pub tol: Option<f64>,
+    pub defect_tol: Option<f64>,
+}
+
+impl Tolerances {
+    /// `Error::Input` for a defect tolerance without the pair figures it is decided on.
+    pub fn check(&self, pairs: bool) -> Result<(), Error> {
+        if self.defect_tol.is_some() && !pairs {
+            return Err(Error::input(
+                "a defect tolerance needs the pairs' defects: drop --no-pairs (`pairs`: false)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Whether a check passes both tolerances (spec (8.3), (8.5)): `true` when each given
+    /// one is proved met (`sup <= tol`), `false` when one is proved exceeded (`inf > tol`),
+    /// else undecided and refused (`Error::Uncertified`, exit 3). `max_defect` is the
+    /// enclosure of `max_k |s_k|_inf` (`None` without pair figures).
+    pub fn decide(
+        &self,
+        max_distance: Interval,
+        max_defect: Option<Interval>,
+    ) -> Result<bool, Error> {
+        let distance = match self.tol {
+            None => Ok(true),
+            Some(t) => decide_one("distance", max_distance, t),
+        };
+        let defect = match (self.defect_tol, max_defect) {
+            (None, _) => Ok(true),
+            (Some(_), None) => Err(Error::input("a defect tolerance needs the pairs' defects")),
+            (Some(d), Some(m)) => decide_one("defect", m, d),
+        };
+        match (distance, defect) {
+            (Ok(false), _) | (_, Ok(false)) => Ok(false),
+            (Err(e), _) | (_, Err(e)) => Err(e),
+            (Ok(true), Ok(true)) => Ok(true),
+        }
+    }
+}
+
+/// `sup <= tol`: true; `inf > tol`: false; else undecided (exit 3).
+pub(crate) fn decide_one(what: &str, x: Interval, tol: f64) -> Result<bool, Error> {
+    if x.sup() <= tol {
+        Ok(true)
+    } else if x.inf() > tol {
+        Ok(false)
+    } else {
+        Err(Error::uncertified(format!(
+            "undecided: the certified {what} [{:e}, {:e}] straddles the tolerance {tol:e}",
+            x.inf(),
+            x.sup()
+        )))
+    }
 }
 
 /// Certified figures about one step `(q0, q1, q2)` of a candidate scheme.

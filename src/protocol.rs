@@ -4,6 +4,7 @@
 
 use crate::exact;
 use crate::integrator::{NewtonOptions, Scheme, SchemeKind, Trajectory};
+pub use crate::oracle::{Steps, Tolerances};
 use crate::scalar::point;
 use crate::scene::{Description, Scene, SceneFile};
 use crate::{AnyScene, Error, FlowOptions, FlowStats, Model};
@@ -49,7 +50,8 @@ pub enum Query {
         scene: SceneSpec,
         q: Vec<f64>,
         u: Vec<f64>,
-        t: f64,
+        /// One time (`t`) or many (`times`, dense output: spec eq. (5.16), contract E11).
+        t: At,
         order: usize,
         /// Also the derivative D(q, u)(t) / D(q, u)(0) (`flow --jacobian`).
         jacobian: bool,
@@ -62,18 +64,30 @@ pub enum Query {
         scheme: SchemeKind,
         steps: usize,
     },
-    /// A certified verdict on a whole trajectory `q_0 .. q_N` of step `h` (the `check`
-    /// command's, as a batch query).
+    /// A certified verdict on a whole trajectory `q_0 .. q_N` of step `h`, or at times
+    /// `t_0 < .. < t_N` (contract E12) (the `check` command's, as a batch query).
     Check {
         scene: SceneSpec,
-        h: f64,
+        steps: Steps,
         q: Vec<Vec<f64>>,
         /// Tolerance on `max_k |q_k - q^e_k|_inf`: the answer says `passed` (proved within),
         /// or fails (proved beyond) or is refused as undecided.
         tol: Option<f64>,
+        /// Tolerance on `max_k |s_k|_inf`, the pairs' defects (contract E13): decided as
+        /// `tol`, and both must pass.
+        defect_tol: Option<f64>,
         /// Also the per-pair defects and energies (default true).
         pairs: bool,
     },
+}
+
+/// The times of a `flow` query.
+#[derive(Clone, Debug, PartialEq)]
+pub enum At {
+    /// `t`: the state at this time.
+    One(f64),
+    /// `times`: the states at these increasing times, from one integration.
+    Many(Vec<f64>),
 }
 
 /// The arguments shared by the commands on a pair of configurations.
@@ -202,11 +216,36 @@ impl Session {
                     order: *order,
                     ..opts
                 };
+                let t = match t {
+                    At::One(t) => *t,
+                    At::Many(times) => {
+                        if *jacobian {
+                            return Err(Error::input(
+                                "`jacobian` is given only at one time `t`, not with `times`",
+                            ));
+                        }
+                        let at = crate::enclosure::flow_at(&model, q, u, times, &o)?;
+                        let total = at.last().map(|e| stats(&e.stats));
+                        let at: Vec<Value> = times
+                            .iter()
+                            .zip(&at)
+                            .map(|(t, e)| {
+                                json!({
+                                    "t": t,
+                                    "q": intervals(&e.q),
+                                    "v": intervals(&e.v),
+                                    "u": intervals(&e.u),
+                                })
+                            })
+                            .collect();
+                        return Ok(json!({"at": at, "stats": total}));
+                    }
+                };
                 let (e, jac) = if *jacobian {
-                    let (e, j) = crate::enclosure::flow_c1(&model, q, u, *t, &o)?;
+                    let (e, j) = crate::enclosure::flow_c1(&model, q, u, t, &o)?;
                     (e, Some(j))
                 } else {
-                    (crate::flow(&model, q, u, *t, &o)?, None)
+                    (crate::flow(&model, q, u, t, &o)?, None)
                 };
                 let mut a = json!({
                     "q": intervals(&e.q),
@@ -249,18 +288,24 @@ impl Session {
             }
             Query::Check {
                 scene,
-                h,
+                steps,
                 q,
                 tol,
+                defect_tol,
                 pairs,
             } => {
                 let model = self.model(scene)?;
+                let tols = Tolerances {
+                    tol: *tol,
+                    defect_tol: *defect_tol,
+                };
+                tols.check(*pairs)?;
                 let o = crate::oracle::CheckOptions {
                     pairs: *pairs,
                     flow: opts,
                 };
-                let v = crate::oracle::check_trajectory(&model, *h, q, &o)?;
-                let passed = tolerance_verdict(&v, *tol)?;
+                let v = crate::oracle::check_steps(&model, steps, q, &o)?;
+                let passed = tols.decide(v.max_distance, v.max_defect)?;
                 Ok(verdict(&v, passed))
             }
             Query::Integrate {
@@ -564,27 +609,27 @@ pub fn error_object(e: &Error) -> Value {
 
 /// [`tolerance_verdict`] on the certified maximum distance alone.
 pub fn tolerance_decision(max_distance: Interval, tol: Option<f64>) -> Result<bool, Error> {
-    match tol {
-        None => Ok(true),
-        Some(t) if max_distance.sup() <= t => Ok(true),
-        Some(t) if max_distance.inf() > t => Ok(false),
-        Some(t) => Err(Error::uncertified(format!(
-            "undecided: the certified distance [{:e}, {:e}] straddles the tolerance {t:e}",
-            max_distance.inf(),
-            max_distance.sup()
-        ))),
+    Tolerances {
+        tol,
+        defect_tol: None,
     }
+    .decide(max_distance, None)
 }
 
 /// The `check` answer: `{"distance", "max_distance", "defect", "energy_error", "passed"}`.
+/// With pair figures also `"max_defect"` (contract E13).
 pub fn verdict(v: &crate::oracle::Verdict, passed: bool) -> Value {
-    json!({
+    let mut a = json!({
         "distance": intervals(&v.distance),
         "max_distance": interval(v.max_distance),
         "defect": v.defect.iter().map(|d| intervals(d)).collect::<Vec<_>>(),
         "energy_error": intervals(&v.energy_error),
         "passed": passed,
-    })
+    });
+    if let Some(m) = v.max_defect {
+        a["max_defect"] = interval(m);
+    }
+    a
 }
 
 /// The `integrate` answer, with the Legendre transforms, energy and Newton figures.
@@ -882,10 +927,10 @@ const COMMON_KEYS: [&str; 5] = ["id", "cmd", "scene", "params", "deadline"];
 /// The keys of a query of command `cmd` (`None` for an unknown command).
 pub fn query_keys(cmd: &str) -> Option<Vec<&'static str>> {
     let own: &[&str] = match cmd {
-        "flow" => &["q", "u", "t", "order", "jacobian"],
+        "flow" => &["q", "u", "t", "times", "order", "jacobian"],
         "retract" | "step" | "lagrangian" => &["q0", "q1", "h"],
         "integrate" => &["q0", "q1", "h", "scheme", "steps"],
-        "check" => &["h", "q", "tol", "pairs"],
+        "check" => &["h", "t", "q", "tol", "defect_tol", "pairs"],
         _ => return None,
     };
     Some(COMMON_KEYS.iter().chain(own).copied().collect())
@@ -937,7 +982,11 @@ impl Query {
                 scene,
                 q: json_vec(o, "q")?,
                 u: json_vec(o, "u")?,
-                t: json_num(o, "t")?,
+                t: match (o.get("t"), o.get("times")) {
+                    (Some(_), None) => At::One(json_num(o, "t")?),
+                    (None, Some(_)) => At::Many(json_vec(o, "times")?),
+                    _ => return Err(Error::input("give exactly one of `t` and `times`")),
+                },
                 order: match o.get("order") {
                     None => 0,
                     Some(_) => json_uint(o, "order", 2, 60)? as usize,
@@ -981,11 +1030,20 @@ impl Query {
                         )))
                     }
                 };
+                let steps = match (o.get("h"), o.get("t")) {
+                    (Some(_), None) => Steps::Uniform(json_num(o, "h")?),
+                    (None, Some(_)) => Steps::Times(json_vec(o, "t")?),
+                    _ => return Err(Error::input("give exactly one of `h` and `t`")),
+                };
                 Ok(Query::Check {
                     scene,
-                    h: json_num(o, "h")?,
+                    steps,
                     q,
                     tol: o.get("tol").map(|_| json_num(o, "tol")).transpose()?,
+                    defect_tol: o
+                        .get("defect_tol")
+                        .map(|_| json_num(o, "defect_tol"))
+                        .transpose()?,
                     pairs,
                 })
             }

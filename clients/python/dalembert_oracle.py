@@ -123,7 +123,8 @@ _SHAPES = {
     "retract": {"u0": 1, "v0": 1, "v1": 1, "defect": 1, "q1": 1},
     "step": {"q1": 1, "q2": 1, "p_minus": 1, "p_plus": 1},
     "lagrangian": {"l": 0, "defect": 1},
-    "check": {"distance": 1, "max_distance": 0, "defect": 2, "energy_error": 1},
+    "check": {"distance": 1, "max_distance": 0, "defect": 2, "energy_error": 1,
+              "max_defect": 0},
     "integrate": {},
 }
 
@@ -138,7 +139,11 @@ def _intervals(value, depth):
 
 def _answer(cmd, ok):
     shape = _SHAPES.get(cmd, {})
-    return Answer({k: _intervals(v, shape[k]) if k in shape else v for k, v in ok.items()})
+    a = {k: _intervals(v, shape[k]) if k in shape else v for k, v in ok.items()}
+    if cmd == "flow" and "at" in a:
+        # dense output: one answer per stop, with keys t, q, u, v
+        a["at"] = [_answer("flow", stop) for stop in a["at"]]
+    return Answer(a)
 
 
 def _error(err, id):
@@ -174,9 +179,10 @@ class Oracle:
         self.queries = 0
 
     # -- the queries -------------------------------------------------------------------
-    def flow(self, q, u, t, *, order=None, jacobian=None, **common):
-        """Exact state at time t from q with quasi-velocities u: keys q, u, v (, jacobian)."""
-        return self.ask(self.query("flow", q=q, u=u, t=t, order=order,
+    def flow(self, q, u, t=None, *, times=None, order=None, jacobian=None, **common):
+        """Exact state at time t from q with quasi-velocities u: keys q, u, v (, jacobian);
+        with times=[t1, t2, ..] instead of t, key at (one answer per time: t, q, u, v)."""
+        return self.ask(self.query("flow", q=q, u=u, t=t, times=times, order=order,
                                    jacobian=jacobian, **common))
 
     def retract(self, q0, q1, h, **common):
@@ -196,10 +202,12 @@ class Oracle:
         return self.ask(self.query("integrate", q0=q0, q1=q1, h=h, steps=steps,
                                    scheme=scheme, **common))
 
-    def check(self, q, h, *, tol=None, pairs=None, **common):
-        """Certified verdict on a trajectory q (rows): keys distance, max_distance, defect,
-        energy_error, passed (False when the distance is proved beyond tol)."""
-        return self.ask(self.query("check", q=q, h=h, tol=tol, pairs=pairs, **common))
+    def check(self, q, h=None, *, t=None, tol=None, defect_tol=None, pairs=None, **common):
+        """Certified verdict on a trajectory q (rows) of step h, or at times t (one per
+        row): keys distance, max_distance, defect, max_defect, energy_error, passed (False
+        when the distance is proved beyond tol or a pair's defect beyond defect_tol)."""
+        return self.ask(self.query("check", q=q, h=h, t=t, tol=tol, defect_tol=defect_tol,
+                                   pairs=pairs, **common))
 
     # -- the protocol ------------------------------------------------------------------
     def query(self, cmd, *, scene=None, params=None, deadline=None, **keys):

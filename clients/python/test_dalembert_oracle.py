@@ -166,6 +166,20 @@ class OracleTest(unittest.TestCase):
         self.assertFalse(c.passed)
         self.assertTrue(c.max_distance.lo <= Fraction(q[-1][0]) - Fraction(1, 2) <= c.max_distance.hi)
 
+    def test_dense_flow_and_a_check_at_times_with_a_defect_tolerance(self):
+        a = self.oracle.flow([0, 0.5, 0], [0.8, 0.8], times=[0.25, 0.5, 1])
+        self.assertEqual([s.t for s in a.at], [0.25, 0.5, 1])
+        self.assertTrue(all(s.q[0].lo <= s.q[0].hi for s in a.at))
+        # the straight line x = t, y = 1/2, z = t/2 at uneven times: on the exact flow
+        t = [0, 0.125, 0.375, 0.5]
+        q = [[x, 0.5, x / 2] for x in t]
+        c = self.oracle.check(q, t=t, tol=1e-12, defect_tol=1e-12)
+        self.assertTrue(c.passed)
+        self.assertTrue(0 in c.max_defect and c.max_defect.hi < 1e-12, c.max_defect)
+        q[2][0] += 1e-3  # off the manifold: the defect is proved beyond 1e-6
+        c = self.oracle.check(q, t=t, tol=1e-2, defect_tol=1e-6)
+        self.assertFalse(c.passed)
+
     def test_endpoints_are_the_printed_numbers(self):
         # the same query sent to a separate process by hand: each endpoint is bit for bit
         # the number the binary printed (no rounding, no re-centring in the module)

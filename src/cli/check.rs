@@ -4,7 +4,7 @@ use super::integrate::io;
 use super::progress::Bar;
 use super::spool::Spool;
 use super::SceneArgs;
-use dalembert::oracle::{check_each, CheckOptions, RowVerdict};
+use dalembert::oracle::{check_each, check_each_at, CheckOptions, RowVerdict};
 use dalembert::protocol::{self, Session, STEP_DEADLINE};
 use dalembert::scene::Scene;
 use dalembert::Error;
@@ -18,20 +18,31 @@ use std::io::{BufRead, BufReader, Write};
 /// 0) or proved the tolerance exceeded (exit 1); an undecided comparison is
 /// `Error::Uncertified` (exit 3). CSV rows are read, checked and written one at a time
 /// (through a spool, so that a refusal still leaves stdout empty), in memory independent
-/// of their number; a JSON file is read whole.
+/// of their number; a JSON file is read whole. Without `h`, the file's times give the steps
+/// (non-uniform, contract E12); `tols` are `--tol` and `--defect-tol` (E13).
 pub fn run(
     scene: &SceneArgs,
-    h: &str,
+    h: Option<&str>,
     file: &str,
     deadline: Option<&str>,
-    tol: Option<&str>,
+    tols: (Option<&str>, Option<&str>),
     no_pairs: bool,
     as_json: bool,
 ) -> Result<bool, Error> {
     let spec = super::scene_spec(scene)?;
     let model = Session::default().model(&spec)?;
-    let h = protocol::parse_num("--h", h)?;
-    let tol = tol.map(|t| protocol::parse_num("--tol", t)).transpose()?;
+    let h = h.map(|h| protocol::parse_num("--h", h)).transpose()?;
+    let tols = protocol::Tolerances {
+        tol: tols
+            .0
+            .map(|t| protocol::parse_num("--tol", t))
+            .transpose()?,
+        defect_tol: tols
+            .1
+            .map(|t| protocol::parse_num("--defect-tol", t))
+            .transpose()?,
+    };
+    tols.check(!no_pairs)?;
     let deadline = deadline
         .map(|d| protocol::parse_seconds("--deadline", d))
         .transpose()?;
@@ -58,16 +69,29 @@ pub fn run(
         )
         .map_err(io)?;
     }
-    let summary = check_each(&model, h, rows, &opts, |row| {
+    let sink = |row: RowVerdict| {
         bar.update("check", row.k + 1, count);
         if as_json {
             json_row(&mut spools, &row).map_err(io)
         } else {
             text_row(&mut spools[0].out, &row).map_err(io)
         }
-    })?;
+    };
+    let summary = match h {
+        Some(h) => check_each(&model, h, rows.map(|r| r.map(|(_, q)| q)), &opts, sink)?,
+        None => {
+            let untimed = || {
+                Error::input(format!(
+                    "--trajectory `{file}`: without --h the rows need their times (a CSV \
+                     column `t`, or a JSON key \"t\"); or give --h"
+                ))
+            };
+            let rows = rows.map(|r| r.and_then(|(t, q)| Ok((t.ok_or_else(untimed)?, q))));
+            check_each_at(&model, rows, &opts, sink)?
+        }
+    };
     bar.clear();
-    let passed = protocol::tolerance_decision(summary.max_distance, tol)?;
+    let passed = tols.decide(summary.max_distance, summary.max_defect)?;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     let w = &mut out;
@@ -80,17 +104,30 @@ pub fn run(
             spools[0].copy_to(w)?;
             w.write_all(b"],\"energy_error\":[")?;
             spools[2].copy_to(w)?;
+            w.write_all(b"]")?;
+            if let Some(m) = summary.max_defect {
+                write!(w, ",\"max_defect\":{}", protocol::interval(m))?;
+            }
             write!(
                 w,
-                "],\"max_distance\":{},\"passed\":{passed}}}",
+                ",\"max_distance\":{},\"passed\":{passed}}}",
                 protocol::interval(summary.max_distance)
             )?;
         } else {
             spools[0].copy_to(w)?;
             write!(w, "max distance <= {:.3e}", summary.max_distance.sup())?;
-            if let Some(t) = tol {
-                let word = if passed { "PASS" } else { "FAIL (proved)" };
-                write!(w, "; tolerance {t:e}: {word}")?;
+            if let Some(m) = summary.max_defect {
+                write!(w, "; max defect <= {:.3e}", m.sup())?;
+            }
+            let word = if passed { "PASS" } else { "FAIL (proved)" };
+            if let Some(t) = tols.tol {
+                write!(w, "; tolerance {t:e}")?;
+            }
+            if let Some(t) = tols.defect_tol {
+                write!(w, "; defect tolerance {t:e}")?;
+            }
+            if tols.tol.is_some() || tols.defect_tol.is_some() {
+                write!(w, ": {word}")?;
             }
         }
         writeln!(w)?;
@@ -135,8 +172,11 @@ fn json_row(spools: &mut [Spool], row: &RowVerdict) -> std::io::Result<()> {
     Ok(())
 }
 
+/// A row of a candidate trajectory: `(t_k if given, q_k)`.
+type Row = (Option<f64>, Vec<f64>);
+
 /// The rows of a candidate trajectory, read as they are needed.
-type Rows = Box<dyn Iterator<Item = Result<Vec<f64>, Error>>>;
+type Rows = Box<dyn Iterator<Item = Result<Row, Error>>>;
 
 /// The candidate in `file`: JSON `{"q": [[..]..]}` (as `integrate --json` prints it) or
 /// `[[..]..]`, or CSV; and the number of rows (for the default budget and the progress
@@ -147,7 +187,7 @@ fn read_trajectory(
     file: &str,
     coordinates: &[String],
     m: usize,
-    h: f64,
+    h: Option<f64>,
 ) -> Result<(Rows, usize), Error> {
     let cannot =
         |e: std::io::Error| Error::input(format!("--trajectory: cannot read `{file}`: {e}"));
@@ -175,7 +215,7 @@ fn read_trajectory(
             let mut text = String::new();
             std::io::Read::read_to_string(&mut r, &mut text)
                 .map_err(|e| Error::input(format!("--trajectory `{file}`: {e}")))?;
-            let rows = json_trajectory(file, &text, coordinates.len())?;
+            let rows = json_trajectory(file, &text, coordinates.len(), h)?;
             let count = rows.len();
             Ok((Box::new(rows.into_iter().map(Ok)), count))
         }
@@ -206,16 +246,22 @@ fn read_trajectory(
 
 /// The keys of `integrate --json` output: `q` is read, the others are that command's own
 /// figures and are ignored.
-const TRAJECTORY_KEYS: [&str; 5] = ["q", "p", "energy", "newton_iterations", "max_residual"];
+/// `t` (contract E12) gives the rows' times.
+const TRAJECTORY_KEYS: [&str; 6] = ["q", "t", "p", "energy", "newton_iterations", "max_residual"];
 
-fn json_trajectory(file: &str, text: &str, n: usize) -> Result<Vec<Vec<f64>>, Error> {
+/// The rows `(t_k if given, q_k)` of a JSON trajectory; with `h`, a time must be `k h`.
+fn json_trajectory(file: &str, text: &str, n: usize, h: Option<f64>) -> Result<Vec<Row>, Error> {
     let at = format!("--trajectory `{file}`");
     let v = protocol::parse_json(text)
         .map_err(|e| Error::input(format!("{at}: not JSON: {}", e.message())))?;
+    let mut times = None;
     let rows = match &v {
         Value::Object(o) => {
             protocol::check_keys(o, &TRAJECTORY_KEYS, "a trajectory")
                 .map_err(|e| Error::input(format!("{at}: {}", e.message())))?;
+            if let Some(t) = o.get("t") {
+                times = Some(protocol::json_numbers(&format!("{at}: `t`"), t)?);
+            }
             o.get("q")
                 .ok_or_else(|| Error::input(format!("{at}: missing key `q`")))?
         }
@@ -224,12 +270,25 @@ fn json_trajectory(file: &str, text: &str, n: usize) -> Result<Vec<Vec<f64>>, Er
     let rows = rows
         .as_array()
         .ok_or_else(|| Error::input(format!("{at}: `q` must be an array of configurations")))?;
+    if let Some(t) = &times {
+        if t.len() != rows.len() {
+            return Err(Error::input(format!(
+                "{at}: {} times in `t` for {} rows in `q`",
+                t.len(),
+                rows.len()
+            )));
+        }
+    }
     rows.iter()
         .enumerate()
         .map(|(k, r)| {
             let q = protocol::json_numbers(&format!("{at}: q[{k}]"), r)?;
+            let t = times.as_ref().map(|t| t[k]);
+            if let (Some(t), Some(h)) = (t, h) {
+                time_is_kh(t, k, h).map_err(|e| Error::input(format!("{at}: {e}")))?;
+            }
             if q.len() == n {
-                Ok(q)
+                Ok((t, q))
             } else {
                 Err(Error::input(format!(
                     "{at}: q[{k}] has {} numbers, the scene has {n} coordinates",
@@ -256,7 +315,7 @@ struct CsvRows {
     lines: std::io::Lines<BufReader<File>>,
     coordinates: Vec<String>,
     m: usize,
-    h: f64,
+    h: Option<f64>,
     columns: Option<Vec<(Column, String)>>,
     blank_since: Option<usize>,
     /// The line number last read.
@@ -267,7 +326,7 @@ struct CsvRows {
 }
 
 impl Iterator for CsvRows {
-    type Item = Result<Vec<f64>, Error>;
+    type Item = Result<Row, Error>;
     fn next(&mut self) -> Option<Self::Item> {
         if self.done {
             return None;
@@ -286,7 +345,7 @@ impl CsvRows {
     }
 
     /// The next row, `None` at the end of the file.
-    fn row(&mut self) -> Result<Option<Vec<f64>>, Error> {
+    fn row(&mut self) -> Result<Option<Row>, Error> {
         let n = self.coordinates.len();
         loop {
             let Some(line) = self.lines.next() else {
@@ -341,6 +400,7 @@ impl CsvRows {
             }
             let (k, h) = (self.k, self.h);
             let mut q = vec![f64::NAN; n];
+            let mut time = None;
             for (c, (cell, (what, name))) in cells.iter().zip(cols).enumerate() {
                 let x = protocol::parse_num(
                     &format!("{}, column {} (`{name}`)", self.at(), c + 1),
@@ -354,20 +414,31 @@ impl CsvRows {
                             self.at()
                         )))
                     }
-                    Column::T if (x - k as f64 * h).abs() > 1e-6 * (k as f64 * h).abs().max(h) => {
-                        return Err(Error::input(format!(
-                            "{}: t = {x}, but k h = {} for row {k} with --h {h}",
-                            self.at(),
-                            k as f64 * h
-                        )))
+                    Column::T => {
+                        if let Some(h) = h {
+                            time_is_kh(x, k, h)
+                                .map_err(|e| Error::input(format!("{}: {e}", self.at())))?;
+                        }
+                        time = Some(x);
                     }
                     _ => {}
                 }
             }
             self.k += 1;
-            return Ok(Some(q));
+            return Ok(Some((time, q)));
         }
     }
+}
+
+/// With `--h`, the time of row `k` must be `k h` (to 1e-6 relative).
+fn time_is_kh(t: f64, k: usize, h: f64) -> Result<(), String> {
+    if (t - k as f64 * h).abs() > 1e-6 * (k as f64 * h).abs().max(h) {
+        return Err(format!(
+            "t = {t}, but k h = {} for row {k} with --h {h}",
+            k as f64 * h
+        ));
+    }
+    Ok(())
 }
 
 /// The role of each header cell; every coordinate once (by its name or as `q0`..).

@@ -79,7 +79,7 @@ const DEADLINE_HELP: &str = "Time budget in seconds (> 0): past it, refused with
 
 #[derive(Subcommand, Debug)]
 pub enum Cmd {
-    /// Enclose the exact nonholonomic state at time T
+    /// Enclose the exact nonholonomic state at time T (or at each of --times)
     Flow {
         #[command(flatten)]
         scene: SceneArgs,
@@ -90,8 +90,16 @@ pub enum Cmd {
         #[arg(long, allow_hyphen_values = true)]
         u: String,
         /// Time T >= 0
+        #[arg(
+            long,
+            allow_hyphen_values = true,
+            required_unless_present = "times",
+            conflicts_with = "times"
+        )]
+        t: Option<String>,
+        /// Dense output: increasing times T1,T2,.. (instead of --t), one integration
         #[arg(long, allow_hyphen_values = true)]
-        t: String,
+        times: Option<String>,
         /// Taylor order (default: automatic)
         #[arg(long, allow_hyphen_values = true)]
         order: Option<String>,
@@ -126,9 +134,10 @@ pub enum Cmd {
     Check {
         #[command(flatten)]
         scene: SceneArgs,
-        /// Time step H > 0 of the candidate
+        /// Time step H > 0 of the candidate; without it, the CSV column `t` (or the JSON
+        /// key "t") gives the times of non-uniform steps
         #[arg(long, allow_hyphen_values = true)]
-        h: String,
+        h: Option<String>,
         /// File with q_0 .. q_N: JSON {"q": [[..], ..]} (as `integrate --json` prints it) or
         /// [[..], ..], or CSV: with a header, columns by name (the scene's coordinates or
         /// q0.., and k, t, p0.., energy); without one, exactly the coordinates in order
@@ -139,6 +148,9 @@ pub enum Cmd {
         /// Tolerance on max_k |q_k - q^e_k|_inf
         #[arg(long, allow_hyphen_values = true)]
         tol: Option<String>,
+        /// Tolerance on the pairs' defects max_k |s_k|_inf (both must pass with --tol)
+        #[arg(long = "defect-tol", allow_hyphen_values = true)]
+        defect_tol: Option<String>,
         /// Skip the per-pair defects and energies (faster)
         #[arg(long)]
         no_pairs: bool,
@@ -296,14 +308,15 @@ pub fn run(args: Vec<String>) -> i32 {
             trajectory,
             deadline,
             tol,
+            defect_tol,
             no_pairs,
             json,
         }) => match check::run(
             &scene,
-            &h,
+            h.as_deref(),
             &trajectory,
             deadline.as_deref(),
-            tol.as_deref(),
+            (tol.as_deref(), defect_tol.as_deref()),
             no_pairs,
             json,
         ) {
@@ -386,12 +399,17 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
             q,
             u,
             t,
+            times,
             order,
             jacobian,
             deadline,
             json,
         } => {
-            let t = protocol::parse_num("--t", &t)?;
+            let t = match (t, times) {
+                (Some(t), None) => protocol::At::One(protocol::parse_num("--t", &t)?),
+                (None, Some(ts)) => protocol::At::Many(protocol::parse_vec("--times", &ts)?),
+                _ => return Err(Error::input("give exactly one of --t and --times")),
+            };
             let query = Query::Flow {
                 scene: scene_spec(&scene)?,
                 q: protocol::parse_vec("--q", &q)?,

@@ -226,9 +226,97 @@ pub fn flow(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<FlowEnclosure, Error> {
-    let x = flow_query(model, q, u, t)?;
-    let (set, stats) = flow_set(&model.dynamics, LohnerSet::point(&x), t, opts)?;
-    finish(model, &set, stats)
+    let mut at = flow_at(model, q, u, &[t], opts)?;
+    at.pop()
+        .ok_or_else(|| Error::internal("flow_at answered no time"))
+}
+
+/// Dense output: enclosures of the exact nonholonomic state at each of the increasing
+/// times `0 <= t_1 < t_2 < ...` from `q(0) = q`, `qd(0) = sum_a u_a e_a(q)`, in one
+/// validated integration: the set at `t_i` is carried on to `t_{i+1}` over the span
+/// `t_{i+1} - t_i`, enclosed by outward rounding (spec eq. (5.16)). Each answer's `stats`
+/// count the steps from 0 to its time. [`flow`] is the one-time case.
+///
+/// # Containment
+/// For the exact f64 inputs, the `i`-th enclosure contains the exact `q(t_i)`, `u(t_i)`,
+/// `qd(t_i)` (spec Theorem 5.1, eq. (5.16)); the trajectory is proved to exist on
+/// `[0, t_last]`. `Error::Input` for malformed input (no times, a time not finite or < 0,
+/// times not strictly increasing); `Error::Uncertified` as [`flow`].
+pub fn flow_at(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    times: &[f64],
+    opts: &FlowOptions,
+) -> Result<Vec<FlowEnclosure>, Error> {
+    let last = *times
+        .last()
+        .ok_or_else(|| Error::input("no time given: at least one is needed"))?;
+    let x = flow_query(model, q, u, times[0])?;
+    for (i, w) in times.windows(2).enumerate() {
+        if !w[1].is_finite() || w[1] <= w[0] {
+            return Err(Error::input(format!(
+                "times must be finite and strictly increasing (t_{} = {}, t_{} = {})",
+                i + 1,
+                w[0],
+                i + 2,
+                w[1]
+            )));
+        }
+    }
+    let mut set = LohnerSet::point(&x);
+    let mut total = FlowStats::default();
+    let mut out = Vec::with_capacity(times.len());
+    let mut from = 0.0;
+    // the step rule's memory, carried from one stop to the next
+    let mut memo = None;
+    for &t in times {
+        // the progress of a leg, as a fraction of the whole span [0, t_last]
+        let leg = FlowOptions {
+            progress: opts.progress.as_ref().map(|p| {
+                let p = p.0.clone();
+                Progress(std::sync::Arc::new(move |f: f64| {
+                    p((from + f * (t - from)) / last)
+                }))
+            }),
+            max_steps: opts.max_steps.saturating_sub(total.steps),
+            ..opts.clone()
+        };
+        // the exact span t - from, enclosed (exact when Sterbenz's lemma applies)
+        let span = point(t) - point(from);
+        let (next, stats) = flow_set_span_memo(&model.dynamics, set, span, &leg, &mut memo)
+            .map_err(|e| match &e {
+                // proved up to `from` and then up to `reached` into the leg
+                Error::Uncertified(r) => {
+                    let reached = (point(from) + point(r.reached.unwrap_or(0.0))).inf();
+                    // the step limit is the whole integration's: say so with its end
+                    let e = if r.reason == Reason::Budget && r.message.starts_with("more than") {
+                        too_many(opts.max_steps, last)
+                    } else {
+                        e
+                    };
+                    e.reached(reached)
+                }
+                _ => e,
+            })?;
+        set = next;
+        total = FlowStats {
+            order: stats.order,
+            steps: total.steps + stats.steps,
+            rejected: total.rejected + stats.rejected,
+            h_min: if out.is_empty() || total.steps == 0 {
+                stats.h_min
+            } else if stats.steps == 0 {
+                total.h_min
+            } else {
+                total.h_min.min(stats.h_min)
+            },
+            h_max: total.h_max.max(stats.h_max),
+        };
+        out.push(finish(model, &set, total.clone())?);
+        from = t;
+    }
+    Ok(out)
 }
 
 /// The initial state `x = (q, u)` of a flow query, after the checks every flow makes: the
@@ -302,7 +390,40 @@ pub fn flow_set(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, FlowStats), Error> {
-    let (set, _, stats) = flow_set_general(sys, set, t, opts, C1::No)?;
+    flow_set_span(sys, set, point(t), opts)
+}
+
+/// As [`flow_set`] over a span of time known by an enclosure `span` (`span.inf() >= 0`):
+/// the returned set contains the exact state at time `d` of every solution starting in
+/// `set`, for every `d` in `span` (the last step is an interval step, spec eq. (5.7)). A
+/// difference of float times `t_1 - t_0` is carried this way (spec eq. (5.16)).
+pub fn flow_set_span(
+    sys: &System,
+    set: LohnerSet,
+    span: Interval,
+    opts: &FlowOptions,
+) -> Result<(LohnerSet, FlowStats), Error> {
+    flow_set_span_memo(sys, set, span, opts, &mut None)
+}
+
+/// [`flow_set_span`] with the step rule's memory (5.8) taken from and left in `memo`, so
+/// that a flow continued from a stop (5.16) chooses its first step as if it had not
+/// stopped. Only a choice of step sizes: what is proved is [`flow_set_span`]'s.
+fn flow_set_span_memo(
+    sys: &System,
+    set: LohnerSet,
+    span: Interval,
+    opts: &FlowOptions,
+    memo: &mut Option<(f64, f64)>,
+) -> Result<(LohnerSet, FlowStats), Error> {
+    if span.is_empty() || span.inf() < 0.0 || !span.sup().is_finite() {
+        return Err(Error::input(format!(
+            "a span of time must be finite and >= 0 (got [{}, {}])",
+            span.inf(),
+            span.sup()
+        )));
+    }
+    let (set, _, stats) = flow_set_general(sys, set, span, opts, C1::No, memo)?;
     Ok((set, stats))
 }
 
@@ -314,7 +435,7 @@ pub fn flow_set_c1(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, IMat, FlowStats), Error> {
-    let (set, jac, stats) = flow_set_general(sys, set, t, opts, C1::Cheap)?;
+    let (set, jac, stats) = flow_set_general(sys, set, point(t), opts, C1::Cheap, &mut None)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }
@@ -328,7 +449,7 @@ pub fn flow_set_jacobian(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, IMat, FlowStats), Error> {
-    let (set, jac, stats) = flow_set_general(sys, set, t, opts, C1::Precise)?;
+    let (set, jac, stats) = flow_set_general(sys, set, point(t), opts, C1::Precise, &mut None)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }
@@ -402,13 +523,18 @@ impl JacobianSet {
     }
 }
 
+/// Carry `set` over every span of time in `total` (a point for a float time). `memo`: the
+/// last accepted step that was not the final one, and its remainder's width relative to the
+/// tolerance (5.8), read at the start and left for a continuation.
 fn flow_set_general(
     sys: &System,
     mut set: LohnerSet,
-    t: f64,
+    total: Interval,
     opts: &FlowOptions,
     c1_mode: C1,
+    memo: &mut Option<(f64, f64)>,
 ) -> Result<(LohnerSet, Option<IMat>, FlowStats), Error> {
+    let t = total.sup();
     let c1 = c1_mode != C1::No;
     let precise = c1_mode == C1::Precise;
     let mut total_jac: Option<JacobianSet> = None;
@@ -425,14 +551,14 @@ fn flow_set_general(
         h_min: f64::INFINITY,
         h_max: 0.0,
     };
-    let total = point(t);
     // Time done so far, exactly enclosed (spec eq. (5.7)).
     let mut done = point(0.0);
-    // The last accepted step and its remainder's width relative to the tolerance (5.8).
-    let mut memo: Option<(f64, f64)> = None;
+    // The end is reached by the step marked last (whose span is `total - done`), not by a
+    // rounded sum of steps that only touches `t`.
+    let mut reached = t <= 0.0;
     // Index in JAC_ORDERS of the variational order to try first (5.6).
     let mut jac_order = 0;
-    while done.sup() < t {
+    while !reached {
         // the work is the steps taken and tried: rejected tries count too (a hard start can
         // reject dozens of tries per step)
         if stats.steps >= opts.max_steps || stats.steps + stats.rejected >= 2 * opts.max_steps {
@@ -507,8 +633,12 @@ fn flow_set_general(
                         total_jac = Some(next);
                     }
                     set = out.set;
-                    memo = Some((hi.sup(), out.ratio));
+                    // the final step, cut to the end, says little about the next
+                    if !last {
+                        *memo = Some((hi.sup(), out.ratio));
+                    }
                     done = if last { total } else { done + hi };
+                    reached = last;
                     stats.steps += 1;
                     stats.h_min = stats.h_min.min(hi.inf());
                     stats.h_max = stats.h_max.max(hi.sup());

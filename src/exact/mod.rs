@@ -6,7 +6,8 @@ mod krawczyk;
 
 use crate::enclosure::linalg::{self, IMat};
 use crate::enclosure::{
-    float_flow_counted, float_flow_tail_counted, flow_set, flow_set_c1, FlowOptions, LohnerSet,
+    float_flow_counted, float_flow_tail_counted, flow_set, flow_set_c1, flow_set_span, FlowOptions,
+    LohnerSet,
 };
 use crate::integrator::newton::{self, NewtonFailure, NewtonOptions, NewtonOutcome};
 use crate::model::Model;
@@ -563,13 +564,22 @@ impl<'m> ExactFlow<'m> {
 
     /// The iterate `k` (0 for `Q0`, 1 for `q(h)`, then one flow of the set by `h` each).
     pub fn next_iterate(&mut self) -> Result<Iterate, Error> {
+        self.next_iterate_after(point(self.h))
+    }
+
+    /// Non-uniform steps (spec eq. (8.4)): as [`ExactFlow::next_iterate`], the set flown
+    /// from the last iterate over every span of time in `dt` (the exact `t_k - t_{k-1}`
+    /// enclosed) instead of `h`: the `k`-th iterate, `k >= 2`, encloses `q(t_k - t_0)` when
+    /// the spans given enclose `t_2 - t_1, .., t_k - t_{k-1}` and `h = t_1 - t_0`. The
+    /// iterates 0 and 1 are `Q0` and `q(h)`: `dt` is not used for them.
+    pub fn next_iterate_after(&mut self, dt: Interval) -> Result<Iterate, Error> {
         let (model, n, k) = (self.model, self.model.n, self.k);
         let (q, v) = match k {
             0 => (self.q0.clone(), self.retraction.v0.clone()),
             _ => {
                 if k > 1 {
                     // on an error the set stays as it was: a later call tries again
-                    self.set = flow_set(&model.dynamics, self.set.clone(), self.h, &self.opts)?.0;
+                    self.set = flow_set_span(&model.dynamics, self.set.clone(), dt, &self.opts)?.0;
                 }
                 let hull = self.set.hull();
                 let q = if k == 1 {

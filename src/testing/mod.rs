@@ -191,6 +191,17 @@ pub struct StepperVerdict {
     pub continuous: Vec<Interval>,
 }
 
+impl StepperVerdict {
+    /// Whether the run passes the tolerance `tol` on the distance to the exact discrete
+    /// flow and `defect_tol` on its pairs' defects (`discrete.max_defect`), decided as the
+    /// `check` command decides (spec (8.3), (8.5)): `Ok(false)` when one is proved
+    /// exceeded, `Error::Uncertified` when undecided.
+    pub fn passes(&self, tol: Option<f64>, defect_tol: Option<f64>) -> Result<bool, Error> {
+        crate::oracle::Tolerances { tol, defect_tol }
+            .decide(self.discrete.max_distance, self.discrete.max_defect)
+    }
+}
+
 /// Run `stepper` for `steps` steps from `(q0, q1)` and check the run against the exact
 /// discrete flow from that pair (spec eq. (11.4)).
 ///
