@@ -94,11 +94,14 @@ class Answer(dict):
 
 
 class OracleError(Exception):
-    """An error answer: `code` (2 or 3), `message` (the binary's text), `id`."""
+    """An error answer: `code` (2 or 3), `message` (the binary's text), `id`; for code 3 also
+    `reason` ("budget", "no_proof", "unbounded", "undefined" or "internal") and `reached`
+    (the time a flow had been proved up to, or None): contract E10."""
 
-    def __init__(self, code, message, id=None):
+    def __init__(self, code, message, id=None, reason=None, reached=None):
         super().__init__(f"code {code}: {message}")
         self.code, self.message, self.id = code, message, id
+        self.reason, self.reached = reason, reached
 
 
 class InputError(OracleError):
@@ -110,7 +113,8 @@ class Uncertified(OracleError):
 
     @property
     def past_budget(self):
-        return self.message.startswith("not certified within the budget")
+        """A budget was spent (the deadline, or more steps than allowed): more may answer."""
+        return self.reason == "budget"
 
 
 class ProtocolError(RuntimeError):
@@ -149,7 +153,7 @@ def _answer(cmd, ok):
 def _error(err, id):
     code, message = err.get("code"), err.get("message", "")
     cls = {2: InputError, 3: Uncertified}.get(code, OracleError)
-    return cls(code, message, id)
+    return cls(code, message, id, err.get("reason"), err.get("reached"))
 
 
 def find_binary(binary=None):

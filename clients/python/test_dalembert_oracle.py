@@ -204,9 +204,19 @@ class OracleTest(unittest.TestCase):
             self.oracle.flow([0, 0, 0], [0.8, 0.8], 1e4, deadline=1e-3)
         self.assertEqual(e.exception.code, 3)
         self.assertTrue(e.exception.past_budget)
+        self.assertTrue(e.exception.message.startswith("not certified within the budget"))
+        self.assertTrue(e.exception.reached is None or 0 <= e.exception.reached < 1e4)
+        self.assertIsNone(self.oracle_input_reason())
         with self.assertRaises(InputError):  # refused here: JSON cannot carry NaN
             self.oracle.flow([0, math.nan, 0], [1, 1], 1)
         self.assertIsInstance(self.oracle.flow([0, 0, 0], [1, 1], 0.5).q[0], Interval)
+
+    def oracle_input_reason(self):
+        try:
+            self.oracle.step([0, 0], [0.4, 0.4, 0.08], 0.5)
+        except InputError as e:
+            return e.reason
+        raise AssertionError("a wrong dimension was answered")
 
     def test_a_bad_line_is_input_error_and_the_session_goes_on(self):
         with self.assertRaises(InputError) as e:
