@@ -100,7 +100,7 @@ impl Error {
         Error::Internal(msg.into())
     }
     /// The refusal of work that ran past its time budget (exit 3, [`Reason::Budget`]). Its
-    /// message starts with [`OVER_BUDGET`].
+    /// message starts with `not certified within the budget`.
     pub fn over_budget() -> Self {
         Error::refused(Reason::Budget, OVER_BUDGET)
     }

@@ -718,7 +718,7 @@ thread_local! {
 /// A coefficient type for the Taylor recurrences: intervals (rigorous, with the domain
 /// checks of spec eq. (2.8)) or f64 (only to *choose* things, e.g. Newton guesses).
 pub trait Coef: Scalar + Copy + 'static {
-    /// The per-thread storage reused by [`Series`].
+    /// The per-thread storage reused by the Taylor series of this coefficient type.
     fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>>;
     /// Exactly 0 (terms with such a factor are skipped).
     fn is_exact_zero(&self) -> bool;

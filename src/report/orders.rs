@@ -25,7 +25,7 @@ pub struct Start {
 }
 
 /// The table's starts: every built-in scene (default parameters) from q0 = (0, 0.5, 0, ..,
-/// 0.3) (q0[1] = 0.5, last component 0.3, the others 0) and u0_a = 0.8 - 0.3 a; then the
+/// 0.3) (`q0[1]` = 0.5, last component 0.3, the others 0) and u0_a = 0.8 - 0.3 a; then the
 /// particle at y = 0, q0 = (0, 0, 0.3), a special start where the leading term of the
 /// local error vanishes (local order 4).
 pub fn starts() -> Vec<Start> {

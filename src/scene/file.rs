@@ -618,7 +618,7 @@ impl SceneFile {
     }
 
     /// Read a scene from a JSON object with the keys of the file format (the batch
-    /// protocol's inline scenes); its name defaults to [`INLINE_NAME`].
+    /// protocol's inline scenes); its name defaults to `"inline"`.
     pub fn from_json(v: &serde_json::Value) -> Result<SceneFile, Error> {
         build(&Val::from_json(v, 0), INLINE_NAME).map_err(Error::input)
     }

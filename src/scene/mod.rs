@@ -10,7 +10,7 @@
 //! nothing downstream knows which scene it is running. Each scene file also declares, as a
 //! [`SceneInfo`], its name, coordinates, parameters (defaults and validation) and a readable
 //! description of its data; this module only keeps the registry: the [`AnyScene`] enum, the
-//! [`with_scene!`] arms and the list [`SCENES`].
+//! `with_scene!` arms and the list [`SCENES`].
 
 mod contact_oscillator;
 #[cfg(feature = "scene-files")]
