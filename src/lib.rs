@@ -13,10 +13,12 @@ pub mod dynamics;
 pub mod elementary;
 pub mod enclosure;
 pub mod exact;
+pub mod flow;
 #[cfg(feature = "fuzzing")]
 pub mod fuzzing;
 pub mod integrator;
 pub mod model;
+pub mod newton;
 pub mod oracle;
 #[cfg(feature = "cli")]
 pub mod protocol;
@@ -28,7 +30,8 @@ pub mod testing;
 
 mod error;
 
-pub use enclosure::{flow, FlowEnclosure, FlowOptions, FlowStats};
+pub use enclosure::{FlowOptions, FlowStats};
 pub use error::{Error, Reason, Refusal};
+pub use flow::{flow, FlowEnclosure};
 pub use model::Model;
 pub use scene::AnyScene;

@@ -3,58 +3,12 @@
 //! interval computations run the same program.
 
 use crate::dynamics::Geometry;
-use crate::scalar::{point, Dual, Scalar};
+pub use crate::enclosure::System;
+use crate::scalar::{point, Scalar};
 use crate::scene::{Description, Mat, Scene};
 use crate::tape::{finite, Tape, Tracer};
 use crate::Error;
 use inari::Interval;
-
-/// An autonomous ODE `x' = F(x)` as tapes: `field: x -> F(x)`,
-/// `field_var: (x, V) -> (F(x), DF(x) V)`, V a d x d matrix row-major (spec eq. (5.6)), and
-/// `field_var_tail`, the same for a d x `tail` matrix W: the derivatives with respect to
-/// the last `tail` components of the initial state only (the shooting Jacobian of the
-/// retraction needs D x / D u0, not D x / D q0).
-pub struct System {
-    pub field: Tape,
-    pub field_var: Tape,
-    pub field_var_tail: Tape,
-}
-
-impl System {
-    /// The number of columns of `field_var_tail` (its inputs are `d + d tail`).
-    pub fn tail(&self) -> usize {
-        let d = self.field.n_inputs();
-        (self.field_var_tail.n_inputs() - d)
-            .checked_div(d)
-            .unwrap_or(0)
-    }
-    /// Record `f` and its variational equation, f written once over any scalar.
-    fn record(
-        d: usize,
-        tail: usize,
-        f: impl Fn(&[Tracer]) -> Vec<Tracer>,
-        fd: impl Fn(&[Dual<Tracer>]) -> Vec<Dual<Tracer>>,
-    ) -> System {
-        let var = |c: usize| {
-            Tape::record(d + d * c, |xv| {
-                let x: Vec<Dual<Tracer>> = (0..d)
-                    .map(|i| Dual::new(xv[i], xv[d + i * c..d + (i + 1) * c].to_vec()))
-                    .collect();
-                let f = fd(&x);
-                let mut out: Vec<Tracer> = f.iter().map(|fi| fi.v).collect();
-                for fi in &f {
-                    out.extend((0..c).map(|j| fi.der(j)));
-                }
-                out
-            })
-        };
-        System {
-            field: Tape::record(d, f),
-            field_var: var(d),
-            field_var_tail: var(tail),
-        }
-    }
-}
 
 /// The reduced field with the Lagrangian appended (spec eq. (6.8)).
 pub fn field_with_action<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {

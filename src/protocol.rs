@@ -224,7 +224,7 @@ impl Session {
                                 "`jacobian` is given only at one time `t`, not with `times`",
                             ));
                         }
-                        let at = crate::enclosure::flow_at(&model, q, u, times, &o)?;
+                        let at = crate::flow::flow_at(&model, q, u, times, &o)?;
                         let total = at.last().map(|e| stats(&e.stats));
                         let at: Vec<Value> = times
                             .iter()
@@ -242,7 +242,7 @@ impl Session {
                     }
                 };
                 let (e, jac) = if *jacobian {
-                    let (e, j) = crate::enclosure::flow_c1(&model, q, u, t, &o)?;
+                    let (e, j) = crate::flow::flow_c1(&model, q, u, t, &o)?;
                     (e, Some(j))
                 } else {
                     (crate::flow(&model, q, u, t, &o)?, None)

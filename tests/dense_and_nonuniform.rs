@@ -6,10 +6,11 @@
 //! derived by hand from the equations of motion s' = cos(phi)/2, phi' = w, x' = s cos(phi),
 //! y' = s sin(phi)), evaluated in interval arithmetic; never the code under test.
 
-use dalembert::enclosure::{flow_at, FlowOptions};
+use dalembert::flow::flow_at;
 use dalembert::oracle::{check_trajectory, check_trajectory_at, CheckOptions};
 use dalembert::protocol::Session;
 use dalembert::scalar::{point as pt, Scalar};
+use dalembert::FlowOptions;
 use dalembert::{flow, AnyScene, Error, Model};
 use inari::Interval;
 use serde_json::Value;

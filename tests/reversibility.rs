@@ -23,7 +23,8 @@
 //! - particle (`y' = v`, `v' = 0`, `sqrt(1 + y^2) xd` conserved): `D y / D v0 = T`,
 //!   `D xd / D xd0 = sqrt(1 + y0^2) / sqrt(1 + y^2)`, `D v / D v0 = 1`.
 
-use dalembert::enclosure::{flow_c1, flow_set, FlowOptions, LohnerSet};
+use dalembert::enclosure::{flow_set, FlowOptions, LohnerSet};
+use dalembert::flow::flow_c1;
 use dalembert::scalar::{point, Scalar};
 use dalembert::{AnyScene, Model};
 use inari::Interval;
@@ -170,7 +171,8 @@ fn particle_jacobian_contains_its_closed_form() {
 /// parallelepiped is the narrower on this shear flow.
 #[test]
 fn both_bases_contain_the_knife_closed_form() {
-    use dalembert::enclosure::{flow, Basis};
+    use dalembert::enclosure::Basis;
+    use dalembert::flow;
     let m = model("knife");
     let (q, u, t) = ([0.5, -1.0, 0.25], [0.8, 0.8], 60.0);
     let (phi0, w, tt) = (point(q[2]), point(u[1]), point(t));

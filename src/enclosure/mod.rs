@@ -3,8 +3,10 @@
 //! (spec/05-enclosure.md, eqs. (5.1)-(5.10)).
 
 pub mod linalg;
+mod system;
 
-use crate::model::{Model, System};
+pub use system::System;
+
 use crate::scalar::{iv, point};
 use crate::tape::{finite, Coef};
 use crate::{Error, Reason};
@@ -197,180 +199,9 @@ pub struct FlowStats {
     pub h_max: f64,
 }
 
-/// The certified state at time t.
-#[derive(Clone, Debug)]
-pub struct FlowEnclosure {
-    pub q: Vec<Interval>,
-    pub u: Vec<Interval>,
-    pub v: Vec<Interval>,
-    pub stats: FlowStats,
-}
-
 /// The order used when none is given: about -ln(2^-53)/2, where the work per unit time of
 /// a Taylor method of order p at double precision is smallest (spec eq. (5.8)).
 pub const DEFAULT_ORDER: usize = 20;
-
-/// Enclosure of the exact nonholonomic state at time `t` from `q(0) = q`,
-/// `qd(0) = sum_a u_a e_a(q)`.
-///
-/// # Containment
-/// For the exact f64 inputs, the returned `q`, `u`, `v` contain the exact `q(t)`, the
-/// quasi-velocities `u(t)` and `qd(t) = E(q(t))^T u(t)` of the trajectory (spec Theorem 5.1);
-/// the trajectory is proved to exist on `[0, t]`. Fails with `Error::Input` for malformed
-/// input and `Error::Uncertified` when a step cannot be proved (singular data, blow-up,
-/// too many steps): never with a box that was not proved.
-pub fn flow(
-    model: &Model,
-    q: &[f64],
-    u: &[f64],
-    t: f64,
-    opts: &FlowOptions,
-) -> Result<FlowEnclosure, Error> {
-    let mut at = flow_at(model, q, u, &[t], opts)?;
-    at.pop()
-        .ok_or_else(|| Error::internal("flow_at answered no time"))
-}
-
-/// Dense output: enclosures of the exact nonholonomic state at each of the increasing
-/// times `0 <= t_1 < t_2 < ...` from `q(0) = q`, `qd(0) = sum_a u_a e_a(q)`, in one
-/// validated integration: the set at `t_i` is carried on to `t_{i+1}` over the span
-/// `t_{i+1} - t_i`, enclosed by outward rounding (spec eq. (5.16)). Each answer's `stats`
-/// count the steps from 0 to its time. [`flow`] is the one-time case.
-///
-/// # Containment
-/// For the exact f64 inputs, the `i`-th enclosure contains the exact `q(t_i)`, `u(t_i)`,
-/// `qd(t_i)` (spec Theorem 5.1, eq. (5.16)); the trajectory is proved to exist on
-/// `[0, t_last]`. `Error::Input` for malformed input (no times, a time not finite or < 0,
-/// times not strictly increasing); `Error::Uncertified` as [`flow`].
-pub fn flow_at(
-    model: &Model,
-    q: &[f64],
-    u: &[f64],
-    times: &[f64],
-    opts: &FlowOptions,
-) -> Result<Vec<FlowEnclosure>, Error> {
-    let last = *times
-        .last()
-        .ok_or_else(|| Error::input("no time given: at least one is needed"))?;
-    let x = flow_query(model, q, u, times[0])?;
-    for (i, w) in times.windows(2).enumerate() {
-        if !w[1].is_finite() || w[1] <= w[0] {
-            return Err(Error::input(format!(
-                "times must be finite and strictly increasing (t_{} = {}, t_{} = {})",
-                i + 1,
-                w[0],
-                i + 2,
-                w[1]
-            )));
-        }
-    }
-    let mut set = LohnerSet::point(&x);
-    let mut total = FlowStats::default();
-    let mut out = Vec::with_capacity(times.len());
-    let mut from = 0.0;
-    // the step rule's memory, carried from one stop to the next
-    let mut memo = None;
-    for &t in times {
-        // the progress of a leg, as a fraction of the whole span [0, t_last]
-        let leg = FlowOptions {
-            progress: opts.progress.as_ref().map(|p| {
-                let p = p.0.clone();
-                Progress(std::sync::Arc::new(move |f: f64| {
-                    p((from + f * (t - from)) / last)
-                }))
-            }),
-            max_steps: opts.max_steps.saturating_sub(total.steps),
-            ..opts.clone()
-        };
-        // the exact span t - from, enclosed (exact when Sterbenz's lemma applies)
-        let span = point(t) - point(from);
-        let (next, stats) = flow_set_span_memo(&model.dynamics, set, span, &leg, &mut memo)
-            .map_err(|e| match &e {
-                // proved up to `from` and then up to `reached` into the leg
-                Error::Uncertified(r) => {
-                    let reached = (point(from) + point(r.reached.unwrap_or(0.0))).inf();
-                    // the step limit is the whole integration's: say so with its end
-                    let e = if r.reason == Reason::Budget && r.message.starts_with("more than") {
-                        too_many(opts.max_steps, last)
-                    } else {
-                        e
-                    };
-                    e.reached(reached)
-                }
-                _ => e,
-            })?;
-        set = next;
-        total = FlowStats {
-            order: stats.order,
-            steps: total.steps + stats.steps,
-            rejected: total.rejected + stats.rejected,
-            h_min: if out.is_empty() || total.steps == 0 {
-                stats.h_min
-            } else if stats.steps == 0 {
-                total.h_min
-            } else {
-                total.h_min.min(stats.h_min)
-            },
-            h_max: total.h_max.max(stats.h_max),
-        };
-        out.push(finish(model, &set, total.clone())?);
-        from = t;
-    }
-    Ok(out)
-}
-
-/// The initial state `x = (q, u)` of a flow query, after the checks every flow makes: the
-/// state (dimensions, finite numbers), the scene at `q` (spec eq. (3.17)), and `t >= 0`.
-fn flow_query(model: &Model, q: &[f64], u: &[f64], t: f64) -> Result<Vec<f64>, Error> {
-    check_state(model, q, u)?;
-    model.check_at(
-        &q.iter()
-            .map(|x| crate::scalar::point(*x))
-            .collect::<Vec<_>>(),
-    )?;
-    if !t.is_finite() || t < 0.0 {
-        return Err(Error::input(format!(
-            "time must be finite and >= 0 (got {t})"
-        )));
-    }
-    Ok(q.iter().chain(u).copied().collect())
-}
-
-/// Validate dimensions and finiteness of a state.
-pub fn check_state(model: &Model, q: &[f64], u: &[f64]) -> Result<(), Error> {
-    let (n, m) = (model.n, model.n - model.k);
-    if q.len() != n {
-        return Err(Error::input(format!(
-            "q has {} components, scene `{}` needs {n}",
-            q.len(),
-            model.name()
-        )));
-    }
-    if u.len() != m {
-        return Err(Error::input(format!(
-            "u has {} components, scene `{}` needs {m}",
-            u.len(),
-            model.name()
-        )));
-    }
-    if let Some(x) = q.iter().chain(u).find(|x| !x.is_finite()) {
-        return Err(Error::input(format!("non-finite number {x} in the state")));
-    }
-    Ok(())
-}
-
-fn finish(model: &Model, set: &LohnerSet, stats: FlowStats) -> Result<FlowEnclosure, Error> {
-    let x = set.hull();
-    let v = set
-        .image(&model.velocity_jac)
-        .ok_or_else(|| Error::refused(Reason::Unbounded, "velocity enclosure is not finite"))?;
-    Ok(FlowEnclosure {
-        q: x[..model.n].to_vec(),
-        u: x[model.n..].to_vec(),
-        v,
-        stats,
-    })
-}
 
 enum StepFail {
     /// The a priori enclosure was not proved for this h: try a smaller one.
@@ -409,7 +240,7 @@ pub fn flow_set_span(
 /// [`flow_set_span`] with the step rule's memory (5.8) taken from and left in `memo`, so
 /// that a flow continued from a stop (5.16) chooses its first step as if it had not
 /// stopped. Only a choice of step sizes: what is proved is [`flow_set_span`]'s.
-fn flow_set_span_memo(
+pub(crate) fn flow_set_span_memo(
     sys: &System,
     set: LohnerSet,
     span: Interval,
@@ -452,24 +283,6 @@ pub fn flow_set_jacobian(
     let (set, jac, stats) = flow_set_general(sys, set, point(t), opts, C1::Precise, &mut None)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
-}
-
-/// The state and the derivative `D (q, u)(t) / D (q, u)(0)` ((n+m) x (n+m) intervals,
-/// rows and columns in the order q then u) of the trajectory from the exact f64 `(q, u)`.
-///
-/// # Containment
-/// Theorem 5.1 for the state, and the true derivative lies in the returned matrix (spec
-/// Theorem 5.3). Fails as [`flow`] does.
-pub fn flow_c1(
-    model: &Model,
-    q: &[f64],
-    u: &[f64],
-    t: f64,
-    opts: &FlowOptions,
-) -> Result<(FlowEnclosure, IMat), Error> {
-    let x = flow_query(model, q, u, t)?;
-    let (set, jac, stats) = flow_set_jacobian(&model.dynamics, LohnerSet::point(&x), t, opts)?;
-    Ok((finish(model, &set, stats)?, jac))
 }
 
 /// What a flow computes besides the set.
@@ -724,7 +537,7 @@ const REMAINDER_TOL: f64 = f64::EPSILON;
 /// same size), and aiming at 0.15 keeps the rejections under 5%.
 const REMAINDER_TARGET: f64 = 0.15;
 
-fn too_many(max: usize, t: f64) -> Error {
+pub(crate) fn too_many(max: usize, t: f64) -> Error {
     Error::refused(
         Reason::Budget,
         format!("more than {max} steps would be needed to reach t = {t}"),
@@ -1356,66 +1169,4 @@ fn inflate(x: &[Interval]) -> Vec<Interval> {
             iv(v.inf() - w, v.sup() + w)
         })
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scene::AnyScene;
-
-    #[test]
-    fn progress_is_told_a_rising_fraction_ending_at_one_and_changes_nothing() {
-        use std::sync::{Arc, Mutex};
-        let model = Model::new(&AnyScene::new("knife", &[]).unwrap()).unwrap();
-        let seen = Arc::new(Mutex::new(Vec::new()));
-        let s2 = seen.clone();
-        let opts = FlowOptions {
-            progress: Some(Progress(Arc::new(move |f| s2.lock().unwrap().push(f)))),
-            ..FlowOptions::default()
-        };
-        let (q, u) = ([0.0, 0.0, 0.0], [0.8, 0.8]);
-        let with = flow(&model, &q, &u, 5.0, &opts).unwrap();
-        let without = flow(&model, &q, &u, 5.0, &FlowOptions::default()).unwrap();
-        assert_eq!(with.q, without.q);
-        let seen = seen.lock().unwrap();
-        assert_eq!(seen.len(), with.stats.steps);
-        assert!(seen.windows(2).all(|w| w[0] <= w[1]) && seen[0] > 0.0);
-        assert_eq!(*seen.last().unwrap(), 1.0);
-    }
-
-    #[test]
-    fn an_overflowing_point_step_is_refused_also_with_fixed_steps() {
-        // x + u1 t overflows: the image of the point is not finite. With fixed steps the
-        // width tolerances of (5.8) are off, so only the finiteness check stands between
-        // this and an answer with an infinite endpoint.
-        let model = Model::new(&AnyScene::new("knife", &[]).unwrap()).unwrap();
-        for step in [0.0, 1.0] {
-            let opts = FlowOptions {
-                step,
-                ..FlowOptions::default()
-            };
-            let r = flow(&model, &[f64::MAX, 0.0, 0.0], &[1e300, 0.0], 1.0, &opts);
-            match r {
-                Err(Error::Uncertified(_)) => {}
-                Ok(e) => panic!("answered with {:?}", e.q),
-                Err(e) => panic!("{e}"),
-            }
-        }
-    }
-
-    #[test]
-    fn particle_with_zero_y_speed_moves_on_a_line() {
-        let model = Model::new(&AnyScene::new("particle", &[]).unwrap()).unwrap();
-        let e = flow(
-            &model,
-            &[0.5, 2.0, -1.0],
-            &[0.25, 0.0],
-            3.0,
-            &FlowOptions::default(),
-        )
-        .unwrap();
-        // nhsolution0: x = x0 + xd t, y = y0, z = z0 + y0 xd t
-        assert!(e.q[0].contains(1.25) && e.q[1].contains(2.0) && e.q[2].contains(0.5));
-        assert!(e.q.iter().all(|x| x.wid() < 1e-14));
-    }
 }

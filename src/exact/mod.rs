@@ -9,7 +9,7 @@ use crate::enclosure::{
     float_flow_counted, float_flow_tail_counted, flow_set, flow_set_c1, flow_set_span, FlowOptions,
     LohnerSet,
 };
-use crate::integrator::newton::{self, NewtonFailure, NewtonOptions, NewtonOutcome};
+use crate::newton::{self, NewtonFailure, NewtonOptions, NewtonOutcome};
 use crate::model::Model;
 use crate::scalar::point;
 use crate::tape::finite;

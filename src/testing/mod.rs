@@ -247,7 +247,7 @@ pub fn check_stepper_from_state<St: Stepper + ?Sized>(
     steps: usize,
     opts: &FlowOptions,
 ) -> Result<StepperVerdict, Error> {
-    crate::enclosure::check_state(model, q0, u0)?;
+    crate::flow::check_state(model, q0, u0)?;
     let x: Vec<f64> = q0.iter().chain(u0).copied().collect();
     let v0 = model.velocity.eval(&x);
     let q1 = match stepper.start(q0, &v0, h) {
