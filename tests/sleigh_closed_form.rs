@@ -3,7 +3,7 @@
 //! correctly rounded elementary functions, from the exact f64 inputs) at `a < 0`, where the
 //! coefficient of theta is `beta = sigma sqrt(K/m) / a` (negative times sigma), at `a = 0`,
 //! where the sleigh turns at a constant rate on a circle, and at `omega_0 = 0` (a straight
-//! line). tests/new_scenes.rs covers `a > 0`.
+//! line). tests/disk_sleigh_oscillator.rs covers `a > 0`.
 //!
 //! Every comparison is an intersection of two enclosures of the same number (the closed
 //! form is itself an interval), made non-vacuous by bounds on both widths. The reference

@@ -9,8 +9,8 @@ use crate::enclosure::{
     float_flow_counted, float_flow_tail_counted, flow_set, flow_set_c1, flow_set_span, FlowOptions,
     LohnerSet,
 };
-use crate::newton::{self, NewtonFailure, NewtonOptions, NewtonOutcome};
 use crate::model::Model;
+use crate::newton::{self, NewtonFailure, NewtonOptions, NewtonOutcome};
 use crate::scalar::point;
 use crate::tape::finite;
 use crate::{Error, Reason};

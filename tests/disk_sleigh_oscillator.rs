@@ -1,5 +1,6 @@
-//! The scenes of issue 7: `rolling-disk` (k = 2), `sleigh` (configuration-dependent mass
-//! matrix), `contact-oscillator` and its non-reversible variant `contact-oscillator-nr`
+//! The rolling disk, the sleigh and the contact oscillators: `rolling-disk` (k = 2),
+//! `sleigh` (configuration-dependent mass matrix), `contact-oscillator` and its
+//! non-reversible variant `contact-oscillator-nr`
 //! (spec eqs. (3.6)-(3.9), closed forms (3.10)-(3.14)).
 //!
 //! 1. Soundness of `flow` against closed forms evaluated in interval arithmetic (inari,
@@ -14,7 +15,7 @@
 //!    off M_h^{e,nh}, "possible" on it), `step`, `integrate` (both schemes), `batch`.
 //! 4. `dalembert scenes --json`.
 //!
-//! The MLA vs DLA energy comparison on these scenes is in tests/new_scenes_energy.rs.
+//! The MLA vs DLA energy comparison on these scenes is in tests/energy_disk_sleigh_oscillator.rs.
 //!
 //! Random cases come from SplitMix64 with fixed seeds: the same cases on every run.
 

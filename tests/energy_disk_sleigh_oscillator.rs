@@ -1,6 +1,7 @@
 //! The paper's MLA vs DLA energy comparison (section 5; tests/schemes.rs for the paper's own
-//! scenes) repeated on the scenes of issue 7. Figures are printed with
-//! `cargo test --test new_scenes_energy -- --nocapture` and asserted with margins.
+//! scenes) repeated on the rolling disk, the sleigh and the contact oscillators. Figures are
+//! printed with `cargo test --test energy_disk_sleigh_oscillator -- --nocapture` and
+//! asserted with margins.
 
 mod common;
 
