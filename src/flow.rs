@@ -13,13 +13,20 @@ use crate::{Error, Reason};
 use inari::Interval;
 
 /// The certified state at time t.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct FlowEnclosure {
     pub q: Vec<Interval>,
     pub u: Vec<Interval>,
     pub v: Vec<Interval>,
     pub stats: FlowStats,
 }
+
+crate::readable::readable_debug!(FlowEnclosure {
+    q: iv,
+    u: iv,
+    v: iv,
+    stats: dbg
+});
 
 /// Enclosure of the exact nonholonomic state at time `t` from `q(0) = q`,
 /// `qd(0) = sum_a u_a e_a(q)`.
@@ -205,6 +212,24 @@ pub fn flow_c1(
 mod tests {
     use super::*;
     use crate::scene::AnyScene;
+
+    #[test]
+    fn answers_debug_print_intervals_as_endpoints() {
+        let model = Model::new(&AnyScene::new("particle", &[]).unwrap()).unwrap();
+        let e = flow(&model, &[0.0; 3], &[0.8, 0.8], 1.0, &FlowOptions::default()).unwrap();
+        let text = format!("{e:?}");
+        assert!(!text.contains("m128") && !text.contains("rep"), "{text}");
+        // the first component printed as its two exact endpoints
+        let x = e.q[0];
+        assert!(
+            text.starts_with(&format!(
+                "FlowEnclosure {{ q: [[{:?}, {:?}]",
+                x.inf(),
+                x.sup()
+            )),
+            "{text}"
+        );
+    }
 
     #[test]
     fn progress_is_told_a_rising_fraction_ending_at_one_and_changes_nothing() {

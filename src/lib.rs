@@ -29,6 +29,7 @@ pub mod tape;
 pub mod testing;
 
 mod error;
+mod readable;
 
 pub use enclosure::{FlowOptions, FlowStats};
 pub use error::{Error, Reason, Refusal};

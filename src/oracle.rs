@@ -34,7 +34,7 @@ impl Default for CheckOptions {
 }
 
 /// Certified figures about a candidate trajectory `q_0 .. q_N` (spec Theorem 8.1).
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct Verdict {
     /// `distance[k] ∋ |q_k - q^e_k|_inf`, `q^e` the exact discrete flow from `(q_0, q_1)`.
     pub distance: Vec<Interval>,
@@ -50,6 +50,15 @@ pub struct Verdict {
     /// The exact discrete trajectory the candidate was compared with.
     pub exact: ExactTrajectory,
 }
+
+crate::readable::readable_debug!(Verdict {
+    distance: iv,
+    max_distance: iv,
+    defect: iv,
+    max_defect: iv,
+    energy_error: iv,
+    exact: dbg
+});
 
 /// `|a - B|_inf` over the box `B`: an interval containing `max_i |a_i - b_i|` for every
 /// `b in B`.
@@ -180,7 +189,7 @@ fn collect<'q>(
 }
 
 /// Certified figures about the pair `(q_k, q_{k+1})` (Theorems 6.1, 6.2).
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct PairVerdict {
     /// `∋ s` of the pair, its defect w.r.t. M_h^{e,nh}.
     pub defect: Vec<Interval>,
@@ -188,8 +197,13 @@ pub struct PairVerdict {
     pub energy_error: Interval,
 }
 
+crate::readable::readable_debug!(PairVerdict {
+    defect: iv,
+    energy_error: iv
+});
+
 /// Certified figures about one row `q_k` of a candidate trajectory (spec Theorem 8.1).
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct RowVerdict {
     pub k: usize,
     /// `∋ |q_k - q^e_k|_inf`.
@@ -200,8 +214,15 @@ pub struct RowVerdict {
     pub exact: Iterate,
 }
 
+crate::readable::readable_debug!(RowVerdict {
+    k: dbg,
+    distance: iv,
+    pair: dbg,
+    exact: dbg
+});
+
 /// What [`check_each`] returns once every row is checked.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct CheckSummary {
     /// The number of rows `N + 1`.
     pub rows: usize,
@@ -212,6 +233,13 @@ pub struct CheckSummary {
     /// `∋ max_k |s_k|_inf` over the pairs' defects (`None` without pair figures).
     pub max_defect: Option<Interval>,
 }
+
+crate::readable::readable_debug!(CheckSummary {
+    rows: dbg,
+    max_distance: iv,
+    retraction: dbg,
+    max_defect: iv
+});
 
 /// [`check_trajectory`] one row at a time, in memory independent of the number of rows:
 /// `rows` is read as needed, and `sink` is given each row's verdict as soon as it is
@@ -443,13 +471,18 @@ pub(crate) fn decide_one(what: &str, x: Interval, tol: f64) -> Result<bool, Erro
 }
 
 /// Certified figures about one step `(q0, q1, q2)` of a candidate scheme.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct StepVerdict {
     /// `∋ |q2 - q^e_2|_inf`, `q^e_2 = q(2h)` of the exact discrete flow from `(q0, q1)`.
     pub distance: Interval,
     /// `∋ s` of `(q0, q1)`.
     pub defect: Vec<Interval>,
 }
+
+crate::readable::readable_debug!(StepVerdict {
+    distance: iv,
+    defect: iv
+});
 
 /// Check one step against the exact discrete flow (spec Theorem 8.1 with N = 2).
 ///

@@ -17,7 +17,7 @@ use nalgebra::DMatrix;
 /// A set `{ m + B r : r in [r] } ∩ boxed` (Lohner's parallelepiped and a box, both
 /// enclosures of the same states; spec eq. (5.1)): `m` and `B` are exact f64 data, `[r]` an
 /// interval vector that contains 0.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct LohnerSet {
     pub m: Vec<f64>,
     pub b: DMatrix<f64>,
@@ -29,12 +29,22 @@ pub struct LohnerSet {
     pub sub: Option<SubSet>,
 }
 
+crate::readable::readable_debug!(LohnerSet {
+    m: dbg,
+    b: dbg,
+    r: iv,
+    boxed: iv,
+    sub: dbg
+});
+
 /// The marked subset of a [`LohnerSet`]: its own `[r]` (inside the set's) and box.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct SubSet {
     pub r: Vec<Interval>,
     pub boxed: Vec<Interval>,
 }
+
+crate::readable::readable_debug!(SubSet { r: iv, boxed: iv });
 
 /// `x - m` in intervals.
 fn relative(x: &[Interval], m: &[f64]) -> Vec<Interval> {

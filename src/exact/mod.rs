@@ -85,7 +85,7 @@ pub fn normal_matrix(model: &Model, q: &[Interval]) -> Result<IMat, Error> {
 }
 
 /// The exact retraction at a pair (spec eqs. (6.2)-(6.4)).
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct Retraction {
     /// Quasi-velocities at Q0: `R^{e-}` in the basis of D.
     pub u0: Vec<Interval>,
@@ -100,6 +100,15 @@ pub struct Retraction {
     /// The state set at time h (carries the trajectory on).
     pub set: LohnerSet,
 }
+
+crate::readable::readable_debug!(Retraction {
+    u0: iv,
+    s: iv,
+    v0: iv,
+    v1: iv,
+    q1: iv,
+    set: dbg
+});
 
 impl Retraction {
     /// False when the defect enclosure excludes 0: (Q0, Q1) is proved off M_h^{e,nh}.
@@ -413,7 +422,7 @@ fn newton_guess(
 }
 
 /// The exact discrete flow and Legendre transforms at a pair (spec eqs. (6.5)-(6.7)).
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct ExactStep {
     pub retraction: Retraction,
     /// `q(h)`, the point of M_h^{e,nh}.
@@ -425,6 +434,14 @@ pub struct ExactStep {
     /// `F^+_{h,nh} l = (<FL(v1), e_a(q1)>)_a`.
     pub p_plus: Vec<Interval>,
 }
+
+crate::readable::readable_debug!(ExactStep {
+    retraction: dbg,
+    q1: iv,
+    q2: iv,
+    p_minus: iv,
+    p_plus: iv
+});
 
 /// One step of the exact discrete flow, with the Legendre transforms.
 ///
@@ -464,7 +481,7 @@ pub fn momentum(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Vec<Int
 }
 
 /// The exact discrete trajectory `q_0 .. q_N` from `(Q0, Q1)` (spec eq. (6.6)).
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct ExactTrajectory {
     pub retraction: Retraction,
     /// `q_k ∋ q(k h)`, k = 0..=N.
@@ -475,6 +492,13 @@ pub struct ExactTrajectory {
     /// pair starting at k (momentum matching, paper eq. (momemtummatch)).
     pub p: Vec<Vec<Interval>>,
 }
+
+crate::readable::readable_debug!(ExactTrajectory {
+    retraction: dbg,
+    q: iv,
+    v: iv,
+    p: iv
+});
 
 /// Iterate the exact discrete flow N - 1 times from `(Q0, Q1)`.
 ///
@@ -513,13 +537,20 @@ pub fn trajectory(
 
 /// One iterate of the exact discrete flow: `q ∋ q(kh)`, `v ∋ qd(kh)`, `p ∋` the
 /// D*-momentum at `kh` (as the rows of [`ExactTrajectory`]).
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct Iterate {
     pub k: usize,
     pub q: Vec<Interval>,
     pub v: Vec<Interval>,
     pub p: Vec<Interval>,
 }
+
+crate::readable::readable_debug!(Iterate {
+    k: dbg,
+    q: iv,
+    v: iv,
+    p: iv
+});
 
 /// The exact discrete flow from `(Q0, Q1)` one iterate at a time, in memory independent of
 /// the number of iterates (spec eq. (6.6)): the state is the trajectory's Lohner set at

@@ -179,7 +179,7 @@ fn ladder(hs: &[f64], error: Vec<Interval>) -> Ladder {
 }
 
 /// Certified verdicts on a stepper's run (spec eq. (11.4)).
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct StepperVerdict {
     /// The stepper's iterates `q_0 .. q_N` (`q_0`, `q_1` as given or started).
     pub q: Vec<Vec<f64>>,
@@ -190,6 +190,12 @@ pub struct StepperVerdict {
     /// `t_k = k h`; empty when the run was started from a pair.
     pub continuous: Vec<Interval>,
 }
+
+crate::readable::readable_debug!(StepperVerdict {
+    q: dbg,
+    discrete: dbg,
+    continuous: iv
+});
 
 impl StepperVerdict {
     /// Whether the run passes the tolerance `tol` on the distance to the exact discrete
