@@ -420,14 +420,18 @@ fn stability_names_every_outcome() {
     assert!(text.lines().all(|l| l.starts_with('|') && l.ends_with('|')));
 }
 
-/// The README's proptest example is `tests/readme_proptest.rs`, verbatim (so it compiles and
-/// passes), and the README embeds every figure that `figures` writes.
+/// The README's proptest examples are `tests/readme_proptest.rs` and
+/// `tests/readme_own_scheme.rs`, verbatim (so they compile and pass), and the README embeds every figure that `figures` writes.
 #[test]
 fn readme_shows_the_tested_example_and_the_figures() {
     let readme = include_str!("../README.md");
     assert!(
         readme.contains(include_str!("readme_proptest.rs")),
         "README.md does not contain tests/readme_proptest.rs verbatim"
+    );
+    assert!(
+        readme.contains(include_str!("readme_own_scheme.rs")),
+        "README.md does not contain tests/readme_own_scheme.rs verbatim"
     );
     for name in SVGS {
         let link = format!("(docs/figures/{name}.svg)");
