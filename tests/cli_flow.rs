@@ -4,62 +4,17 @@
 use dalembert::{flow, AnyScene, FlowEnclosure, FlowOptions, Model};
 use inari::Interval;
 use serde_json::Value;
-use std::io::Read;
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-/// Output of one run of the binary.
-#[derive(Debug)]
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
+#[path = "binary/mod.rs"]
+mod binary;
+use binary::{run_binary, Run};
 
 /// No run of the binary in this file may take longer than this (a hang is a failure).
 const TIME_LIMIT: Duration = Duration::from_secs(30);
 
 fn run(args: &[&str]) -> Run {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_dalembert"))
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn dalembert");
-    // Drain the pipes on threads so a large output cannot block the child.
-    let mut out = child.stdout.take().unwrap();
-    let mut err = child.stderr.take().unwrap();
-    let t_out = std::thread::spawn(move || {
-        let mut s = String::new();
-        out.read_to_string(&mut s).map(|_| s)
-    });
-    let t_err = std::thread::spawn(move || {
-        let mut s = String::new();
-        err.read_to_string(&mut s).map(|_| s)
-    });
-    let start = Instant::now();
-    let status = loop {
-        if let Some(st) = child.try_wait().expect("wait") {
-            break st;
-        }
-        if start.elapsed() > TIME_LIMIT {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("dalembert {args:?} did not finish within {TIME_LIMIT:?}");
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    };
-    let stdout = t_out.join().unwrap().expect("stdout is UTF-8");
-    let stderr = t_err.join().unwrap().expect("stderr is UTF-8");
-    let code = status
-        .code()
-        .unwrap_or_else(|| panic!("dalembert {args:?} was killed by a signal: {status:?}"));
-    Run {
-        code,
-        stdout,
-        stderr,
-    }
+    run_binary(args.iter().map(Into::into).collect(), b"", TIME_LIMIT)
 }
 
 /// A successful `flow --json`: exit 0, exactly one JSON object on stdout, with "q" and "v"

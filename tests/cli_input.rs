@@ -7,67 +7,18 @@ use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use serde_json::Value;
 use std::ffi::OsString;
-use std::io::{Read, Write};
 use std::os::unix::ffi::OsStringExt;
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-#[derive(Debug)]
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
+#[path = "binary/mod.rs"]
+mod binary;
+use binary::{run_binary, Run};
 
 /// A hang guard only (no assertion here is about time): far above any run below.
 const HANG: Duration = Duration::from_secs(300);
 
 fn run_os(args: Vec<OsString>, stdin: &[u8]) -> Run {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_dalembert"))
-        .args(&args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn dalembert");
-    let mut inp = child.stdin.take().unwrap();
-    let data = stdin.to_vec();
-    let t_in = std::thread::spawn(move || {
-        let _ = inp.write_all(&data);
-    });
-    let mut out = child.stdout.take().unwrap();
-    let mut err = child.stderr.take().unwrap();
-    let t_out = std::thread::spawn(move || {
-        let mut s = Vec::new();
-        out.read_to_end(&mut s).map(|_| s)
-    });
-    let t_err = std::thread::spawn(move || {
-        let mut s = Vec::new();
-        err.read_to_end(&mut s).map(|_| s)
-    });
-    let start = Instant::now();
-    let status = loop {
-        if let Some(st) = child.try_wait().expect("wait") {
-            break st;
-        }
-        if start.elapsed() > HANG {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("dalembert {args:?} hangs");
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    };
-    let _ = t_in.join();
-    let stdout = String::from_utf8(t_out.join().unwrap().unwrap()).expect("stdout is UTF-8");
-    let stderr = String::from_utf8(t_err.join().unwrap().unwrap()).expect("stderr is UTF-8");
-    let code = status
-        .code()
-        .unwrap_or_else(|| panic!("dalembert {args:?} was killed by a signal: {status:?}"));
-    Run {
-        code,
-        stdout,
-        stderr,
-    }
+    run_binary(args, stdin, HANG)
 }
 
 fn run(args: &[&str]) -> Run {

@@ -397,13 +397,17 @@ fn flow_set_general(
         })?;
         // A fixed step (spec eq. (5.13)) or the rule of (5.8).
         let fixed = opts.step > 0.0;
+        // the coefficients' midpoints, for the rules (5.8) and (5.8') (choices only)
+        let mid: Vec<Vec<f64>> = if fixed {
+            Vec::new()
+        } else {
+            c.iter()
+                .map(|ck| ck.iter().map(|x| x.mid()).collect())
+                .collect()
+        };
         let mut h = if fixed {
             round_step(opts.step)
         } else {
-            let mid: Vec<Vec<f64>> = c
-                .iter()
-                .map(|ck| ck.iter().map(|x| x.mid()).collect())
-                .collect();
             let rule = step_size(&mid, p, &set.m);
             let predicted = memo.map_or(rule, |(h0, ratio)| h0 * rescale(ratio, p, 1.5));
             round_step_fine(rule.min(predicted))
@@ -416,10 +420,6 @@ fn flow_set_general(
         // remainder not meet the tolerance, the step is tried again at order p.
         let mut p_step = p;
         if last && !fixed && opts.order == 0 {
-            let mid: Vec<Vec<f64>> = c
-                .iter()
-                .map(|ck| ck.iter().map(|x| x.mid()).collect())
-                .collect();
             p_step = LOW_ORDERS
                 .into_iter()
                 .find(|&q| q < p && step_size(&mid[..=q], q, &set.m) >= rem.sup())

@@ -364,15 +364,23 @@ pub(crate) fn pair_point(
         .map(|x| x.mid())
         .collect();
     if distance != 0.0 {
-        let mu = model.constraints.eval::<f64>(&q1);
-        let normal = &mu[..model.n];
-        let len = normal.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if !(len > 0.0 && len.is_finite()) {
-            return None;
-        }
-        for (x, nx) in q1.iter_mut().zip(normal) {
-            *x += distance * nx / len;
-        }
+        shift_off(model, &mut q1, distance)?;
     }
     Some(q1)
+}
+
+/// Move `q` by `distance` along the unit normal of the first constraint at `q` (a float
+/// choice of a point off `M_h^{e,nh}`; the oracle certifies where it lands). `None` when
+/// that normal is 0 or not finite (`q` is then unchanged).
+pub(crate) fn shift_off(model: &Model, q: &mut [f64], distance: f64) -> Option<()> {
+    let mu = model.constraints.eval::<f64>(q);
+    let normal = &mu[..model.n];
+    let len = normal.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if !(len > 0.0 && len.is_finite()) {
+        return None;
+    }
+    for (x, nx) in q.iter_mut().zip(normal) {
+        *x += distance * nx / len;
+    }
+    Some(())
 }
