@@ -2,9 +2,9 @@
 //! `cargo bench --bench oracle` (add `-- NAME` to filter).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use dalembert::integrator::{NewtonOptions, Scheme, SchemeKind};
 use dalembert::protocol::Session;
 use dalembert::scalar::point;
+use dalembert::schemes::{NewtonOptions, Scheme, SchemeKind};
 use dalembert::{exact, flow, AnyScene, FlowOptions, Model};
 
 const SCENES: [(&str, [f64; 3]); 3] = [

@@ -326,7 +326,7 @@ mod tests {
         assert_eq!(p, vec![u[0] - b / 2.0 * q[1], u[1] + b / 2.0 * q[0], 0.0]);
         assert_eq!(g.momentum_d(&v), vec![p[0], p[1]]);
         // H|D*(q, p_D) = E_L: the one-form is subtracted before the kinetic energy
-        let e = crate::integrator::hamiltonian_d(&Charge(b), &q, &g.momentum_d(&v));
+        let e = crate::schemes::hamiltonian_d(&Charge(b), &q, &g.momentum_d(&v));
         assert!((e - 0.5 * (u[0] * u[0] + u[1] * u[1])).abs() < 1e-15);
         // L = 1/2 |v|^2 + A v
         let l = lagrangian(&Charge(b), &q, &v);

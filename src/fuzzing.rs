@@ -10,10 +10,10 @@
 //! behind the `fuzzing` feature; nothing else in `src/` panics outside its tests.
 
 use crate::enclosure::{flow_set, LohnerSet};
-use crate::integrator::{step_residual, NewtonOptions, Scheme, SchemeKind};
 use crate::protocol::{At, BatchAnswer, Line, LineReader, Pair, Query, SceneSpec, Session, Steps};
 use crate::scalar::point;
 use crate::scene::{Knife, KnifeEps, Particle};
+use crate::schemes::{step_residual, NewtonOptions, Scheme, SchemeKind};
 use crate::tape::finite;
 use crate::{exact, AnyScene, Error, FlowOptions, Model};
 use arbitrary::{Arbitrary, Unstructured};

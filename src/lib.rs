@@ -9,6 +9,8 @@
 // Index loops mirror the formulas of spec/ (sums over i, j): kept on purpose.
 #![allow(clippy::needless_range_loop)]
 
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod dynamics;
 pub mod elementary;
 pub mod enclosure;
@@ -16,7 +18,6 @@ pub mod exact;
 pub mod flow;
 #[cfg(feature = "fuzzing")]
 pub mod fuzzing;
-pub mod integrator;
 pub mod model;
 pub mod newton;
 pub mod oracle;
@@ -25,6 +26,7 @@ pub mod protocol;
 pub mod report;
 pub mod scalar;
 pub mod scene;
+pub mod schemes;
 pub mod tape;
 pub mod testing;
 

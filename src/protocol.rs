@@ -3,10 +3,10 @@
 //! protocol both go through [`Query`] and [`Session::answer`]. No printing here.
 
 use crate::exact;
-use crate::integrator::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 pub use crate::oracle::{Steps, Tolerances};
 use crate::scalar::point;
 use crate::scene::{Description, Scene, SceneFile};
+use crate::schemes::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use crate::{AnyScene, Error, FlowOptions, FlowStats, Model};
 use inari::Interval;
 use serde_json::{json, Map, Value};
@@ -152,7 +152,7 @@ fn earlier(
 }
 
 /// One row of an `integrate` answer (see [`Session::integrate_each`]).
-pub use crate::integrator::Row;
+pub use crate::schemes::Row;
 
 fn scene_key(s: &SceneSpec) -> String {
     let mut k = match &s.definition {

@@ -6,8 +6,8 @@
 mod common;
 
 use common::{exact_energy, integrate as run, model};
-use dalembert::integrator::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use dalembert::scalar::point;
+use dalembert::schemes::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use dalembert::FlowOptions;
 use inari::Interval;
 

@@ -276,8 +276,8 @@ fn orders_show_what_the_library_certifies(
     csv: &BTreeMap<&str, (Vec<String>, Vec<Vec<f64>>)>,
     svg: &Path,
 ) {
-    use dalembert::integrator::Scheme;
     use dalembert::report::orders::{starts, SCHEMES, T_END};
+    use dalembert::schemes::Scheme;
     use dalembert::testing::{global_order, local_order};
     use dalembert::{AnyScene, FlowOptions, Model};
     let (_, _, words) = read_svg(svg);

@@ -91,14 +91,14 @@
 mod exact_common;
 
 use dalembert::exact::{self, ExactStep};
-use dalembert::integrator::newton::{self, NewtonOutcome};
-use dalembert::integrator::{
-    discrete_constraint, discrete_force, ld_gradients, step_residual, NewtonOptions, Scheme,
-    SchemeKind,
-};
 use dalembert::oracle::{check_trajectory, CheckOptions, Verdict};
 use dalembert::scalar::{point, Dual, Scalar};
 use dalembert::scene::{Knife, Particle, Scene};
+use dalembert::schemes::newton::{self, NewtonOutcome};
+use dalembert::schemes::{
+    discrete_constraint, discrete_force, ld_gradients, step_residual, NewtonOptions, Scheme,
+    SchemeKind,
+};
 use dalembert::{flow, AnyScene, FlowOptions, Model};
 use exact_common::{gap, overlap};
 use inari::Interval;

@@ -1,4 +1,4 @@
-use dalembert::integrator::{Scheme, SchemeKind};
+use dalembert::schemes::{Scheme, SchemeKind};
 use dalembert::testing::{check_stepper, strategies::pairs_on_manifold};
 use dalembert::{AnyScene, FlowOptions, Model};
 use proptest::prelude::*;

@@ -1,4 +1,4 @@
-//! The float schemes DLA and MLA (`dalembert::integrator`, contract command 4 `integrate`)
+//! The float schemes DLA and MLA (`dalembert::schemes`, contract command 4 `integrate`)
 //! against the paper (section 5, "Construction of non-holonomic integrators") and against
 //! the certified exact flow of the crate itself.
 //!
@@ -21,12 +21,12 @@
 mod common;
 
 use common::{exact_energy, integrate as run};
-use dalembert::integrator::{
+use dalembert::scalar::{point, Dual};
+use dalembert::scene::{Particle, Scene};
+use dalembert::schemes::{
     discrete_constraint, hamiltonian_d, legendre, step_residual, NewtonFailure, NewtonOptions,
     Scheme, SchemeError, SchemeKind, Trajectory,
 };
-use dalembert::scalar::{point, Dual};
-use dalembert::scene::{Particle, Scene};
 use dalembert::{AnyScene, FlowOptions, Model};
 use inari::Interval;
 use std::time::{Duration, Instant};
@@ -382,7 +382,7 @@ fn projection_solves_its_affine_equation() {
 }
 
 /// Regression (fixed: the projection's Newton now stops at the residual's rounding level,
-/// spec eq. (7.6)). Originally (src/integrator/newton.rs with `Scheme::project`): the projection is an affine
+/// spec eq. (7.6)). Originally (src/schemes.rsnewton.rs with `Scheme::project`): the projection is an affine
 /// 1-D equation with slope cos((phi1 - phi0)/2) ~ 1 for the knife, yet `project` (and so
 /// `integrate`, at step 0) fails with `Diverged` for ordinary inputs with |q| >> 1, e.g.
 /// knife q0 = (1, 100, 0.1), q1 = (1.1, 100.1, 0.2). Newton's unknown there is the offset s,
@@ -1187,7 +1187,7 @@ fn robustness() {
 }
 
 /// Regression (fixed: non-finite momenta or energies are now `SchemeError::NonFinite`).
-/// Originally (src/integrator/mod.rs, `Scheme::integrate`): with `steps == 1` the only Newton
+/// Originally (src/schemes.rs, `Scheme::integrate`): with `steps == 1` the only Newton
 /// solve is the projection of q1, which does not involve h; the momenta p_k = F^∓ l_d and
 /// the energies are then computed without any finiteness check. When (q1 - q0)/h overflows
 /// the result is `Ok` with inf/NaN momenta and NaN energy (with `steps >= 2` the same input

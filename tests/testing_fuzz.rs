@@ -3,7 +3,7 @@
 //! non-finite and mis-sized answers claimed converged are caught; failures are not findings.
 //! Also the template of `examples/fuzz_newton/` (its solver and its replay test).
 
-use dalembert::integrator::{Scheme, SchemeKind};
+use dalembert::schemes::{Scheme, SchemeKind};
 use dalembert::testing::fuzz::{
     check_answer, fuzz_solver, fuzz_solver_with, Claimed, FuzzOptions, FuzzOutcome, InputSpace,
     PairKind, SolverAnswer, SolverInput, Tally, Unstructured,

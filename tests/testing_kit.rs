@@ -3,7 +3,7 @@
 //! particle's leading term vanishing at y0 = 0, where it is O(h^4)) and the elementary
 //! error of the central difference (O(h^2) for q2 = 2 q1 - q0 when q'' != 0).
 
-use dalembert::integrator::{Scheme, SchemeKind};
+use dalembert::schemes::{Scheme, SchemeKind};
 use dalembert::testing::{
     check_stepper, check_stepper_from_state, global_order, local_order, observed_order, Stepper,
 };

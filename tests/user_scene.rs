@@ -17,10 +17,10 @@
 
 #![allow(clippy::needless_range_loop)] // loops over coordinates mirror the formulas
 
-use dalembert::integrator::{NewtonOptions, Scheme, SchemeKind};
 use dalembert::oracle::{check_trajectory, CheckOptions};
 use dalembert::scalar::{point, Scalar};
 use dalembert::scene::{diagonal, Mat, Scene};
+use dalembert::schemes::{NewtonOptions, Scheme, SchemeKind};
 use dalembert::{exact, flow, Error, FlowOptions, Model, Reason};
 use inari::Interval;
 

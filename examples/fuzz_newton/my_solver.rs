@@ -3,7 +3,7 @@
 //! (`fuzz_targets/my_solver.rs`) and the replay test (`replay.rs`) use these three items.
 //! Here the solver is the crate's DLA scheme with its own Newton, as a stand-in.
 
-use dalembert::integrator::{NewtonOptions, Scheme, SchemeKind};
+use dalembert::schemes::{NewtonOptions, Scheme, SchemeKind};
 use dalembert::testing::fuzz::{NewtonSolver, SolverAnswer, SolverInput};
 use dalembert::{AnyScene, Model};
 

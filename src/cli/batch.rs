@@ -5,8 +5,8 @@
 //! scenes); answers are printed as soon as all earlier lines are answered, and flushed, so a
 //! client may talk line by line.
 
-use dalembert::protocol::{self, Line, LineReader, Session, MAX_LINE_BYTES};
-use dalembert::Error;
+use crate::protocol::{self, Line, LineReader, Session, MAX_LINE_BYTES};
+use crate::Error;
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::sync::{mpsc, Arc, Mutex};

@@ -1,9 +1,9 @@
 //! `dalembert` with no arguments: a demonstration on the paper's nonholonomic particle.
 
-use dalembert::integrator::{NewtonOptions, Scheme, SchemeKind};
-use dalembert::oracle::{check_trajectory, CheckOptions};
-use dalembert::scalar::point;
-use dalembert::{exact, AnyScene, Error, FlowOptions, Model};
+use crate::oracle::{check_trajectory, CheckOptions};
+use crate::scalar::point;
+use crate::schemes::{NewtonOptions, Scheme, SchemeKind};
+use crate::{exact, AnyScene, Error, FlowOptions, Model};
 use std::time::Instant;
 
 pub fn run() -> Result<(), Error> {
@@ -18,7 +18,7 @@ pub fn run() -> Result<(), Error> {
     );
     for t in [0.5, 50.0, 600.0] {
         let start = Instant::now();
-        let e = dalembert::flow(&model, &q, &u, t, &opts)?;
+        let e = crate::flow(&model, &q, &u, t, &opts)?;
         let ms = start.elapsed().as_secs_f64() * 1e3;
         let w = e.q.iter().chain(&e.v).map(|x| x.wid()).fold(0.0, f64::max);
         println!(
@@ -92,11 +92,11 @@ fn every_scene() -> Result<(), Error> {
         "{:>22} {:>3} {:>3} {:>10} {:>6} {:>9}",
         "scene", "n", "k", "max width", "steps", "ms"
     );
-    for info in dalembert::scene::SCENES {
+    for info in crate::scene::SCENES {
         let model = Model::new(&AnyScene::new(info.name, &[])?)?;
         let (q, u) = (vec![0.0; model.n], vec![0.8; model.n - model.k]);
         let start = Instant::now();
-        let e = dalembert::flow(&model, &q, &u, 5.0, &FlowOptions::default())?;
+        let e = crate::flow(&model, &q, &u, 5.0, &FlowOptions::default())?;
         let ms = start.elapsed().as_secs_f64() * 1e3;
         let w = e.q.iter().chain(&e.v).map(|x| x.wid()).fold(0.0, f64::max);
         println!(

@@ -1,10 +1,10 @@
-//! `dalembert figures --out DIR [--quick]`: compute the figures (`dalembert::report`) and
+//! `dalembert figures --out DIR [--quick]`: compute the figures (`crate::report`) and
 //! write them as SVG and CSV (`render.rs`).
 
 use super::progress::Bar;
 use super::render;
-use dalembert::report::figures::{self, Settings};
-use dalembert::Error;
+use crate::report::figures::{self, Settings};
+use crate::Error;
 use serde_json::json;
 use std::path::Path;
 use std::time::Instant;

@@ -6,9 +6,9 @@
 
 use super::progress::Bar;
 use super::spool::Spool;
-use dalembert::integrator::SchemeKind;
-use dalembert::protocol::{Pair, Row, Session};
-use dalembert::Error;
+use crate::protocol::{Pair, Row, Session};
+use crate::schemes::SchemeKind;
+use crate::Error;
 use std::io::{BufWriter, Write};
 
 pub(super) fn io(e: std::io::Error) -> Error {

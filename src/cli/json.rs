@@ -1,4 +1,4 @@
-//! Text renderings for people (the JSON forms live in `dalembert::protocol`).
+//! Text renderings for people (the JSON forms live in `crate::protocol`).
 
 use serde_json::Value;
 

@@ -1,12 +1,12 @@
-//! The command line: parsing flags into `dalembert::protocol::Query`, printing answers, exit
+//! The command line: parsing flags into `crate::protocol::Query`, printing answers, exit
 //! codes (contract.md). No mathematics here.
 
 mod batch;
 mod check;
-pub mod demo;
+pub(crate) mod demo;
 mod figures;
 mod integrate;
-pub mod json;
+pub(crate) mod json;
 mod order;
 mod progress;
 mod render;
@@ -14,9 +14,9 @@ mod scenes;
 mod spool;
 mod stability;
 
+use crate::protocol::{self, Pair, Query, SceneSpec, Session};
+use crate::Error;
 use clap::{Parser, Subcommand};
-use dalembert::protocol::{self, Pair, Query, SceneSpec, Session};
-use dalembert::Error;
 use serde_json::Value;
 
 #[derive(Parser, Debug)]
@@ -27,13 +27,13 @@ use serde_json::Value;
     long_about = "Certified enclosures of exact discrete nonholonomic mechanics.\n\
                   With no command: a demonstration on the paper's nonholonomic particle."
 )]
-pub struct Cli {
+pub(crate) struct Cli {
     #[command(subcommand)]
     pub cmd: Option<Cmd>,
 }
 
 #[derive(clap::Args, Debug, Clone)]
-pub struct SceneArgs {
+pub(crate) struct SceneArgs {
     #[arg(long, allow_hyphen_values = true, help = scene_help(),
           required_unless_present = "scene_file", conflicts_with = "scene_file")]
     pub scene: Option<String>,
@@ -49,12 +49,12 @@ pub struct SceneArgs {
 fn scene_help() -> String {
     format!(
         "Scene: {} (`dalembert scenes` describes them)",
-        dalembert::scene::scene_names().join(", ")
+        crate::scene::scene_names().join(", ")
     )
 }
 
 #[derive(clap::Args, Debug, Clone)]
-pub struct PairArgs {
+pub(crate) struct PairArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// First configuration Q0, comma-separated
@@ -78,7 +78,7 @@ const DEADLINE_HELP: &str = "Time budget in seconds (> 0): past it, refused with
      pair of check; none for flow and integrate";
 
 #[derive(Subcommand, Debug)]
-pub enum Cmd {
+pub(crate) enum Cmd {
     /// Enclose the exact nonholonomic state at time T (or at each of --times)
     Flow {
         #[command(flatten)]
@@ -242,7 +242,7 @@ pub fn run_os(args: Vec<std::ffi::OsString>) -> i32 {
 
 /// The arguments as UTF-8, or the input error naming the first argument that is not: the
 /// option itself (`--name=value`), or the option before a value.
-pub fn utf8_args(args: Vec<std::ffi::OsString>) -> Result<Vec<String>, Error> {
+pub(crate) fn utf8_args(args: Vec<std::ffi::OsString>) -> Result<Vec<String>, Error> {
     let mut out: Vec<String> = Vec::with_capacity(args.len());
     for (i, a) in args.into_iter().enumerate() {
         match a.into_string() {
@@ -270,7 +270,7 @@ pub fn utf8_args(args: Vec<std::ffi::OsString>) -> Result<Vec<String>, Error> {
 }
 
 /// Run the command line; returns the exit status.
-pub fn run(args: Vec<String>) -> i32 {
+pub(crate) fn run(args: Vec<String>) -> i32 {
     let cli = match Cli::try_parse_from(&args) {
         Ok(c) => c,
         Err(e) => {
@@ -366,7 +366,7 @@ pub(crate) fn scene_spec(s: &SceneArgs) -> Result<SceneSpec, Error> {
         .collect::<Result<_, _>>()?;
     match (&s.scene, &s.scene_file) {
         (_, Some(path)) => {
-            let file = dalembert::scene::SceneFile::read(std::path::Path::new(path))?;
+            let file = crate::scene::SceneFile::read(std::path::Path::new(path))?;
             Ok(SceneSpec::defined(file, params))
         }
         (Some(name), None) => Ok(SceneSpec::named(name, params)),
@@ -445,7 +445,7 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
     if matches!(query, Query::Flow { .. }) {
         // a long flow draws a bar on a terminal (erased when the session is dropped)
         let bar = std::sync::Mutex::new(progress::Bar::new());
-        session.flow.progress = Some(dalembert::enclosure::Progress(std::sync::Arc::new(
+        session.flow.progress = Some(crate::enclosure::Progress(std::sync::Arc::new(
             move |f: f64| {
                 if let Ok(mut b) = bar.lock() {
                     b.update("flow", (f * 1000.0) as usize, 1000);

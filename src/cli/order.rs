@@ -1,11 +1,11 @@
 //! `dalembert order`: the certified local and global order of DLA or MLA on a scene
-//! (spec chapter 11, `dalembert::testing::{local_order, global_order}`).
+//! (spec chapter 11, `crate::testing::{local_order, global_order}`).
 
 use super::{scene_spec, SceneArgs};
-use dalembert::integrator::{Scheme, SchemeKind};
-use dalembert::protocol::{self, interval, intervals, Session};
-use dalembert::testing::{global_order, local_order, Ladder};
-use dalembert::{Error, FlowOptions};
+use crate::protocol::{self, interval, intervals, Session};
+use crate::schemes::{Scheme, SchemeKind};
+use crate::testing::{global_order, local_order, Ladder};
+use crate::{Error, FlowOptions};
 use serde_json::{json, Value};
 
 pub fn run(

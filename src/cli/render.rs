@@ -1,7 +1,7 @@
-//! Rendering of `dalembert::report` figures: SVG with plotters (pure Rust, text as SVG
+//! Rendering of `crate::report` figures: SVG with plotters (pure Rust, text as SVG
 //! `<text>`) and CSV. Drawing only; the data are computed in `src/report/`.
 
-use dalembert::report::{Figure, Panel, Style, Table};
+use crate::report::{Figure, Panel, Style, Table};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::prelude::*;

@@ -1,8 +1,8 @@
 //! `dalembert scenes [--json]`: the scenes as their files describe them.
 
-use dalembert::protocol;
-use dalembert::scene::Scene;
-use dalembert::Error;
+use crate::protocol;
+use crate::scene::Scene;
+use crate::Error;
 use serde_json::{json, Value};
 
 /// `scenes [--json]`, or `scenes --scene-file PATH [--param k=v] [--json]`: the file's scene
@@ -18,9 +18,8 @@ pub fn run(file: Option<&str>, params: &[String], as_json: bool) -> Result<Strin
         .iter()
         .map(|p| protocol::parse_param(p))
         .collect::<Result<_, _>>()?;
-    let file =
-        dalembert::scene::SceneFile::read(std::path::Path::new(path))?.with_params(&params)?;
-    let model = dalembert::Model::new(&file)?;
+    let file = crate::scene::SceneFile::read(std::path::Path::new(path))?.with_params(&params)?;
+    let model = crate::Model::new(&file)?;
     let v = json!({ "scenes": [protocol::description(&model.scene.description())] });
     Ok(render(v, as_json))
 }

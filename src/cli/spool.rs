@@ -2,7 +2,7 @@
 //! grow with the number of rows and a refusal still leaves stdout empty (contract.md):
 //! `integrate` and `check` copy their spools to stdout only once the whole answer is proved.
 
-use dalembert::Error;
+use crate::Error;
 use std::fs::File;
 use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 

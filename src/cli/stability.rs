@@ -1,6 +1,6 @@
-//! `dalembert stability`: the table of `dalembert::report::stability` as Markdown or JSON.
+//! `dalembert stability`: the table of `crate::report::stability` as Markdown or JSON.
 
-use dalembert::report::stability::{Certified, Row, Solve};
+use crate::report::stability::{Certified, Row, Solve};
 use serde_json::{json, Value};
 
 use super::render::number;
@@ -112,9 +112,9 @@ pub fn json(rows: &[Row]) -> String {
 }
 
 /// Run the table (with a progress bar on a terminal) and render it.
-pub fn run(as_json: bool) -> Result<String, dalembert::Error> {
+pub fn run(as_json: bool) -> Result<String, crate::Error> {
     let mut bar = super::progress::Bar::new();
-    let rows = dalembert::report::stability::table(&mut |w, d, t| bar.update(w, d, t))?;
+    let rows = crate::report::stability::table(&mut |w, d, t| bar.update(w, d, t))?;
     bar.clear();
     Ok(if as_json {
         json(&rows)

@@ -4,9 +4,9 @@
 use super::orders::{self, Orders, SCHEMES};
 use super::{max_width, points, Figure, Panel, Progress, Series, Style, Table};
 use crate::exact;
-use crate::integrator::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use crate::oracle::{distance, energy};
 use crate::scalar::point;
+use crate::schemes::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use crate::testing::Ladder;
 use crate::{flow, AnyScene, Error, FlowOptions, Model};
 use inari::Interval;

@@ -4,7 +4,7 @@
 //! the figure show the same runs.
 
 use super::Progress;
-use crate::integrator::{Scheme, SchemeKind};
+use crate::schemes::{Scheme, SchemeKind};
 use crate::testing::{global_order, local_order, Ladder};
 use crate::{AnyScene, Error, FlowOptions, Model};
 

@@ -4,7 +4,7 @@
 
 use super::{max_width, points, Progress};
 use crate::exact;
-use crate::integrator::{NewtonOptions, Scheme, SchemeError, SchemeKind};
+use crate::schemes::{NewtonOptions, Scheme, SchemeError, SchemeKind};
 use crate::{AnyScene, Error, FlowOptions, Model};
 
 /// One input pair.

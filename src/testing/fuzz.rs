@@ -22,7 +22,7 @@
 //! ([`FuzzOptions`]: a step count for every certified flow, a deadline for the oracle's).
 //!
 //! ```
-//! use dalembert::integrator::{Scheme, SchemeKind};
+//! use dalembert::schemes::{Scheme, SchemeKind};
 //! use dalembert::testing::fuzz::{fuzz_solver, FuzzOutcome, SolverAnswer, SolverInput};
 //! use dalembert::{AnyScene, Model};
 //! let model = Model::new(&AnyScene::new("particle", &[]).unwrap()).unwrap();
@@ -41,8 +41,8 @@
 //! ```
 
 use super::{pair_point, Stepper};
-use crate::integrator::{NewtonFailure, NewtonOptions, Scheme};
 use crate::oracle::check_step;
+use crate::schemes::{NewtonFailure, NewtonOptions, Scheme};
 use crate::{Error, FlowOptions, Model};
 pub use arbitrary::Unstructured;
 use inari::Interval;

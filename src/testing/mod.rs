@@ -5,7 +5,7 @@
 //!
 //! ```
 //! # use dalembert::{AnyScene, Model, FlowOptions};
-//! # use dalembert::integrator::{Scheme, SchemeKind};
+//! # use dalembert::schemes::{Scheme, SchemeKind};
 //! # use dalembert::testing::local_order;
 //! let model = Model::new(&AnyScene::new("knife", &[]).unwrap()).unwrap();
 //! let dla = Scheme::new(&model, SchemeKind::Dla);
@@ -22,9 +22,9 @@ pub mod gen;
 #[cfg(feature = "proptest")]
 pub mod strategies;
 
-use crate::integrator::{NewtonOptions, Scheme};
 use crate::oracle::{check_step, check_trajectory, CheckOptions};
 use crate::scalar::{point, Scalar};
+use crate::schemes::{NewtonOptions, Scheme};
 use crate::{flow, Error, FlowOptions, Model};
 use inari::Interval;
 
@@ -372,6 +372,7 @@ pub(crate) fn pair_point(
 /// Move `q` by `distance` along the unit normal of the first constraint at `q` (a float
 /// choice of a point off `M_h^{e,nh}`; the oracle certifies where it lands). `None` when
 /// that normal is 0 or not finite (`q` is then unchanged).
+#[cfg(any(feature = "proptest", feature = "quickcheck", feature = "fuzzing"))]
 pub(crate) fn shift_off(model: &Model, q: &mut [f64], distance: f64) -> Option<()> {
     let mu = model.constraints.eval::<f64>(q);
     let normal = &mu[..model.n];

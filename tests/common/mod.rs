@@ -5,8 +5,8 @@
 // Each test binary uses a different subset of these helpers.
 #![allow(dead_code)]
 
-use dalembert::integrator::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use dalembert::scalar::point;
+use dalembert::schemes::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use dalembert::{flow, AnyScene, Error, FlowEnclosure, FlowOptions, Model};
 use inari::Interval;
 
