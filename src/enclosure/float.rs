@@ -1,0 +1,88 @@
+//! The float flows: Taylor integrations in plain f64 of the state and its variational
+//! equation. Not rigorous; used only to choose points (Newton guesses).
+
+use super::control::*;
+use super::*;
+use nalgebra::DMatrix;
+
+/// A float Taylor integration of `x' = F(x)` and of its variational equation over time `t`:
+/// `(x(t), D x(t)/D x0)` approximately. Not rigorous: used only to choose points (the Newton
+/// guesses of the retraction); `None` on non-finite values or too many steps.
+pub fn float_flow_c1(
+    sys: &System,
+    x0: &[f64],
+    t: f64,
+    opts: &FlowOptions,
+) -> Option<(Vec<f64>, DMatrix<f64>)> {
+    let d = x0.len();
+    float_flow_var(&sys.field_var, x0, DMatrix::identity(d, d), t, opts).map(|(x, j, _)| (x, j))
+}
+
+/// As [`float_flow_c1`] for the derivatives with respect to the last `sys.tail()` components
+/// of `x0` only (`D x(t) / D x0[d - tail..]`, d x tail), also returning the number of Taylor
+/// steps taken (the work, for callers that bound their total work).
+pub fn float_flow_tail_counted(
+    sys: &System,
+    x0: &[f64],
+    t: f64,
+    opts: &FlowOptions,
+) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
+    let (d, c) = (x0.len(), sys.tail());
+    let w0 = DMatrix::from_fn(d, c, |i, j| if i + c == d + j { 1.0 } else { 0.0 });
+    float_flow_var(&sys.field_var_tail, x0, w0, t, opts)
+}
+
+/// A float Taylor integration of `x' = F(x)` alone over time `t` (the state at `t` and the
+/// number of steps taken); not rigorous, as [`float_flow_c1`].
+pub fn float_flow_counted(
+    sys: &System,
+    x0: &[f64],
+    t: f64,
+    opts: &FlowOptions,
+) -> Option<(Vec<f64>, usize)> {
+    let w0 = DMatrix::zeros(x0.len(), 0);
+    float_flow_var(&sys.field, x0, w0, t, opts).map(|(x, _, steps)| (x, steps))
+}
+
+/// Float Taylor integration of `(x, W)' = (F(x), DF(x) W)` from `(x0, w0)`; `tape` is the
+/// variational tape for `w0.ncols()` columns. W(t) = D x(t)/D x0 * w0.
+pub(super) fn float_flow_var(
+    tape: &crate::tape::Tape,
+    x0: &[f64],
+    w0: DMatrix<f64>,
+    t: f64,
+    opts: &FlowOptions,
+) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
+    let (d, cols) = (x0.len(), w0.ncols());
+    let p = if opts.order == 0 {
+        DEFAULT_ORDER
+    } else {
+        opts.order
+    };
+    let mut xw: Vec<f64> = x0.to_vec();
+    xw.extend(
+        (0..d)
+            .flat_map(|i| (0..cols).map(move |j| (i, j)))
+            .map(|(i, j)| w0[(i, j)]),
+    );
+    let mut done = 0.0;
+    for steps in 0..opts.max_steps {
+        if done >= t {
+            let w = DMatrix::from_fn(d, cols, |i, j| xw[d + i * cols + j]);
+            return Some((xw[..d].to_vec(), w, steps));
+        }
+        let c = tape.ode_taylor::<f64>(&xw, p)?;
+        // The step rule (5.8) on the state AND the variational series: the Jacobian's series
+        // can have a smaller radius of convergence than the state's (e.g. the particle with
+        // u1 = 0: x(t) stays 0 while D x / D u1 = asinh(u2 t) / u2 is singular at t = i/u2).
+        let h = step_size(&c, p, &xw).min(t - done);
+        xw = (0..xw.len())
+            .map(|i| c.iter().rev().fold(0.0, |acc, ck| acc * h + ck[i]))
+            .collect();
+        done = if h >= t - done { t } else { done + h };
+        if !xw.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+    }
+    None
+}
