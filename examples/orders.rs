@@ -3,7 +3,6 @@
 //! last two rungs of the ladder, a certified interval (spec eqs. (11.1)-(11.3)). The starts
 //! and ladders are `dalembert::report::orders`, shared with the figure `orders`.
 
-use dalembert::report::no_progress;
 use dalembert::report::orders::{ladders, starts, GLOBAL_H, LOCAL_H, T_END};
 use dalembert::testing::Ladder;
 use dalembert::Error;
@@ -28,8 +27,14 @@ fn cell(l: &Result<Ladder, Error>) -> String {
 }
 
 fn main() {
-    let rows =
-        ladders(&starts(), &LOCAL_H, &GLOBAL_H, T_END, &mut no_progress).expect("built-in scene");
+    let rows = ladders(
+        &starts(),
+        &LOCAL_H,
+        &GLOBAL_H,
+        T_END,
+        &dalembert::Progress::default(),
+    )
+    .expect("built-in scene");
     println!(
         "| scene | q0, u0 | DLA local | MLA local | DLA global (T = {T_END}) | MLA global (T = {T_END}) |"
     );

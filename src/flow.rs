@@ -5,9 +5,10 @@
 
 use crate::enclosure::linalg::IMat;
 use crate::enclosure::{
-    flow_set_jacobian, flow_set_span_memo, too_many, FlowOptions, FlowStats, LohnerSet, Progress,
+    flow_set_jacobian, flow_set_span_memo, too_many, FlowOptions, FlowStats, LohnerSet,
 };
 use crate::model::Model;
+use crate::progress::Progress;
 use crate::scalar::point;
 use crate::{Error, Reason};
 use inari::Interval;
@@ -91,12 +92,15 @@ pub fn flow_at(
     for &t in times {
         // the progress of a leg, as a fraction of the whole span [0, t_last]
         let leg = FlowOptions {
-            progress: opts.progress.as_ref().map(|p| {
-                let p = p.0.clone();
-                Progress(std::sync::Arc::new(move |f: f64| {
-                    p((from + f * (t - from)) / last)
-                }))
-            }),
+            progress: if opts.progress.is_silent() {
+                Progress::default()
+            } else {
+                let p = opts.progress.clone();
+                Progress::new(move |what, done, total| {
+                    let f = if total > 0.0 { done / total } else { 1.0 };
+                    p.tell(what, from + f * (t - from), last)
+                })
+            },
             max_steps: opts.max_steps.saturating_sub(total.steps),
             ..opts.clone()
         };
@@ -238,7 +242,10 @@ mod tests {
         let seen = Arc::new(Mutex::new(Vec::new()));
         let s2 = seen.clone();
         let opts = FlowOptions {
-            progress: Some(Progress(Arc::new(move |f| s2.lock().unwrap().push(f)))),
+            progress: Progress::new(move |what, done, total| {
+                assert_eq!((what, total), ("flow", 5.0));
+                s2.lock().unwrap().push(done / total)
+            }),
             ..FlowOptions::default()
         };
         let (q, u) = ([0.0, 0.0, 0.0], [0.8, 0.8]);

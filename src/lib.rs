@@ -21,6 +21,7 @@ pub mod fuzzing;
 pub mod model;
 pub mod newton;
 pub mod oracle;
+mod progress;
 #[cfg(feature = "cli")]
 pub mod protocol;
 pub mod report;
@@ -37,4 +38,5 @@ pub use enclosure::{FlowOptions, FlowStats};
 pub use error::{Error, Reason, Refusal};
 pub use flow::{flow, FlowEnclosure};
 pub use model::Model;
+pub use progress::Progress;
 pub use scene::AnyScene;

@@ -70,7 +70,7 @@ pub fn run(
         .map_err(io)?;
     }
     let sink = |row: RowVerdict| {
-        bar.update("check", row.k + 1, count);
+        bar.update("check", (row.k + 1) as f64, count as f64);
         if as_json {
             json_row(&mut spools, &row).map_err(io)
         } else {

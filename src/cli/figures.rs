@@ -1,7 +1,7 @@
 //! `dalembert figures --out DIR [--quick]`: compute the figures (`crate::report`) and
 //! write them as SVG and CSV (`render.rs`).
 
-use super::progress::Bar;
+use super::progress::SharedBar;
 use super::render;
 use crate::report::figures::{self, Settings};
 use crate::Error;
@@ -19,10 +19,8 @@ pub fn run(out: &str, quick: bool, as_json: bool) -> Result<String, Error> {
     } else {
         Settings::paper()
     };
-    let mut bar = Bar::new();
-    let figs = figures::all(&settings, &mut |what, done, total| {
-        bar.update(what, done, total)
-    })?;
+    let bar = SharedBar::new();
+    let figs = figures::all(&settings, &bar.progress())?;
     bar.clear();
     let mut files = vec![];
     for f in &figs {

@@ -49,7 +49,7 @@ pub fn run(
         .collect::<Result<_, _>>()?;
     let mut first = [true; 4];
     let max_residual = session.integrate_each(pair, scheme, steps, deadline, |r: Row| {
-        bar.update("integrate", r.k, steps);
+        bar.update("integrate", r.k as f64, steps as f64);
         if as_json {
             write_json_row(&mut spools, &mut first, &r).map_err(io)
         } else {

@@ -442,19 +442,14 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
         | Cmd::Order { .. } => return Err(Error::input("not a single query")),
     };
     let mut session = Session::default();
+    // a long flow draws a bar on a terminal (erased when the bar is dropped)
+    let bar = progress::SharedBar::new();
     if matches!(query, Query::Flow { .. }) {
-        // a long flow draws a bar on a terminal (erased when the session is dropped)
-        let bar = std::sync::Mutex::new(progress::Bar::new());
-        session.flow.progress = Some(crate::enclosure::Progress(std::sync::Arc::new(
-            move |f: f64| {
-                if let Ok(mut b) = bar.lock() {
-                    b.update("flow", (f * 1000.0) as usize, 1000);
-                }
-            },
-        )));
+        session.flow.progress = bar.progress();
     }
     let answer: Value = session.answer_within(&query, deadline)?;
     drop(session);
+    bar.clear();
     Ok(Some(if as_json {
         answer.to_string()
     } else {

@@ -2,7 +2,9 @@
 //! has run for more than a second, so that programs reading stderr still see, on exit 2 or 3,
 //! exactly one `error:` line (contract.md); [`Bar::clear`] erases it before such a line.
 
+use crate::Progress;
 use std::io::{IsTerminal, Write};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 pub struct Bar {
@@ -21,7 +23,7 @@ impl Bar {
     }
 
     /// Show `what [#####     ] done/total` (at most ten times a second).
-    pub fn update(&mut self, what: &str, done: usize, total: usize) {
+    pub fn update(&mut self, what: &str, done: f64, total: f64) {
         let now = Instant::now();
         if !self.terminal || now - self.start < Duration::from_secs(1) {
             return;
@@ -35,14 +37,20 @@ impl Bar {
         }
         self.last = Some(now);
         const WIDTH: usize = 30;
-        let filled = (done * WIDTH)
-            .checked_div(total)
-            .unwrap_or(WIDTH)
-            .min(WIDTH);
+        let filled = if total > 0.0 {
+            ((done / total * WIDTH as f64) as usize).min(WIDTH)
+        } else {
+            WIDTH
+        };
         let bar: String = "#".repeat(filled) + &" ".repeat(WIDTH - filled);
         let secs = (now - self.start).as_secs();
         let mut err = std::io::stderr().lock();
-        let _ = write!(err, "\r\x1b[2K{what} [{bar}] {done}/{total} {secs} s");
+        let _ = write!(
+            err,
+            "\r\x1b[2K{what} [{bar}] {}/{} {secs} s",
+            short(done),
+            short(total)
+        );
         let _ = err.flush();
     }
 
@@ -59,5 +67,40 @@ impl Bar {
 impl Drop for Bar {
     fn drop(&mut self) {
         self.clear();
+    }
+}
+
+/// A count as it is, a time to three decimals.
+fn short(x: f64) -> String {
+    if x.fract() == 0.0 && x.abs() < 1e15 {
+        format!("{x}")
+    } else {
+        format!("{x:.3}")
+    }
+}
+
+/// A [`Bar`] the library's long computations draw through a [`Progress`].
+pub struct SharedBar(Arc<Mutex<Bar>>);
+
+impl SharedBar {
+    pub fn new() -> Self {
+        SharedBar(Arc::new(Mutex::new(Bar::new())))
+    }
+
+    /// A progress that updates this bar.
+    pub fn progress(&self) -> Progress {
+        let bar = self.0.clone();
+        Progress::new(move |what, done, total| {
+            if let Ok(mut b) = bar.lock() {
+                b.update(what, done, total)
+            }
+        })
+    }
+
+    /// Erase the bar if it was drawn.
+    pub fn clear(&self) {
+        if let Ok(mut b) = self.0.lock() {
+            b.clear()
+        }
     }
 }

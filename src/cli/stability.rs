@@ -113,8 +113,8 @@ pub fn json(rows: &[Row]) -> String {
 
 /// Run the table (with a progress bar on a terminal) and render it.
 pub fn run(as_json: bool) -> Result<String, crate::Error> {
-    let mut bar = super::progress::Bar::new();
-    let rows = crate::report::stability::table(&mut |w, d, t| bar.update(w, d, t))?;
+    let bar = super::progress::SharedBar::new();
+    let rows = crate::report::stability::table(&bar.progress())?;
     bar.clear();
     Ok(if as_json {
         json(&rows)

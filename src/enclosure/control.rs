@@ -139,9 +139,8 @@ pub(super) fn flow_set_general(
                     stats.steps += 1;
                     stats.h_min = stats.h_min.min(hi.inf());
                     stats.h_max = stats.h_max.max(hi.sup());
-                    if let Some(p) = &opts.progress {
-                        (p.0)(if last { 1.0 } else { done.sup() / t });
-                    }
+                    opts.progress
+                        .tell("flow", if last { t } else { done.sup().min(t) }, t);
                     // refuse early when the steps now taken would not reach t in time
                     let left = (t - done.sup()) / hi.sup();
                     if !last && stats.steps as f64 + left > 4.0 * opts.max_steps as f64 {

@@ -13,6 +13,7 @@ pub use float::{float_flow_c1, float_flow_counted, float_flow_tail_counted};
 pub use set::{LohnerSet, SubSet};
 pub use system::System;
 
+use crate::progress::Progress;
 use crate::scalar::point;
 use crate::Error;
 pub(crate) use control::too_many;
@@ -30,9 +31,9 @@ pub struct FlowOptions {
     /// (rounded down to three significant bits) without the width tolerances of (5.8); a
     /// step whose a priori enclosure fails is retried smaller as in (5.8) (spec eq. (5.13)).
     pub step: f64,
-    /// Told the fraction of the time span done after each accepted step (for a progress
-    /// display; it sees nothing else and cannot change the result).
-    pub progress: Option<Progress>,
+    /// Told `("flow", reached, t)` after each accepted step (for a progress display; it
+    /// sees nothing else and cannot change the result). Silent by default.
+    pub progress: Progress,
     /// Refuse with [`Error::over_budget`] (exit 3) once this instant has passed: checked
     /// before every step of the validated flow and every float flow of the retraction's
     /// Newton guess. `None`: no time limit (the step counts still bound the work).
@@ -53,23 +54,13 @@ pub enum Basis {
     Orthogonal,
 }
 
-/// A progress callback (see [`FlowOptions::progress`]).
-#[derive(Clone)]
-pub struct Progress(pub std::sync::Arc<dyn Fn(f64) + Send + Sync>);
-
-impl std::fmt::Debug for Progress {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("Progress")
-    }
-}
-
 impl Default for FlowOptions {
     fn default() -> Self {
         FlowOptions {
             order: 0,
             max_steps: 20_000,
             step: 0.0,
-            progress: None,
+            progress: Progress::default(),
             deadline: None,
             basis: Basis::Parallelepiped,
         }

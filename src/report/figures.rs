@@ -176,13 +176,13 @@ fn energy_figure(
 
 /// The particle (paper Example 5.1): energy of DLA and MLA, and their certified distance to
 /// the exact discrete flow (9.1), (9.2). q0 = 0, q1 = (0.4, 0.4, z1) with z1 from M_h^d.
-pub fn particle(steps: usize, progress: Progress) -> Result<Vec<Figure>, Error> {
+pub fn particle(steps: usize, progress: &Progress) -> Result<Vec<Figure>, Error> {
     let m = model("particle", &[])?;
     let q0 = [0.0; 3];
-    progress("particle: DLA and MLA", 0, 3);
+    progress.count("particle: DLA and MLA", 0, 3);
     let dla = run_scheme(&m, SchemeKind::Dla, &q0, &[0.4, 0.4, 0.0], H, steps)?;
     let mla = run_scheme(&m, SchemeKind::Mla, &q0, &[0.4, 0.4, 0.0], H, steps)?;
-    progress("particle: certified exact discrete flow", 1, 3);
+    progress.count("particle: certified exact discrete flow", 1, 3);
     // Both schemes start from the same pair (q_0, q_1 on M_h^d).
     let ex = exact::trajectory(
         &m,
@@ -192,7 +192,7 @@ pub fn particle(steps: usize, progress: Progress) -> Result<Vec<Figure>, Error> 
         steps,
         &FlowOptions::default(),
     )?;
-    progress("particle: figures", 2, 3);
+    progress.count("particle: figures", 2, 3);
     let e = energy(&m, &ex.q[0], &ex.v[0])?;
     let mut figs = vec![energy_figure("particle_energy", "Particle", &dla, &mla, e)];
     // Certified distances |q_k - q(kh)|_inf (spec Theorem 8.1).
@@ -252,14 +252,14 @@ pub fn particle(steps: usize, progress: Progress) -> Result<Vec<Figure>, Error> 
         }],
         tables: vec![table],
     });
-    progress("particle", 3, 3);
+    progress.count("particle", 3, 3);
     Ok(figs)
 }
 
 /// The knife edge (eps = None) or the perturbed knife edge (paper Examples 5.2, 5.3):
 /// energies of DLA and MLA (9.1). q0 = 0, x1 = phi1 = 0.4, y1 from M_h^d (the paper's
 /// q1 = (0.4, 0.4, y1) in its coordinates (x, phi, y); tests/schemes.rs).
-pub fn knife(eps: Option<f64>, steps: usize, progress: Progress) -> Result<Figure, Error> {
+pub fn knife(eps: Option<f64>, steps: usize, progress: &Progress) -> Result<Figure, Error> {
     let (scene, params, title, name) = match eps {
         None => ("knife", vec![], "Knife edge".to_string(), "knife_energy"),
         Some(e) => (
@@ -269,7 +269,7 @@ pub fn knife(eps: Option<f64>, steps: usize, progress: Progress) -> Result<Figur
             "knife_eps_energy",
         ),
     };
-    progress(&format!("{scene}: DLA and MLA"), 0, 1);
+    progress.count(&format!("{scene}: DLA and MLA"), 0, 1);
     let m = model(scene, &params)?;
     let e = eps.unwrap_or(0.0);
     let q0 = [0.0; 3];
@@ -284,12 +284,12 @@ pub fn knife(eps: Option<f64>, steps: usize, progress: Progress) -> Result<Figur
         &FlowOptions::default(),
     )?;
     let exact_energy = energy(&m, &points(&q0), &r.v0)?;
-    progress(scene, 1, 1);
+    progress.count(scene, 1, 1);
     Ok(energy_figure(name, &title, &dla, &mla, exact_energy))
 }
 
 /// The exact discrete space M_h^{e,nh} of the particle beside M_h^d, from q0 = 0 (9.3).
-pub fn discrete_space(xs: &[f64], ys: &[f64], progress: Progress) -> Result<Figure, Error> {
+pub fn discrete_space(xs: &[f64], ys: &[f64], progress: &Progress) -> Result<Figure, Error> {
     let m = model("particle", &[])?;
     let q0 = points(&[0.0; 3]);
     let opts = FlowOptions::default();
@@ -302,7 +302,7 @@ pub fn discrete_space(xs: &[f64], ys: &[f64], progress: Progress) -> Result<Figu
     for (j, &y) in ys.iter().enumerate() {
         let (mut ex, mut di, mut df) = (vec![], vec![], vec![]);
         for (i, &x) in xs.iter().enumerate() {
-            progress("M_h^{e,nh}: retractions", j * xs.len() + i, total);
+            progress.count("M_h^{e,nh}: retractions", j * xs.len() + i, total);
             // Start on M_h^d; the retraction moves the point along N = (-y, 0, 1) onto
             // M_h^{e,nh}: y is kept, x and z move (spec eq. (6.2)).
             let r = exact::retract(&m, &q0, &points(&[x, y, x * y / 2.0]), H, &opts)?;
@@ -319,7 +319,7 @@ pub fn discrete_space(xs: &[f64], ys: &[f64], progress: Progress) -> Result<Figu
         discrete_s.push(Series::new("", Style::Dashed, di).color(j));
         diff_s.push(Series::new(format!("y1 = {y}"), Style::LineMarkers, df).color(j));
     }
-    progress("M_h^{e,nh}: retractions", total, total);
+    progress.count("M_h^{e,nh}: retractions", total, total);
     let width = table.rows.iter().map(|r| r[3]).fold(0.0, f64::max);
     exact_s.extend(discrete_s);
     Ok(Figure {
@@ -373,7 +373,7 @@ fn timed<T>(min_seconds: f64, mut f: impl FnMut() -> T) -> (T, f64) {
 
 /// Work-precision diagram on the knife edge (9.4): DLA and MLA error at time T against the
 /// certified flow, and the certified flow's width, against the cost per unit time.
-pub fn work_precision(s: &Settings, progress: Progress) -> Result<Figure, Error> {
+pub fn work_precision(s: &Settings, progress: &Progress) -> Result<Figure, Error> {
     let m = model("knife", &[])?;
     let (q0, u0, t) = ([0.1, -0.2, 0.3], [0.7, 0.9], s.wp_time);
     let reference = flow(&m, &q0, &u0, t, &FlowOptions::default())?;
@@ -385,7 +385,7 @@ pub fn work_precision(s: &Settings, progress: Progress) -> Result<Figure, Error>
     );
     let (mut dla_s, mut mla_s) = (vec![], vec![]);
     for &h in &s.wp_scheme_h {
-        progress("work-precision: DLA and MLA", done, total);
+        progress.count("work-precision: DLA and MLA", done, total);
         done += 1;
         let q1: Vec<f64> = flow(&m, &q0, &u0, h, &FlowOptions::default())?
             .q
@@ -418,7 +418,7 @@ pub fn work_precision(s: &Settings, progress: Progress) -> Result<Figure, Error>
         let mut pts = vec![];
         // Fixed steps (spec eq. (5.13)), then the automatic rule (5.8) (h = 0 in the table).
         for &h in s.wp_flow_h.iter().chain(&[0.0]) {
-            progress("work-precision: certified flow", done, total);
+            progress.count("work-precision: certified flow", done, total);
             done += 1;
             let opts = FlowOptions {
                 order: p,
@@ -451,7 +451,7 @@ pub fn work_precision(s: &Settings, progress: Progress) -> Result<Figure, Error>
         Style::Markers,
         automatic,
     ));
-    progress("work-precision", total, total);
+    progress.count("work-precision", total, total);
     let fmt_list = |v: &[f64]| {
         v.iter()
             .map(|x| format!("{x}"))
@@ -488,7 +488,7 @@ pub fn work_precision(s: &Settings, progress: Progress) -> Result<Figure, Error>
 }
 
 /// All figures.
-pub fn all(s: &Settings, progress: Progress) -> Result<Vec<Figure>, Error> {
+pub fn all(s: &Settings, progress: &Progress) -> Result<Vec<Figure>, Error> {
     let mut figs = particle(s.particle_steps, progress)?;
     figs.push(discrete_space(&s.space_x, &s.space_y, progress)?);
     figs.push(knife(None, s.knife_steps, progress)?);
@@ -574,7 +574,7 @@ fn order_panel(
 
 /// Certified local and global errors of DLA and MLA against h from the starts of the README
 /// table "Certified orders of DLA and MLA" (9.6; `report::orders`): the figure of the table.
-pub fn orders(s: &Settings, progress: Progress) -> Result<Figure, Error> {
+pub fn orders(s: &Settings, progress: &Progress) -> Result<Figure, Error> {
     let starts: Vec<orders::Start> = orders::starts().into_iter().take(s.orders_starts).collect();
     let t_end = orders::T_END;
     let rows: Vec<Orders> = orders::ladders(

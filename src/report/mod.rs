@@ -1,20 +1,15 @@
 //! Data for the figures and the stability table (`dalembert figures`, `dalembert stability`;
 //! spec/09-report.md). This module only computes: the command line renders the data
 //! (`src/cli/render.rs` writes SVG with plotters and CSV; `src/cli/stability.rs` prints the
-//! Markdown table or JSON). Long computations report progress through a callback.
+//! Markdown table or JSON). Long computations report progress through a [`Progress`].
 
 pub mod figures;
 pub mod orders;
 pub mod stability;
 
+pub use crate::progress::Progress;
 use crate::scalar::point;
 use inari::Interval;
-
-/// Called as `progress(what, done, total)` while a long computation runs.
-pub type Progress<'a> = &'a mut dyn FnMut(&str, usize, usize);
-
-/// A progress callback that ignores everything.
-pub fn no_progress(_: &str, _: usize, _: usize) {}
 
 /// A figure: one or more panels side by side, and the data as tables (one CSV file each).
 #[derive(Clone, Debug)]

@@ -67,12 +67,12 @@ pub fn ladders(
     local_h: &[f64],
     global_h: &[f64],
     t_end: f64,
-    progress: Progress,
+    progress: &Progress,
 ) -> Result<Vec<Orders>, Error> {
     let opts = FlowOptions::default();
     let mut out = Vec::with_capacity(starts.len());
     for (i, st) in starts.iter().enumerate() {
-        progress(&format!("orders: {}", st.scene), i, starts.len());
+        progress.count(&format!("orders: {}", st.scene), i, starts.len());
         let m = Model::new(&AnyScene::new(st.scene, &[])?)?;
         let run = |kind: SchemeKind, global: bool| {
             let s = Scheme::new(&m, kind);
@@ -88,6 +88,6 @@ pub fn ladders(
             global: SCHEMES.map(|k| run(k, true)),
         });
     }
-    progress("orders", starts.len(), starts.len());
+    progress.count("orders", starts.len(), starts.len());
     Ok(out)
 }

@@ -186,13 +186,13 @@ pub fn run(c: &Case) -> Result<Row, Error> {
 }
 
 /// Run all cases.
-pub fn table(progress: Progress) -> Result<Vec<Row>, Error> {
+pub fn table(progress: &Progress) -> Result<Vec<Row>, Error> {
     let cs = cases()?;
     let mut rows = Vec::with_capacity(cs.len());
     for (i, c) in cs.iter().enumerate() {
-        progress("stability cases", i, cs.len());
+        progress.count("stability cases", i, cs.len());
         rows.push(run(c)?);
     }
-    progress("stability cases", cs.len(), cs.len());
+    progress.count("stability cases", cs.len(), cs.len());
     Ok(rows)
 }
