@@ -181,6 +181,7 @@ impl<S: Scalar> Geometry<S> {
     }
 
     /// The acceleration of the multiplier form: M a = F_nh - w (spec eq. (4.7)).
+    #[cfg(any(test, feature = "internals"))]
     pub fn acceleration(&self, v: &[S]) -> Vec<S> {
         let f = self.nh_force(v);
         let w = self.bias(v);

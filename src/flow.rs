@@ -1,6 +1,6 @@
 //! The validated flow of a mechanical system (spec/05-enclosure.md, Theorem 5.1, eq.
 //! (5.16)): a `Model`'s reduced equations carried by the generic validated integrator of
-//! [`crate::enclosure`], from a state `(q, u)` given as exact f64, with the checks every
+//! the generic validated ODE layer (`enclosure`, spec chapter 5), from a state `(q, u)` given as exact f64, with the checks every
 //! query makes (dimensions, finite numbers, the scene at `q`, spec (3.17)).
 
 use crate::enclosure::linalg::IMat;

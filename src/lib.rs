@@ -9,11 +9,13 @@
 // Index loops mirror the formulas of spec/ (sums over i, j): kept on purpose.
 #![allow(clippy::needless_range_loop)]
 
+// The public surface: what a user of the library needs, and nothing else (spec/design.md,
+// "Public surface"). The scene language, the exact objects, the oracle, the float schemes and
+// the testing kit are public; the tapes, the dynamics' geometry and the generic validated ODE
+// layer are internal.
 #[cfg(feature = "cli")]
 pub mod cli;
-pub mod dynamics;
 pub mod elementary;
-pub mod enclosure;
 pub mod exact;
 pub mod flow;
 #[cfg(feature = "fuzzing")]
@@ -24,19 +26,41 @@ pub mod oracle;
 mod progress;
 #[cfg(feature = "cli")]
 pub mod protocol;
+#[cfg(feature = "cli")]
 pub mod report;
 pub mod scalar;
 pub mod scene;
 pub mod schemes;
-pub mod tape;
 pub mod testing;
+
+/// Internal layers, public only with the `internals` feature (the crate's own tests reach
+/// them; no stability is promised). Without it they are crate-private.
+macro_rules! internal {
+    ($($(#[$m:meta])* $name:ident;)*) => {$(
+        $(#[$m])*
+        #[cfg(feature = "internals")]
+        #[doc(hidden)]
+        pub mod $name;
+        $(#[$m])*
+        #[cfg(not(feature = "internals"))]
+        mod $name;
+    )*};
+}
+internal! {
+    /// The geometry of a scene at a configuration (spec chapters 3-4).
+    dynamics;
+    /// The generic validated ODE layer (spec chapter 5).
+    enclosure;
+    /// Recorded straight-line programs (spec eq. (3.16)).
+    tape;
+}
 
 mod error;
 mod readable;
 
-pub use enclosure::{FlowOptions, FlowStats};
+pub use enclosure::{Basis, FlowOptions, FlowStats};
 pub use error::{Error, Reason, Refusal};
 pub use flow::{flow, FlowEnclosure};
 pub use model::Model;
 pub use progress::Progress;
-pub use scene::AnyScene;
+pub use scene::{AnyScene, Scene};

@@ -3,7 +3,7 @@
 //! interval computations run the same program.
 
 use crate::dynamics::Geometry;
-pub use crate::enclosure::System;
+use crate::enclosure::System;
 use crate::scalar::{point, Scalar};
 use crate::scene::{Description, Mat, Scene};
 use crate::tape::{finite, Tape, Tracer};
@@ -21,30 +21,32 @@ pub fn field_with_action<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
     f
 }
 
-/// The reduced state x = (q, u): the dimension is n + (n - k).
+/// A scene compiled once into tapes (spec eq. (4.11)); the reduced state is x = (q, u), of
+/// dimension n + (n - k). Built by [`Model::new`], read through its methods.
 pub struct Model {
     /// The scene's data recorded on tapes: every later computation reads the scene here.
-    pub scene: CompiledScene,
+    pub(crate) scene: CompiledScene,
     /// Number of coordinates n.
-    pub n: usize,
+    pub(crate) n: usize,
     /// Number of constraints k.
-    pub k: usize,
+    pub(crate) k: usize,
     /// x' = F(x), x = (q, u) (spec eq. (4.4)), and its variational equation.
-    pub dynamics: System,
+    pub(crate) dynamics: System,
     /// The same with the action: (q, u, l)' = (F(q, u), L(q, E^T u)) (spec eq. (6.8)).
-    pub with_action: System,
+    pub(crate) with_action: System,
     /// x -> v = E(q)^T u (spec eq. (4.2)).
-    pub velocity: Tape,
+    pub(crate) velocity: Tape,
     /// x -> (v, Dv/Dx) for the centred form (spec eq. (5.12)).
-    pub velocity_jac: Tape,
+    pub(crate) velocity_jac: Tape,
     /// q -> mu(q), k x n row-major (spec eq. (3.1)).
-    pub constraints: Tape,
+    pub(crate) constraints: Tape,
     /// (q, v) -> p_a = <M(q) v, e_a(q)> (spec eq. (4.8)).
-    pub momentum_d: Tape,
+    pub(crate) momentum_d: Tape,
     /// (q, v) -> E_L(q, v) (spec eq. (4.9)).
-    pub energy: Tape,
+    pub(crate) energy: Tape,
     /// (q, v) -> F_nh(q, v) (spec eq. (4.6)).
-    pub nh_force: Tape,
+    #[cfg(feature = "internals")]
+    pub(crate) nh_force: Tape,
 }
 
 /// Largest number of coordinates a scene may have.
@@ -375,6 +377,70 @@ pub fn reduced_field<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
 }
 
 impl Model {
+    /// The number of coordinates n.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// The number of constraints k.
+    pub fn k(&self) -> usize {
+        self.k
+    }
+
+    /// The scene as compiled (a [`Scene`] itself: its constraints, mass, basis at any point,
+    /// over any scalar).
+    pub fn scene(&self) -> &CompiledScene {
+        &self.scene
+    }
+
+    /// The tape of x' = F(x) and its variational equation (internals feature).
+    #[cfg(feature = "internals")]
+    pub fn dynamics(&self) -> &System {
+        &self.dynamics
+    }
+
+    /// The tape of the field with the action appended (spec eq. (6.8)) (internals feature).
+    #[cfg(feature = "internals")]
+    pub fn with_action(&self) -> &System {
+        &self.with_action
+    }
+
+    /// The tape of x -> v = E(q)^T u (internals feature).
+    #[cfg(feature = "internals")]
+    pub fn velocity(&self) -> &crate::tape::Tape {
+        &self.velocity
+    }
+
+    /// The tape of x -> (v, Dv/Dx) (internals feature).
+    #[cfg(feature = "internals")]
+    pub fn velocity_jac(&self) -> &crate::tape::Tape {
+        &self.velocity_jac
+    }
+
+    /// The tape of q -> mu(q) (internals feature).
+    #[cfg(feature = "internals")]
+    pub fn constraints(&self) -> &crate::tape::Tape {
+        &self.constraints
+    }
+
+    /// The tape of (q, v) -> p_a (internals feature).
+    #[cfg(feature = "internals")]
+    pub fn momentum_d(&self) -> &crate::tape::Tape {
+        &self.momentum_d
+    }
+
+    /// The tape of (q, v) -> E_L(q, v) (internals feature).
+    #[cfg(feature = "internals")]
+    pub fn energy(&self) -> &crate::tape::Tape {
+        &self.energy
+    }
+
+    /// The tape of (q, v) -> F_nh(q, v) (internals feature).
+    #[cfg(feature = "internals")]
+    pub fn nh_force(&self) -> &crate::tape::Tape {
+        &self.nh_force
+    }
+
     /// Compile any scene (spec eq. (4.11)): record its data and check their structure
     /// ([`CompiledScene::compile`]), then record the dynamics and the derived maps on tapes.
     pub fn new<Sc: Scene + ?Sized>(scene: &Sc) -> Result<Model, Error> {
@@ -396,6 +462,7 @@ impl Model {
         let energy = Tape::record(2 * n, |x| {
             vec![crate::dynamics::energy(s, &x[..n], &x[n..])]
         });
+        #[cfg(feature = "internals")]
         let nh_force = Tape::record(2 * n, |x| Geometry::at(s, &x[..n]).nh_force(&x[n..]));
         Ok(Model {
             scene: s.clone(),
@@ -408,6 +475,7 @@ impl Model {
             constraints,
             momentum_d,
             energy,
+            #[cfg(feature = "internals")]
             nh_force,
         })
     }

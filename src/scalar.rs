@@ -3,7 +3,7 @@
 //! Instances: `f64` (fast float schemes), `inari::Interval` (rigorous point evaluation; its
 //! elementary functions are those of [`crate::elementary`], spec (1.3)),
 //! [`Dual`] (forward-mode derivatives in several directions, nestable) and
-//! [`crate::tape::Tracer`] (records the computation once so that it can be replayed over
+//! a tracer (`tape::Tracer`) (records the computation once so that it can be replayed over
 //! Taylor series of intervals).
 //!
 //! Every constant enters through [`Scalar::cst`], which takes an exact `f64`: the interval

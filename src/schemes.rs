@@ -3,7 +3,7 @@
 //! `S: Scalar`, recorded as tapes with their Jacobians (forward-mode duals), and replayed
 //! over f64 inside a damped Newton solver with a typed result.
 
-pub use crate::newton;
+use crate::newton;
 
 use crate::dynamics::{lagrangian, solve_spd, Geometry};
 use crate::model::Model;

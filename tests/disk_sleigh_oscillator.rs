@@ -249,7 +249,7 @@ fn rolling_disk_multipliers_solve_a_2x2_system_soundly() {
         assert_eq!(lam.len(), 2);
         // F_nh through the recorded tape, over the same box
         let qv: Vec<Interval> = qb.iter().chain(&v).copied().collect();
-        let f = mdl.nh_force.eval_checked(&qv).expect("F_nh enclosure");
+        let f = mdl.nh_force().eval_checked(&qv).expect("F_nh enclosure");
         for (dq, du) in [
             (-1.0, -1.0),
             (1.0, 1.0),
@@ -458,9 +458,9 @@ fn sleigh_flow_encloses_the_closed_form_and_the_energy() {
 /// E = 1/2 v^T M(q) v + V(q) over boxes, v = E(q)^T u, by the model's tapes.
 fn sleigh_energy(m: &Model, q: &[Interval], u: &[Interval]) -> Interval {
     let x: Vec<Interval> = q.iter().chain(u).copied().collect();
-    let v = m.velocity.eval_checked(&x).unwrap();
+    let v = m.velocity().eval_checked(&x).unwrap();
     let qv: Vec<Interval> = q.iter().chain(&v).copied().collect();
-    m.energy.eval_checked(&qv).unwrap()[0]
+    m.energy().eval_checked(&qv).unwrap()[0]
 }
 
 /// Asymptotic alignment: omega -> 0 and v -> sqrt(2E/m), proved at t = 50 from the
@@ -615,7 +615,7 @@ fn contact_oscillator_invariants_are_certified() {
             );
         }
         let qv: Vec<Interval> = e.q.iter().chain(&e.v).copied().collect();
-        let et = m.energy.eval_checked(&qv).unwrap()[0];
+        let et = m.energy().eval_checked(&qv).unwrap()[0];
         meet(et, i0[0], &format!("energy tape\n{ctx}"));
         // the non-reversible variant moves the same way
         let en = run(&nr, &q, &u, t).unwrap();
@@ -1037,7 +1037,7 @@ fn scenes_json_describes_every_scene() {
         let m = dalembert::AnyScene::new(name, &params).unwrap();
         assert_eq!(m, dalembert::AnyScene::new(name, &[]).unwrap());
         let model = Model::new(&m).unwrap();
-        assert_eq!((model.n, model.k), (n, k), "{name}");
+        assert_eq!((model.n(), model.k()), (n, k), "{name}");
     }
     assert_eq!(list[3]["k"], 2);
     // the plain-text form lists the same scenes

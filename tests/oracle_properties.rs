@@ -91,10 +91,10 @@
 mod exact_common;
 
 use dalembert::exact::{self, ExactStep};
+use dalembert::newton::{self, NewtonOutcome};
 use dalembert::oracle::{check_trajectory, CheckOptions, Verdict};
 use dalembert::scalar::{point, Dual, Scalar};
 use dalembert::scene::{Knife, Particle, Scene};
-use dalembert::schemes::newton::{self, NewtonOutcome};
 use dalembert::schemes::{
     discrete_constraint, discrete_force, ld_gradients, step_residual, NewtonOptions, Scheme,
     SchemeKind,

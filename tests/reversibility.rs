@@ -56,9 +56,9 @@ fn round_trip(name: &str, q: &[f64], u: &[f64], t: f64) -> f64 {
     let m = model(name);
     let x0: Vec<f64> = q.iter().chain(u).copied().collect();
     let opts = FlowOptions::default();
-    let (fwd, _) = flow_set(&m.dynamics, LohnerSet::point(&x0), t, &opts).unwrap();
-    let (back, _) = flow_set(&m.dynamics, reverse(&fwd, m.n), t, &opts).unwrap();
-    let hull = reverse(&back, m.n).hull();
+    let (fwd, _) = flow_set(m.dynamics(), LohnerSet::point(&x0), t, &opts).unwrap();
+    let (back, _) = flow_set(m.dynamics(), reverse(&fwd, m.n()), t, &opts).unwrap();
+    let hull = reverse(&back, m.n()).hull();
     for (i, (x, v)) in hull.iter().zip(&x0).enumerate() {
         assert!(
             x.contains(*v),

@@ -74,20 +74,20 @@ fn the_particle_as_a_file_is_the_built_in_particle() {
     let file = toml(PARTICLE);
     let a = Model::new(&file).unwrap();
     let b = Model::new(&Particle).unwrap();
-    assert_eq!((a.n, a.k), (b.n, b.k));
+    assert_eq!((a.n(), a.k()), (b.n(), b.k()));
     assert_eq!(a.name(), "particle");
     let mut rng = SplitMix64(0x0005_CE7E_F11E);
     for _ in 0..200 {
         let x: Vec<f64> = (0..a.state_dim()).map(|_| rng.uniform(-3.0, 3.0)).collect();
-        let qv: Vec<f64> = (0..2 * a.n).map(|_| rng.uniform(-3.0, 3.0)).collect();
-        let q = &qv[..a.n];
+        let qv: Vec<f64> = (0..2 * a.n()).map(|_| rng.uniform(-3.0, 3.0)).collect();
+        let q = &qv[..a.n()];
         for (ta, tb, input, what) in [
-            (&a.dynamics.field, &b.dynamics.field, &x[..], "field"),
-            (&a.velocity, &b.velocity, &x[..], "velocity"),
-            (&a.constraints, &b.constraints, q, "constraints"),
-            (&a.energy, &b.energy, &qv[..], "energy"),
-            (&a.momentum_d, &b.momentum_d, &qv[..], "momentum"),
-            (&a.nh_force, &b.nh_force, &qv[..], "nh force"),
+            (&a.dynamics().field, &b.dynamics().field, &x[..], "field"),
+            (a.velocity(), b.velocity(), &x[..], "velocity"),
+            (a.constraints(), b.constraints(), q, "constraints"),
+            (a.energy(), b.energy(), &qv[..], "energy"),
+            (a.momentum_d(), b.momentum_d(), &qv[..], "momentum"),
+            (a.nh_force(), b.nh_force(), &qv[..], "nh force"),
         ] {
             assert_close(&ta.eval(input), &tb.eval(input), what);
             // point intervals and small boxes
@@ -129,7 +129,7 @@ fn the_knife_with_free_x_phi_has_the_basis_1_tan_phi_0_and_0_0_1() {
         assert_eq!(e[1], vec![0.0, 0.0, 1.0]);
         // in intervals: the enclosure of tan(phi) from inari meets the derived entry
         let qi: Vec<Interval> = q.iter().map(|v| point(*v)).collect();
-        let ei = model.scene.basis(&qi);
+        let ei = model.scene().basis(&qi);
         let tan = qi[2].tan();
         assert!(!ei[0][1].intersection(tan).is_empty());
         assert!(ei[0][0] == point(1.0) && ei[0][2] == point(0.0));
@@ -608,23 +608,23 @@ fn every_example_compiles_and_its_flow_conserves_energy() {
         assert!(dalembert::scene::scene_names()
             .iter()
             .all(|s| *s != f.name()));
-        two_constraints |= model.k >= 2;
-        let q0: Vec<f64> = (0..model.n).map(|i| 0.1 + 0.2 * i as f64).collect();
+        two_constraints |= model.k() >= 2;
+        let q0: Vec<f64> = (0..model.n()).map(|i| 0.1 + 0.2 * i as f64).collect();
         let q1: Vec<f64> = q0.iter().map(|x| x + 0.4).collect();
         varying_mass |= f.mass(&q0) != f.mass(&q1);
         let qi: Vec<Interval> = q0.iter().map(|x| point(*x)).collect();
         model
             .check_at(&qi)
             .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-        let u0: Vec<f64> = (0..model.n - model.k)
+        let u0: Vec<f64> = (0..model.n() - model.k())
             .map(|a| 0.5 - 0.3 * a as f64)
             .collect();
         let fl = dalembert::flow(&model, &q0, &u0, 0.5, &FlowOptions::default())
             .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         let x0: Vec<Interval> = q0.iter().chain(&u0).map(|x| point(*x)).collect();
-        let v0 = model.velocity.eval(&x0);
-        let e0 = model.energy.eval(&[qi.clone(), v0].concat())[0];
-        let e1 = model.energy.eval(&[fl.q.clone(), fl.v.clone()].concat())[0];
+        let v0 = model.velocity().eval(&x0);
+        let e0 = model.energy().eval(&[qi.clone(), v0].concat())[0];
+        let e1 = model.energy().eval(&[fl.q.clone(), fl.v.clone()].concat())[0];
         assert!(
             !e0.intersection(e1).is_empty() && e1.wid() < 1e-6,
             "{}: energy {e0:?} -> {e1:?}",

@@ -350,7 +350,7 @@ fn projection_solves_its_affine_equation() {
             ];
             let q1: Vec<f64> = q0.iter().map(|x| x + h * g.range(-2.0, 2.0)).collect();
             let qm: Vec<f64> = (0..3).map(|i| (q0[i] + q1[i]) / 2.0).collect();
-            let (mu_mid, mu1) = (m.scene.constraints(&qm), m.scene.constraints(&q1));
+            let (mu_mid, mu1) = (m.scene().constraints(&qm), m.scene().constraints(&q1));
             let (a, b) = (&mu_mid[0], &mu1[0]);
             let slope: f64 = (0..3).map(|i| a[i] * b[i]).sum();
             let c0: f64 = (0..3).map(|i| a[i] * (q1[i] - q0[i])).sum();
@@ -671,9 +671,9 @@ fn residual_f64_and_enclosure(
     qp: &[f64],
     h: f64,
 ) -> (Vec<f64>, Vec<Interval>) {
-    let r = step_residual::<_, f64>(&m.scene, kind, qm, qk, qp, &h);
+    let r = step_residual::<_, f64>(m.scene(), kind, qm, qk, qp, &h);
     let ri = step_residual::<_, Interval>(
-        &m.scene,
+        m.scene(),
         kind,
         &boxed(qm),
         &boxed(qk),
@@ -696,7 +696,7 @@ fn residual_jacobian_norm(
     let n = qp.len();
     let vars: Vec<Dual<f64>> = (0..n).map(|i| Dual::var(qp[i], i, n)).collect();
     let hd = Dual::new(h, vec![]);
-    let r = step_residual(&m.scene, kind, &c(qm), &c(qk), &vars, &hd);
+    let r = step_residual(m.scene(), kind, &c(qm), &c(qk), &vars, &hd);
     r.iter()
         .map(|ri| (0..n).map(|j| ri.der(j).abs()).sum::<f64>())
         .fold(0.0, f64::max)
@@ -704,8 +704,8 @@ fn residual_jacobian_norm(
 
 /// The projection's constraint residual mu(mid)(q1' - q0), over f64 and intervals.
 fn constraint_f64_and_enclosure(m: &Model, q0: &[f64], q1: &[f64]) -> (Vec<f64>, Vec<Interval>) {
-    let r = discrete_constraint::<_, f64>(&m.scene, q0, q1);
-    let ri = discrete_constraint::<_, Interval>(&m.scene, &boxed(q0), &boxed(q1));
+    let r = discrete_constraint::<_, f64>(m.scene(), q0, q1);
+    let ri = discrete_constraint::<_, Interval>(m.scene(), &boxed(q0), &boxed(q1));
     (r, ri)
 }
 
@@ -1077,7 +1077,7 @@ fn check_energy(
     energy: f64,
     tally: &mut Tally,
 ) -> Result<(), TestCaseError> {
-    let hi = hamiltonian_d::<_, Interval>(&m.scene, &boxed(q), &boxed(p));
+    let hi = hamiltonian_d::<_, Interval>(m.scene(), &boxed(q), &boxed(p));
     prop_assert!(!energy.is_nan(), "{ctx}: NaN energy at q={q:?} p={p:?}");
     if energy.is_finite() {
         prop_assert!(

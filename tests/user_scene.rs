@@ -72,11 +72,11 @@ fn overlaps(a: Interval, b: Interval) -> bool {
 fn the_derived_basis_is_the_hand_computed_one() {
     let m = model();
     let q = [0.3, -1.2, 0.7];
-    let e = m.scene.basis(&q);
+    let e = m.scene().basis(&q);
     assert_eq!(e[0][0], 1.0);
     assert!((e[0][1] - 0.7f64.tan()).abs() <= 2.0 * f64::EPSILON * 0.7f64.tan().abs());
     assert_eq!((e[0][2], e[1][0], e[1][1], e[1][2]), (0.0, 0.0, 0.0, 1.0));
-    assert_eq!((m.n, m.k), (3, 1));
+    assert_eq!((m.n(), m.k()), (3, 1));
 }
 
 #[test]

@@ -5,20 +5,8 @@ use super::control::*;
 use super::*;
 use nalgebra::DMatrix;
 
-/// A float Taylor integration of `x' = F(x)` and of its variational equation over time `t`:
-/// `(x(t), D x(t)/D x0)` approximately. Not rigorous: used only to choose points (the Newton
-/// guesses of the retraction); `None` on non-finite values or too many steps.
-pub fn float_flow_c1(
-    sys: &System,
-    x0: &[f64],
-    t: f64,
-    opts: &FlowOptions,
-) -> Option<(Vec<f64>, DMatrix<f64>)> {
-    let d = x0.len();
-    float_flow_var(&sys.field_var, x0, DMatrix::identity(d, d), t, opts).map(|(x, j, _)| (x, j))
-}
-
-/// As [`float_flow_c1`] for the derivatives with respect to the last `sys.tail()` components
+/// A float Taylor integration of `x' = F(x)` and of its variational equation over time `t`,
+/// for the derivatives with respect to the last `sys.tail()` components
 /// of `x0` only (`D x(t) / D x0[d - tail..]`, d x tail), also returning the number of Taylor
 /// steps taken (the work, for callers that bound their total work).
 pub fn float_flow_tail_counted(
@@ -33,7 +21,7 @@ pub fn float_flow_tail_counted(
 }
 
 /// A float Taylor integration of `x' = F(x)` alone over time `t` (the state at `t` and the
-/// number of steps taken); not rigorous, as [`float_flow_c1`].
+/// number of steps taken); not rigorous, as [`float_flow_tail_counted`].
 pub fn float_flow_counted(
     sys: &System,
     x0: &[f64],

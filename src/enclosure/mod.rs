@@ -9,7 +9,9 @@ mod set;
 mod step;
 mod system;
 
-pub use float::{float_flow_c1, float_flow_counted, float_flow_tail_counted};
+pub use float::{float_flow_counted, float_flow_tail_counted};
+// the marked subset is a field of the set (named here for the internals feature)
+#[allow(unused_imports)]
 pub use set::{LohnerSet, SubSet};
 pub use system::System;
 

@@ -39,7 +39,7 @@ pub type Mat<S> = Vec<Vec<S>>;
 /// The data of one nonholonomic system (spec eq. (3.1)); `q` has length `dim()`.
 ///
 /// Any type that implements it builds a [`crate::Model`]: the built-in scenes, scene files
-/// ([`SceneFile`]) and users' own types alike. Only [`Scene::name`], [`Scene::dim`] and
+/// (`SceneFile`) and users' own types alike. Only [`Scene::name`], [`Scene::dim`] and
 /// [`Scene::constraints`] are required; every other datum has its natural default (M = I,
 /// V = 0, A = 0, the basis of D derived from the constraints, spec eq. (3.15)). The data are
 /// written once over `S: Scalar` and must be analytic where they are evaluated (spec

@@ -162,7 +162,7 @@ pub fn exact_energy(m: &Model, q0: &[f64], q1: &[f64], h: f64) -> Interval {
     let b = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
     let r = dalembert::exact::retract(m, &b(q0), &b(q1), h, &FlowOptions::default()).unwrap();
     let x: Vec<Interval> = b(q0).into_iter().chain(r.v0).collect();
-    let e = m.energy.eval_checked(&x).unwrap()[0];
+    let e = m.energy().eval_checked(&x).unwrap()[0];
     assert!(e.wid() < 1e-12, "{e:?}");
     e
 }
