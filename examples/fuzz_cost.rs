@@ -43,13 +43,13 @@ fn main() {
                 }
                 let t = Instant::now();
                 let outcome = check(&data);
-                times.push((t.elapsed().as_secs_f64(), e.path()));
+                times.push((t.elapsed().as_secs_f64(), e.path(), format!("{outcome}")));
                 tally.add(outcome);
             }
         }
         times.sort_by(|a, b| a.0.total_cmp(&b.0));
         let total: f64 = times.iter().map(|t| t.0).sum();
-        let Some((max, slowest)) = times.last() else {
+        let Some((max, slowest, _)) = times.last() else {
             continue;
         };
         let tail: f64 = times[times.len() * 9 / 10..].iter().map(|t| t.0).sum();
@@ -63,5 +63,10 @@ fn main() {
             100.0 * tail / total,
             slowest.display()
         );
+        if std::env::var_os("FUZZ_COST_SLOWEST").is_some() {
+            for (t, path, outcome) in times.iter().rev().take(8) {
+                println!("  {:8.3} ms  {}  {outcome}", 1e3 * t, path.display());
+            }
+        }
     }
 }
