@@ -1,0 +1,439 @@
+//! Exact simplification of a recorded tape (spec eq. (2.13)): sums whose terms cancel as
+//! polynomials are replaced by what is left, so that an interval evaluation does not carry
+//! the cancelled terms' widths (the dependency effect).
+//!
+//! Every node built from `+ - *`, negation, scaling and constants has a normal form: a
+//! polynomial with f64 coefficients in *atoms* (inputs, pi, and the results of `/`, sin, cos,
+//! sqrt, exp, ln, atan, sinh, cosh, which stay as they are), with `sin(x)^2` rewritten as
+//! `1 - cos(x)^2`. Two expressions with the same normal form are the same real function.
+//! A sum or difference whose normal form is its operands' terms with some cancelled to 0 and
+//! no other coefficient changed is recorded as its normal form instead; every other node is
+//! recorded as it was (merging like terms without cancelling them is not done: it can turn
+//! exact differences into cancellations of large terms). This is sound because:
+//! - the normal form is computed exactly: a coefficient is kept only when its sum or product
+//!   is a single f64 (checked by outward-rounded interval arithmetic); otherwise, or when a
+//!   form would exceed [`MAX_TERMS`] terms, the node is left alone (and is an atom above);
+//! - the rewriting uses identities of real arithmetic only (`sin^2 + cos^2 = 1`, ring laws);
+//! - a partial atom (a quotient, square root or logarithm, or anything built on one) is never
+//!   cancelled away: a node whose normal form would lose one is left alone, so every domain
+//!   check of the original tape is still made (a tape never becomes defined where it was not).
+
+use super::{push, Op, Tracer};
+use crate::scalar::{point, Scalar};
+use std::collections::BTreeMap;
+
+#[cfg(test)]
+thread_local! {
+    /// Tests switch the simplification off to compare with the tapes as recorded.
+    pub(crate) static ENABLED: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+}
+
+/// The largest number of terms of a normal form that is carried.
+pub(super) const MAX_TERMS: usize = 24;
+
+/// A monomial: (atom, power) pairs sorted by atom; the empty monomial is 1.
+type Mono = Vec<(u32, u32)>;
+
+/// A polynomial in atoms: monomial -> nonzero coefficient.
+#[derive(Clone, Debug, PartialEq)]
+struct Poly(BTreeMap<Mono, f64>);
+
+fn exact(x: inari::Interval) -> Option<f64> {
+    (x.inf() == x.sup() && x.inf().is_finite()).then(|| x.inf())
+}
+
+impl Poly {
+    fn constant(c: f64) -> Poly {
+        let mut m = BTreeMap::new();
+        if c != 0.0 {
+            m.insert(Vec::new(), c);
+        }
+        Poly(m)
+    }
+    fn atom(a: u32) -> Poly {
+        Poly(BTreeMap::from([(vec![(a, 1)], 1.0)]))
+    }
+    fn terms(&self) -> usize {
+        self.0.len()
+    }
+    /// `self + s * other` (s = 1 or -1), exactly; `None` if a coefficient is not an f64.
+    fn add(&self, other: &Poly, s: f64) -> Option<Poly> {
+        let mut out = self.0.clone();
+        for (m, c) in &other.0 {
+            let e = out.entry(m.clone()).or_insert(0.0);
+            *e = exact(point(*e) + point(s * c))?;
+            if *e == 0.0 {
+                out.remove(m);
+            }
+        }
+        (out.len() <= MAX_TERMS).then_some(Poly(out))
+    }
+    /// `c * self`, exactly.
+    fn scale(&self, c: f64) -> Option<Poly> {
+        let mut out = BTreeMap::new();
+        for (m, x) in &self.0 {
+            let y = exact(point(*x) * point(c))?;
+            if y != 0.0 {
+                out.insert(m.clone(), y);
+            }
+        }
+        Some(Poly(out))
+    }
+    /// `self * other`, exactly, with `sin(x)^2 = 1 - cos(x)^2` applied.
+    fn mul(&self, other: &Poly, atoms: &mut Atoms) -> Option<Poly> {
+        let mut out = Poly(BTreeMap::new());
+        for (m1, c1) in &self.0 {
+            for (m2, c2) in &other.0 {
+                let c = exact(point(*c1) * point(*c2))?;
+                let term = atoms.reduce(mono_mul(m1, m2), c)?;
+                out = out.add(&term, 1.0)?;
+            }
+        }
+        Some(out)
+    }
+    /// Every partial atom of `self`.
+    fn partial_atoms(&self, atoms: &Atoms) -> Vec<u32> {
+        let mut v: Vec<u32> = self
+            .0
+            .keys()
+            .flatten()
+            .map(|(a, _)| *a)
+            .filter(|a| atoms.partial(*a))
+            .collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    }
+}
+
+fn mono_mul(a: &Mono, b: &Mono) -> Mono {
+    let mut m: BTreeMap<u32, u32> = a.iter().copied().collect();
+    for (x, p) in b {
+        *m.entry(*x).or_insert(0) += p;
+    }
+    m.into_iter().collect()
+}
+
+/// What is known of the nodes of the new recording: which are partial, which are sines
+/// and cosines of what.
+#[derive(Default)]
+struct Atoms {
+    partial: Vec<bool>,
+    sin_of: BTreeMap<u32, u32>,
+}
+
+impl Atoms {
+    fn partial(&self, a: u32) -> bool {
+        self.partial.get(a as usize).copied().unwrap_or(false)
+    }
+    fn note(&mut self, node: Tracer, partial: bool) {
+        let i = node.index() as usize;
+        if self.partial.len() <= i {
+            self.partial.resize(i + 1, false);
+        }
+        self.partial[i] |= partial;
+    }
+    /// `c m` with every `sin(x)^k`, k >= 2, rewritten as `sin(x)^(k-2) (1 - cos(x)^2)`.
+    fn reduce(&mut self, m: Mono, c: f64) -> Option<Poly> {
+        let Some(&(s, k)) = m.iter().find(|(a, k)| *k >= 2 && self.sin_of.contains_key(a))
+        else {
+            return Some(Poly(BTreeMap::from([(m, c)])));
+        };
+        let x = self.sin_of[&s];
+        let cos = push(Op::Cos(x));
+        self.note(cos, self.partial(x));
+        let rest: Mono = m
+            .iter()
+            .filter_map(|&(a, p)| {
+                if a == s {
+                    (k > 2).then_some((a, k - 2))
+                } else {
+                    Some((a, p))
+                }
+            })
+            .collect();
+        // c rest - c rest cos^2
+        let one = self.reduce(rest.clone(), c)?;
+        let two = self.reduce(mono_mul(&rest, &vec![(cos.index(), 2)]), c)?;
+        one.add(&two, -1.0)
+    }
+}
+
+/// Whether `sum` (of `x` and `y`) is `x` and `y` with some terms cancelled to 0 and no
+/// other coefficient changed: then the normal form drops work and width, and creates no
+/// new cancellation of large terms (merging `a q - 2 q` style terms would: `(q2 - q1) r -
+/// (q1 - q0) r` as `q2 r - 2 q1 r + q0 r` loses the exact differences).
+fn only_cancels(x: &Poly, y: &Poly, sum: &Poly) -> bool {
+    let common = x.0.keys().filter(|m| y.0.contains_key(*m)).count();
+    common > 0 && sum.terms() + 2 * common == x.terms() + y.terms()
+}
+
+/// Record `p` with the current recording's operations: a sum of monomials (in the order of
+/// the normal form), each the coefficient times its atoms' powers.
+fn emit(p: &Poly) -> Tracer {
+    let mut sum: Option<Tracer> = None;
+    for (m, c) in &p.0 {
+        let mut t: Option<Tracer> = None;
+        for &(a, k) in m {
+            for _ in 0..k {
+                let x = Tracer(a);
+                t = Some(t.map_or(x, |t| t * x));
+            }
+        }
+        let term = match t {
+            None => Tracer::cst(*c),
+            Some(t) if *c == 1.0 => t,
+            Some(t) if *c == -1.0 => -t,
+            Some(t) => Tracer::cst(*c) * t,
+        };
+        sum = Some(sum.map_or(term, |s| s + term));
+    }
+    sum.unwrap_or_else(|| Tracer::cst(0.0))
+}
+
+/// Re-record `ops` (a recorded tape's operations) into the current recording with the
+/// cancelling sums replaced by their normal forms; returns the new node of every old one.
+pub(super) fn rerecord(ops: &[Op]) -> Vec<Tracer> {
+    let mut atoms = Atoms::default();
+    let mut new: Vec<Tracer> = Vec::with_capacity(ops.len());
+    let mut forms: Vec<Option<Poly>> = Vec::with_capacity(ops.len());
+    for op in ops {
+        let t = |a: u32| new[a as usize];
+        let f = |a: u32| forms[a as usize].clone();
+        let (node, form) = match *op {
+            Op::Const(c) => (Tracer::cst(c), Some(Poly::constant(c))),
+            Op::Add(a, b) | Op::Sub(a, b) => {
+                let s = if matches!(op, Op::Add(..)) { 1.0 } else { -1.0 };
+                let plain = || {
+                    if s > 0.0 {
+                        t(a) + t(b)
+                    } else {
+                        t(a) - t(b)
+                    }
+                };
+                match (f(a), f(b)) {
+                    (Some(x), Some(y)) => match x.add(&y, s) {
+                        Some(sum) if only_cancels(&x, &y, &sum) => {
+                            let mut kept = x.partial_atoms(&atoms);
+                            kept.extend(y.partial_atoms(&atoms));
+                            let left = sum.partial_atoms(&atoms);
+                            if kept.iter().all(|a| left.contains(a)) {
+                                (emit(&sum), Some(sum))
+                            } else {
+                                // would lose a domain check: left alone, opaque above
+                                (plain(), None)
+                            }
+                        }
+                        sum => (plain(), sum),
+                    },
+                    _ => (plain(), None),
+                }
+            }
+            Op::Mul(a, b) => {
+                let form = f(a).zip(f(b)).and_then(|(x, y)| x.mul(&y, &mut atoms));
+                (t(a) * t(b), form)
+            }
+            Op::Div(a, b) => {
+                // a quotient by a nonzero constant is a scaling of the numerator's form
+                let by = f(b).and_then(|y| match y.0.len() {
+                    0 => None,
+                    1 => y.0.get(&Vec::new()).copied(),
+                    _ => None,
+                });
+                let form = by
+                    .and_then(|c| exact(point(1.0) / point(c)))
+                    .and_then(|r| f(a).and_then(|x| x.scale(r)));
+                (t(a) / t(b), form)
+            }
+            Op::Neg(a) => (-t(a), f(a).and_then(|x| x.scale(-1.0))),
+            Op::Scale(a, c) => (
+                super::push(Op::Scale(t(a).index(), c)),
+                f(a).and_then(|x| x.scale(c)),
+            ),
+            other => {
+                let node = push(super::remap(&other, &indices(&new)));
+                (node, None)
+            }
+        };
+        // an atom: partial if it is a quotient, root or logarithm or built on a partial node
+        let by_constant = matches!(*op, Op::Div(_, b) if matches!(forms[b as usize].as_ref().map(|y| y.0.len()), Some(1)) && forms[b as usize].as_ref().is_some_and(|y| y.0.contains_key(&Vec::new())));
+        let partial_op = matches!(op, Op::Sqrt(_) | Op::Ln(_)) || (matches!(op, Op::Div(..)) && !by_constant);
+        let on_partial = super::args(op)
+            .iter()
+            .any(|a| atoms.partial(new[*a as usize].index()));
+        atoms.note(node, partial_op || on_partial);
+        if let Op::Sin(x) = *op {
+            atoms.sin_of.insert(node.index(), new[x as usize].index());
+        }
+        let form = form.unwrap_or_else(|| Poly::atom(node.index()));
+        new.push(node);
+        forms.push(Some(form));
+    }
+    new
+}
+
+fn indices(new: &[Tracer]) -> Vec<u32> {
+    new.iter().map(|t| t.index()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Op, Tape, Tracer};
+    use crate::scalar::{iv, point, Scalar};
+    use inari::Interval;
+
+    fn arithmetic(t: &Tape) -> usize {
+        t.ops
+            .iter()
+            .filter(|o| !matches!(o, Op::Input(_) | Op::Const(_)))
+            .count()
+    }
+
+    /// The knife's reduced field as the generic dynamics records it (spec (4.4)): the
+    /// cancelling terms `-u1 u2 sin cos + u1 u2 sin cos` and the denominator
+    /// `cos^2 + sin^2` leave exactly `u1' = cos(phi) / 2`, as derived by hand.
+    #[test]
+    fn cancelling_terms_and_sin_squared_plus_cos_squared_go() {
+        let tape = Tape::record(3, |x| {
+            let (phi, u1, u2) = (x[0], x[1], x[2]);
+            let (s, c) = (phi.sin(), phi.cos());
+            let num = -(c * (u1 * (u2 * -s) + Tracer::cst(-0.5)) + s * (u1 * (u2 * c)));
+            vec![num / (c * c + s * s)]
+        });
+        // sin, cos (kept by the rewrite's cos), one scaling: cos(phi)/2
+        assert!(arithmetic(&tape) <= 3, "{:?}", tape.ops);
+        let want = |p: f64| 0.5 * p.cos();
+        for p in [-2.0, 0.3, 1.7] {
+            let y = tape.eval(&[point(p), point(0.9), point(-1.1)])[0];
+            assert!(y.contains(want(p)) && y.wid() < 1e-15, "{p}: {y:?}");
+        }
+        // over a box the width is that of cos alone, without the cancelled terms'
+        let b = [iv(0.2, 0.3), iv(-3.0, 3.0), iv(-3.0, 3.0)];
+        let y = tape.eval(&b)[0];
+        assert!(y.wid() < 0.5 * (0.3f64.cos() - 0.2f64.cos()).abs() + 1e-15, "{y:?}");
+    }
+
+    /// Sound on every input: the simplified tape and the same expression evaluated directly
+    /// (no tape, so no simplification) both enclose the real value, so they intersect, at
+    /// random points and boxes; the simplified one is never wider at a point.
+    #[test]
+    fn simplified_tapes_enclose_the_same_function() {
+        let f = |x: &[Interval]| -> Vec<Interval> {
+            let (a, b) = (x[0], x[1]);
+            let (s, c) = (a.sin(), a.cos());
+            vec![
+                (a + b) * (a - b) - a * a + b * b + c * c + s * s,
+                (s * s * s + s * c * c) * b - s * b,
+                a * Interval::cst(0.1) * Interval::cst(0.1) - a * Interval::cst(0.01),
+                b * s * s + b * c * c,
+            ]
+        };
+        let tape = Tape::record(2, |x| {
+            let (a, b) = (x[0], x[1]);
+            let (s, c) = (a.sin(), a.cos());
+            vec![
+                (a + b) * (a - b) - a * a + b * b + c * c + s * s,
+                (s * s * s + s * c * c) * b - s * b,
+                a * Tracer::cst(0.1) * Tracer::cst(0.1) - a * Tracer::cst(0.01),
+                b * s * s + b * c * c,
+            ]
+        });
+        let mut seed = 0x5eed_u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 8.0 - 4.0
+        };
+        for _ in 0..200 {
+            let (a, b, r) = (next(), next(), next().abs() * 1e-3);
+            for x in [[point(a), point(b)], [iv(a - r, a + r), iv(b - r, b + r)]] {
+                let (got, direct) = (tape.eval(&x), f(&x));
+                for (g, d) in got.iter().zip(&direct) {
+                    assert!(!g.intersection(*d).is_empty(), "{x:?}: {g:?} vs {d:?}");
+                    if r == 0.0 {
+                        assert!(g.wid() <= d.wid(), "{x:?}: {g:?} vs {d:?}");
+                    }
+                }
+            }
+        }
+        // the first output is 1 exactly, the second 0 and the fourth b
+        let y = tape.eval(&[iv(-1.0, 2.0), iv(3.0, 4.0)]);
+        assert_eq!((y[0].inf(), y[0].sup()), (1.0, 1.0));
+        assert_eq!((y[1].inf(), y[1].sup()), (0.0, 0.0));
+        assert_eq!((y[3].inf(), y[3].sup()), (3.0, 4.0));
+    }
+
+    /// A quotient never cancels away: `a / b - a / b` stays undefined at b = 0, and a
+    /// coefficient that is not an f64 (0.1 * 0.1) leaves its node as recorded.
+    #[test]
+    fn domains_and_inexact_coefficients_are_kept() {
+        let tape = Tape::record(2, |x| vec![x[0] / x[1] - x[0] / x[1]]);
+        assert!(tape.eval_checked(&[point(1.0), point(0.0)]).is_none());
+        assert!(tape.ops.iter().any(|o| matches!(o, Op::Div(..))));
+        let tape = Tape::record(1, |x| {
+            vec![x[0] * Tracer::cst(0.1) * Tracer::cst(0.1) - x[0] * Tracer::cst(0.01)]
+        });
+        assert!(tape.ops.iter().any(|o| matches!(o, Op::Sub(..))), "{:?}", tape.ops);
+    }
+
+    /// Every tape of every built-in scene's model, simplified or as recorded, encloses the
+    /// same values: at random points and small boxes the two interval evaluations intersect
+    /// (both contain the exact value), and at points the simplified ones are at most 4 times
+    /// as wide (an expanded remainder can round a little more than the factored form).
+    #[test]
+    fn every_scene_tape_encloses_what_it_did_before_simplification() {
+        use crate::model::Model;
+        use crate::scene::{AnyScene, SCENES};
+        let build = |on: bool, name: &str| {
+            super::ENABLED.with(|e| e.set(on));
+            let m = Model::new(&AnyScene::new(name, &[]).unwrap()).unwrap();
+            super::ENABLED.with(|e| e.set(true));
+            m
+        };
+        let tapes = |m: &Model| -> Vec<Tape> {
+            vec![
+                m.dynamics.field.clone(),
+                m.dynamics.field_var.clone(),
+                m.dynamics.field_var_tail.clone(),
+                m.with_action.field.clone(),
+                m.velocity.clone(),
+                m.velocity_jac.clone(),
+                m.constraints.clone(),
+                m.momentum_d.clone(),
+                m.energy.clone(),
+            ]
+        };
+        let mut seed = 0xfeed_u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 4.0 - 2.0
+        };
+        let mut compared = 0;
+        for sc in SCENES {
+            let (a, b) = (build(true, sc.name), build(false, sc.name));
+            for (ta, tb) in tapes(&a).iter().zip(&tapes(&b)) {
+                assert!(ta.len() <= tb.len(), "{}: {} > {}", sc.name, ta.len(), tb.len());
+                for _ in 0..40 {
+                    let r = next().abs() * 1e-6;
+                    let x: Vec<f64> = (0..ta.n_inputs()).map(|_| next()).collect();
+                    let pts: Vec<Interval> = x.iter().map(|v| point(*v)).collect();
+                    let boxes: Vec<Interval> = x.iter().map(|v| iv(v - r, v + r)).collect();
+                    for input in [&pts, &boxes] {
+                        let (Some(ya), Some(yb)) = (ta.eval_checked(input), tb.eval_checked(input))
+                        else {
+                            continue;
+                        };
+                        for (u, v) in ya.iter().zip(&yb) {
+                            assert!(!u.intersection(*v).is_empty(), "{}: {u:?} vs {v:?}", sc.name);
+                            if input == &pts {
+                                let slack = 8.0 * f64::EPSILON * v.mag().max(1e-300);
+                                assert!(u.wid() <= 4.0 * v.wid() + slack, "{}: {u:?} vs {v:?}", sc.name);
+                            }
+                            compared += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(compared > 10_000, "{compared}");
+    }
+}
