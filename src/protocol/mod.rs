@@ -1,20 +1,24 @@
 //! Queries and answers (contract.md, commands 1-5): the one place where a request is
-//! validated and turned into a library call. The command line and the batch protocol both
-//! go through [`Query`] and [`Session::answer`]. No printing here. By subject: this file
-//! holds the queries, the session and the budgets; `parse.rs` the strict readers of flags,
-//! JSON and batch lines; `answer.rs` the answers and their renderings.
+//! validated and turned into a library call, and the one place where an answer is
+//! rendered. The command line and the batch protocol both go through [`Query`] and
+//! [`Session::answer`], which returns a typed [`Answer`]; its JSON, text and CSV forms are
+//! rendered in `answer.rs` and, row by row for the streaming commands, `rows.rs`. No
+//! printing here. By subject: this file holds the queries, the session and the budgets;
+//! `parse.rs` the strict readers of flags, JSON and batch lines.
 
 mod answer;
 mod parse;
+mod rows;
 
 pub use answer::{
-    description, error_object, interval, intervals, scenes, stats, trajectory, verdict,
+    description, error_object, interval, intervals, scenes, stats, trajectory, verdict, Answer,
 };
 pub use parse::{
     check_keys, deadline_from_json, json_number, json_numbers, parse_json, parse_num, parse_order,
     parse_param, parse_seconds, parse_steps, parse_vec, query_keys, scene_spec_from_json, Line,
     LineReader, MAX_LINE_BYTES,
 };
+pub use rows::{CheckRows, IntegrateRows};
 
 use crate::exact;
 pub use crate::oracle::{Steps, Tolerances};
@@ -204,15 +208,16 @@ impl Session {
         Ok(sc)
     }
 
-    /// Answer a query with the JSON object its command prints with `--json`, within the
-    /// session's budget ([`Session::deadline`], else [`default_deadline`]).
-    pub fn answer(&mut self, q: &Query) -> Result<Value, Error> {
+    /// Answer a query, within the session's budget ([`Session::deadline`], else
+    /// [`default_deadline`]). [`Answer::to_json`] is the object its command prints with
+    /// `--json`, [`Answer::to_text`] what it prints without.
+    pub fn answer(&mut self, q: &Query) -> Result<Answer, Error> {
         self.answer_within(q, None)
     }
 
     /// As [`Session::answer`], within `seconds` when given (a query's own `deadline`).
     /// Past the budget: `Error::over_budget` (exit 3), never a partial answer.
-    pub fn answer_within(&mut self, q: &Query, seconds: Option<f64>) -> Result<Value, Error> {
+    pub fn answer_within(&mut self, q: &Query, seconds: Option<f64>) -> Result<Answer, Error> {
         let budget = seconds.or(self.deadline).or_else(|| default_deadline(q));
         let mut opts = self.flow.clone();
         opts.deadline = earlier(opts.deadline, budget.and_then(deadline_in));
@@ -238,67 +243,39 @@ impl Session {
                                 "`jacobian` is given only at one time `t`, not with `times`",
                             ));
                         }
-                        let at = crate::flow::flow_at(&model, q, u, times, &o)?;
-                        let total = at.last().map(|e| stats(&e.stats));
-                        let at: Vec<Value> = times
-                            .iter()
-                            .zip(&at)
-                            .map(|(t, e)| {
-                                json!({
-                                    "t": t,
-                                    "q": intervals(&e.q),
-                                    "v": intervals(&e.v),
-                                    "u": intervals(&e.u),
-                                })
-                            })
-                            .collect();
-                        return Ok(json!({"at": at, "stats": total}));
+                        let enclosures = crate::flow::flow_at(&model, q, u, times, &o)?;
+                        return Ok(Answer::FlowAt {
+                            times: times.clone(),
+                            enclosures,
+                        });
                     }
                 };
-                let (e, jac) = if *jacobian {
+                let (enclosure, jacobian) = if *jacobian {
                     let (e, j) = crate::flow::flow_c1(&model, q, u, t, &o)?;
                     (e, Some(j))
                 } else {
                     (crate::flow(&model, q, u, t, &o)?, None)
                 };
-                let mut a = json!({
-                    "q": intervals(&e.q),
-                    "v": intervals(&e.v),
-                    "u": intervals(&e.u),
-                    "stats": stats(&e.stats),
-                });
-                if let Some(j) = jac {
-                    a["jacobian"] = Value::Array(j.iter().map(|row| intervals(row)).collect());
-                }
-                Ok(a)
+                Ok(Answer::Flow {
+                    enclosure,
+                    jacobian,
+                })
             }
             Query::Retract(p) => {
                 let model = self.model(&p.scene)?;
                 let r = exact::retract(&model, &points(&p.q0), &points(&p.q1), p.h, &opts)?;
-                Ok(json!({
-                    "u0": intervals(&r.u0),
-                    "v0": intervals(&r.v0),
-                    "v1": intervals(&r.v1),
-                    "defect": intervals(&r.s),
-                    "member": if r.possibly_member() { "possible" } else { "no" },
-                    "q1": intervals(&r.q1),
-                }))
+                Ok(Answer::Retract(r))
             }
             Query::Step(p) => {
                 let model = self.model(&p.scene)?;
                 let s = exact::step(&model, &points(&p.q0), &points(&p.q1), p.h, &opts)?;
-                Ok(json!({
-                    "q1": intervals(&s.q1),
-                    "q2": intervals(&s.q2),
-                    "p_minus": intervals(&s.p_minus),
-                    "p_plus": intervals(&s.p_plus),
-                }))
+                Ok(Answer::Step(s))
             }
             Query::Lagrangian(p) => {
                 let model = self.model(&p.scene)?;
-                let (r, l) =
+                let (retraction, l) =
                     exact::discrete_lagrangian(&model, &points(&p.q0), &points(&p.q1), p.h, &opts)?;
-                Ok(json!({"l": interval(l), "defect": intervals(&r.s)}))
+                Ok(Answer::Lagrangian { l, retraction })
             }
             Query::Check {
                 scene,
@@ -318,9 +295,13 @@ impl Session {
                     pairs: *pairs,
                     flow: opts,
                 };
-                let v = crate::oracle::check_steps(&model, steps, q, &o)?;
-                let passed = tols.decide(v.max_distance, v.max_defect)?;
-                Ok(verdict(&v, passed))
+                let verdict = crate::oracle::check_steps(&model, steps, q, &o)?;
+                let passed = tols.decide(verdict.max_distance, verdict.max_defect)?;
+                Ok(Answer::Check {
+                    verdict,
+                    tolerances: tols,
+                    passed,
+                })
             }
             Query::Integrate {
                 pair,
@@ -362,7 +343,7 @@ impl Session {
                         Ok(())
                     },
                 )?;
-                Ok(trajectory(&tr))
+                Ok(Answer::Integrate(tr))
             }
         }
     }
@@ -454,7 +435,7 @@ impl Session {
                         let r = Query::from_json(&v).and_then(|q| {
                             let a = self.answer_within(&q, deadline_from_json(&v)?)?;
                             answered = Some(q);
-                            Ok(a)
+                            Ok(a.to_json())
                         });
                         (id, r)
                     }
