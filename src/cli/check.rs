@@ -5,10 +5,9 @@ use super::progress::Bar;
 use super::spool::Spool;
 use super::SceneArgs;
 use crate::oracle::{check_each, check_each_at, CheckOptions, RowVerdict};
-use crate::protocol::{self, Session, STEP_DEADLINE};
+use crate::protocol::{self, CheckRows, Session, STEP_DEADLINE};
 use crate::scene::Scene;
 use crate::Error;
-use inari::Interval;
 use serde_json::Value;
 use std::fs::File;
 use std::io::{BufRead, BufReader, Write};
@@ -57,25 +56,20 @@ pub fn run(
     };
     opts.flow.deadline = protocol::deadline_in(budget);
     let mut bar = Bar::new();
-    // text: one spool; JSON: distance, defect and energy_error each in its own
-    let mut spools: Vec<Spool> = (0..if as_json { 3 } else { 1 })
+    let table = CheckRows::new(as_json);
+    // one spool per part of the answer (text: the table; JSON: distance, defect, energy_error)
+    let mut spools: Vec<Spool> = (0..table.parts())
         .map(|i| Spool::new(&format!("check{i}")))
         .collect::<Result<_, _>>()?;
-    if !as_json {
-        writeln!(
-            spools[0].out,
-            "{:>6} {:>24} {:>24} {:>24}",
-            "k", "|q_k - q^e_k| <=", "defect(q_k,q_k+1) in", "energy error in"
-        )
-        .map_err(io)?;
-    }
     let sink = |row: RowVerdict| {
         bar.update("check", (row.k + 1) as f64, count as f64);
-        if as_json {
-            json_row(&mut spools, &row).map_err(io)
-        } else {
-            text_row(&mut spools[0].out, &row).map_err(io)
-        }
+        let pair = row
+            .pair
+            .as_ref()
+            .map(|p| (p.defect.as_slice(), p.energy_error));
+        table
+            .row(&mut spools, row.k, row.distance, pair)
+            .map_err(io)
     };
     let summary = match h {
         Some(h) => check_each(&model, h, rows.map(|r| r.map(|(_, q)| q)), &opts, sink)?,
@@ -94,82 +88,18 @@ pub fn run(
     let passed = tols.decide(summary.max_distance, summary.max_defect)?;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
-    let w = &mut out;
-    let done = (|| -> std::io::Result<()> {
-        if as_json {
-            // the keys in the order of the batch answer (protocol::verdict)
-            w.write_all(b"{\"defect\":[")?;
-            spools[1].copy_to(w)?;
-            w.write_all(b"],\"distance\":[")?;
-            spools[0].copy_to(w)?;
-            w.write_all(b"],\"energy_error\":[")?;
-            spools[2].copy_to(w)?;
-            w.write_all(b"]")?;
-            if let Some(m) = summary.max_defect {
-                write!(w, ",\"max_defect\":{}", protocol::interval(m))?;
-            }
-            write!(
-                w,
-                ",\"max_distance\":{},\"passed\":{passed}}}",
-                protocol::interval(summary.max_distance)
-            )?;
-        } else {
-            spools[0].copy_to(w)?;
-            write!(w, "max distance <= {:.3e}", summary.max_distance.sup())?;
-            if let Some(m) = summary.max_defect {
-                write!(w, "; max defect <= {:.3e}", m.sup())?;
-            }
-            let word = if passed { "PASS" } else { "FAIL (proved)" };
-            if let Some(t) = tols.tol {
-                write!(w, "; tolerance {t:e}")?;
-            }
-            if let Some(t) = tols.defect_tol {
-                write!(w, "; defect tolerance {t:e}")?;
-            }
-            if tols.tol.is_some() || tols.defect_tol.is_some() {
-                write!(w, ": {word}")?;
-            }
-        }
-        writeln!(w)?;
-        w.flush()
-    })();
-    done.map_err(io)?;
+    table
+        .finish(
+            &mut out,
+            summary.max_distance,
+            summary.max_defect,
+            &tols,
+            passed,
+            |i, w| spools[i].copy_to(w),
+        )
+        .and_then(|()| out.flush())
+        .map_err(io)?;
     Ok(passed)
-}
-
-/// `[lo,hi]` with three significant digits, for the table.
-fn short(x: Interval) -> String {
-    format!("[{:.2e},{:.2e}]", x.inf(), x.sup())
-}
-
-fn text_row(w: &mut impl Write, row: &RowVerdict) -> std::io::Result<()> {
-    let (def, en) = match &row.pair {
-        Some(p) => (
-            p.defect
-                .iter()
-                .map(|x| short(*x))
-                .collect::<Vec<_>>()
-                .join(" "),
-            short(p.energy_error),
-        ),
-        None => (String::new(), String::new()),
-    };
-    writeln!(
-        w,
-        "{:>6} {:>24.3e} {def:>24} {en:>24}",
-        row.k,
-        row.distance.sup()
-    )
-}
-
-fn json_row(spools: &mut [Spool], row: &RowVerdict) -> std::io::Result<()> {
-    let sep = if row.k > 0 { "," } else { "" };
-    write!(spools[0].out, "{sep}{}", protocol::interval(row.distance))?;
-    if let Some(p) = &row.pair {
-        write!(spools[1].out, "{sep}{}", protocol::intervals(&p.defect))?;
-        write!(spools[2].out, "{sep}{}", protocol::interval(p.energy_error))?;
-    }
-    Ok(())
 }
 
 /// A row of a candidate trajectory: `(t_k if given, q_k)`.

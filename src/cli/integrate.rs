@@ -6,7 +6,7 @@
 
 use super::progress::Bar;
 use super::spool::Spool;
-use crate::protocol::{Pair, Row, Session};
+use crate::protocol::{IntegrateRows, Pair, Row, Session};
 use crate::schemes::SchemeKind;
 use crate::Error;
 use std::io::{BufWriter, Write};
@@ -15,24 +15,9 @@ pub(super) fn io(e: std::io::Error) -> Error {
     Error::input(format!("writing the output: {e}"))
 }
 
-/// One f64 as serde_json prints it (shortest round-trip form), as the JSON answers do.
-pub(super) fn num(w: &mut impl Write, x: f64) -> std::io::Result<()> {
-    serde_json::to_writer(&mut *w, &x).map_err(std::io::Error::other)
-}
-
-fn list(w: &mut impl Write, xs: &[f64]) -> std::io::Result<()> {
-    w.write_all(b"[")?;
-    for (i, x) in xs.iter().enumerate() {
-        if i > 0 {
-            w.write_all(b",")?;
-        }
-        num(w, *x)?;
-    }
-    w.write_all(b"]")
-}
-
 /// Run the integration and write its answer (CSV `k,q..,p..,energy`, or with `as_json`
-/// the object of contract command 4) to stdout; nothing is written on an error.
+/// the object of contract command 4, as `protocol::IntegrateRows` renders them) to stdout;
+/// nothing is written on an error.
 pub fn run(
     pair: &Pair,
     scheme: SchemeKind,
@@ -42,83 +27,19 @@ pub fn run(
 ) -> Result<(), Error> {
     let mut session = Session::default();
     let mut bar = Bar::new();
-    // CSV: one spool. JSON: q, p, energy and the Newton iterations each in its own
-    // spool, joined at the end into {"energy","max_residual","newton_iterations","p","q"}.
-    let mut spools: Vec<Spool> = (0..if as_json { 4 } else { 1 })
+    let mut rows = IntegrateRows::new(as_json, pair.q0.len());
+    // one spool per part of the answer (CSV: one; JSON: q, p, energy, Newton iterations)
+    let mut spools: Vec<Spool> = (0..rows.parts())
         .map(|i| Spool::new(&i.to_string()))
         .collect::<Result<_, _>>()?;
-    let mut first = [true; 4];
     let max_residual = session.integrate_each(pair, scheme, steps, deadline, |r: Row| {
         bar.update("integrate", r.k as f64, steps as f64);
-        if as_json {
-            write_json_row(&mut spools, &mut first, &r).map_err(io)
-        } else {
-            write_csv_row(&mut spools[0].out, &r, pair.q0.len()).map_err(io)
-        }
+        rows.row(&mut spools, &r).map_err(io)
     })?;
     bar.clear();
     let stdout = std::io::stdout();
     let mut out = BufWriter::new(stdout.lock());
-    let w = &mut out;
-    let done = (|| -> std::io::Result<()> {
-        if as_json {
-            w.write_all(b"{\"energy\":[")?;
-            spools[2].copy_to(w)?;
-            w.write_all(b"],\"max_residual\":")?;
-            num(w, max_residual)?;
-            w.write_all(b",\"newton_iterations\":[")?;
-            spools[3].copy_to(w)?;
-            w.write_all(b"],\"p\":[")?;
-            spools[1].copy_to(w)?;
-            w.write_all(b"],\"q\":[")?;
-            spools[0].copy_to(w)?;
-            w.write_all(b"]}\n")?;
-        } else {
-            spools[0].copy_to(w)?;
-        }
-        w.flush()
-    })();
-    done.map_err(io)
-}
-
-fn write_csv_row(w: &mut impl Write, r: &Row, n: usize) -> std::io::Result<()> {
-    if r.k == 0 {
-        w.write_all(b"k")?;
-        (0..n).try_for_each(|i| write!(w, ",q{i}"))?;
-        if let Some(p) = r.p {
-            (0..p.len()).try_for_each(|a| write!(w, ",p{a}"))?;
-            w.write_all(b",energy")?;
-        }
-        w.write_all(b"\n")?;
-    }
-    write!(w, "{}", r.k)?;
-    for x in r.q.iter().chain(r.p.into_iter().flatten()).chain(&r.energy) {
-        w.write_all(b",")?;
-        num(w, *x)?;
-    }
-    w.write_all(b"\n")
-}
-
-fn write_json_row(spools: &mut [Spool], first: &mut [bool; 4], r: &Row) -> std::io::Result<()> {
-    let mut sep = |i: usize, s: &mut Spool| -> std::io::Result<()> {
-        if !std::mem::replace(&mut first[i], false) {
-            s.out.write_all(b",")?;
-        }
-        Ok(())
-    };
-    sep(0, &mut spools[0])?;
-    list(&mut spools[0].out, r.q)?;
-    if let Some(p) = r.p {
-        sep(1, &mut spools[1])?;
-        list(&mut spools[1].out, p)?;
-    }
-    if let Some(e) = r.energy {
-        sep(2, &mut spools[2])?;
-        num(&mut spools[2].out, e)?;
-    }
-    if let Some(it) = r.iterations {
-        sep(3, &mut spools[3])?;
-        write!(spools[3].out, "{it}")?;
-    }
-    Ok(())
+    rows.finish(&mut out, max_residual, |i, w| spools[i].copy_to(w))
+        .and_then(|()| out.flush())
+        .map_err(io)
 }

@@ -6,7 +6,6 @@ mod check;
 pub(crate) mod demo;
 mod figures;
 mod integrate;
-pub(crate) mod json;
 mod order;
 mod progress;
 mod render;
@@ -17,7 +16,6 @@ mod stability;
 use crate::protocol::{self, Pair, Query, SceneSpec, Session};
 use crate::Error;
 use clap::{Parser, Subcommand};
-use serde_json::Value;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -447,12 +445,12 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
     if matches!(query, Query::Flow { .. }) {
         session.flow.progress = bar.progress();
     }
-    let answer: Value = session.answer_within(&query, deadline)?;
+    let answer = session.answer_within(&query, deadline)?;
     drop(session);
     bar.clear();
     Ok(Some(if as_json {
-        answer.to_string()
+        answer.to_json().to_string()
     } else {
-        json::human(&answer)
+        answer.to_text()
     }))
 }

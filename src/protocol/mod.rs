@@ -1,0 +1,510 @@
+//! Queries and answers (contract.md, commands 1-5): the one place where a request is
+//! validated and turned into a library call, and the one place where an answer is
+//! rendered. The command line and the batch protocol both go through [`Query`] and
+//! [`Session::answer`], which returns a typed [`Answer`]; its JSON, text and CSV forms are
+//! rendered in `answer.rs` and, row by row for the streaming commands, `rows.rs`. No
+//! printing here. By subject: this file holds the queries, the session and the budgets;
+//! `parse.rs` the strict readers of flags, JSON and batch lines.
+
+mod answer;
+mod parse;
+mod rows;
+
+pub use answer::{
+    description, error_object, interval, intervals, scenes, stats, trajectory, verdict, Answer,
+};
+pub use parse::{
+    check_keys, deadline_from_json, json_number, json_numbers, parse_json, parse_num, parse_order,
+    parse_param, parse_seconds, parse_steps, parse_vec, query_keys, scene_spec_from_json, Line,
+    LineReader, MAX_LINE_BYTES,
+};
+pub use rows::{CheckRows, IntegrateRows};
+
+use crate::exact;
+pub use crate::oracle::{Steps, Tolerances};
+use crate::scalar::point;
+use crate::scene::{Scene, SceneFile};
+use crate::schemes::{NewtonOptions, Scheme, SchemeKind, Trajectory};
+use crate::{AnyScene, Error, FlowOptions, Model};
+use inari::Interval;
+use serde_json::{json, Value};
+use std::collections::HashMap;
+use std::rc::Rc;
+
+/// A scene by name with its parameters, or a user's scene definition (a scene file or an
+/// inline JSON object, spec chapter 10) with the parameters that override its defaults.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneSpec {
+    pub name: String,
+    pub params: Vec<(String, f64)>,
+    /// `Some` for a user's scene (then `name` is its name, for messages only).
+    pub definition: Option<std::sync::Arc<SceneFile>>,
+}
+
+impl SceneSpec {
+    /// A built-in scene by name.
+    pub fn named(name: &str, params: Vec<(String, f64)>) -> SceneSpec {
+        SceneSpec {
+            name: name.to_string(),
+            params,
+            definition: None,
+        }
+    }
+
+    /// A user's scene.
+    pub fn defined(definition: SceneFile, params: Vec<(String, f64)>) -> SceneSpec {
+        SceneSpec {
+            name: definition.name(),
+            params,
+            definition: Some(std::sync::Arc::new(definition)),
+        }
+    }
+}
+
+/// One request (contract commands 1-4, and the `lagrangian` extension).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Query {
+    Flow {
+        scene: SceneSpec,
+        q: Vec<f64>,
+        u: Vec<f64>,
+        /// One time (`t`) or many (`times`, dense output: spec eq. (5.16), contract E11).
+        t: At,
+        order: usize,
+        /// Also the derivative D(q, u)(t) / D(q, u)(0) (`flow --jacobian`).
+        jacobian: bool,
+    },
+    Retract(Pair),
+    Step(Pair),
+    Lagrangian(Pair),
+    Integrate {
+        pair: Pair,
+        scheme: SchemeKind,
+        steps: usize,
+    },
+    /// A certified verdict on a whole trajectory `q_0 .. q_N` of step `h`, or at times
+    /// `t_0 < .. < t_N` (contract E12) (the `check` command's, as a batch query).
+    Check {
+        scene: SceneSpec,
+        steps: Steps,
+        q: Vec<Vec<f64>>,
+        /// Tolerance on `max_k |q_k - q^e_k|_inf`: the answer says `passed` (proved within),
+        /// or fails (proved beyond) or is refused as undecided.
+        tol: Option<f64>,
+        /// Tolerance on `max_k |s_k|_inf`, the pairs' defects (contract E13): decided as
+        /// `tol`, and both must pass.
+        defect_tol: Option<f64>,
+        /// Also the per-pair defects and energies (default true).
+        pairs: bool,
+    },
+}
+
+/// The times of a `flow` query.
+#[derive(Clone, Debug, PartialEq)]
+pub enum At {
+    /// `t`: the state at this time.
+    One(f64),
+    /// `times`: the states at these increasing times, from one integration.
+    Many(Vec<f64>),
+}
+
+/// The arguments shared by the commands on a pair of configurations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pair {
+    pub scene: SceneSpec,
+    pub q0: Vec<f64>,
+    pub q1: Vec<f64>,
+    pub h: f64,
+}
+
+/// Largest accepted `steps` for `integrate`.
+pub const MAX_STEPS: usize = 10_000_000;
+
+/// Models and schemes already compiled, by scene and parameters: a batch of queries on the
+/// same scene records its tapes once.
+#[derive(Default)]
+pub struct Session {
+    models: HashMap<String, Rc<Model>>,
+    schemes: HashMap<(String, bool), Rc<Scheme>>,
+    /// Settings of the validated integrator for every query (a fuzzer lowers `max_steps`).
+    pub flow: FlowOptions,
+    /// Refuse `integrate` queries with more steps than this (0: the contract's maximum).
+    pub max_integrate_steps: usize,
+    /// Time budget in seconds of every query that names none (`batch --deadline`); `None`:
+    /// [`default_deadline`] of the query's command.
+    pub deadline: Option<f64>,
+}
+
+/// The budget in seconds of a single-step query (`retract`, `step`, `lagrangian`, and each
+/// pair that `check` certifies) when none is given: such a query answers in milliseconds on
+/// ordinary input, so this only stops a pathological one.
+pub const STEP_DEADLINE: f64 = 5.0;
+
+/// The documented default budget of a query, in seconds: [`STEP_DEADLINE`] for the
+/// single-step queries, none for `flow` (bounded by `FlowOptions::max_steps`) and
+/// `integrate` (bounded by its `steps`).
+pub fn default_deadline(q: &Query) -> Option<f64> {
+    match q {
+        Query::Retract(_) | Query::Step(_) | Query::Lagrangian(_) => Some(STEP_DEADLINE),
+        Query::Check { q, .. } => Some(STEP_DEADLINE * q.len().max(1) as f64),
+        Query::Flow { .. } | Query::Integrate { .. } => None,
+    }
+}
+
+/// The instant `seconds` from now; `None` (no limit) when that is past what the clock holds.
+pub fn deadline_in(seconds: f64) -> Option<std::time::Instant> {
+    let d = std::time::Duration::try_from_secs_f64(seconds).ok()?;
+    std::time::Instant::now().checked_add(d)
+}
+
+/// The earlier of two deadlines (`None` is no limit).
+fn earlier(
+    a: Option<std::time::Instant>,
+    b: Option<std::time::Instant>,
+) -> Option<std::time::Instant> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(x.min(y)),
+        (x, None) => x,
+        (None, y) => y,
+    }
+}
+
+/// One row of an `integrate` answer (see [`Session::integrate_each`]).
+pub use crate::schemes::Row;
+
+fn scene_key(s: &SceneSpec) -> String {
+    let mut k = match &s.definition {
+        None => s.name.clone(),
+        Some(d) => format!("file:{}", d.key()),
+    };
+    for (p, v) in &s.params {
+        k.push_str(&format!("|{p}={:x}", v.to_bits()));
+    }
+    k
+}
+
+impl Session {
+    pub fn model(&mut self, s: &SceneSpec) -> Result<Rc<Model>, Error> {
+        let key = scene_key(s);
+        if let Some(m) = self.models.get(&key) {
+            return Ok(m.clone());
+        }
+        let m = Rc::new(match &s.definition {
+            None => Model::new(&AnyScene::new(&s.name, &s.params)?)?,
+            Some(d) => Model::new(&SceneFile::clone(d).with_params(&s.params)?)?,
+        });
+        self.models.insert(key, m.clone());
+        Ok(m)
+    }
+
+    fn scheme(&mut self, s: &SceneSpec, kind: SchemeKind) -> Result<Rc<Scheme>, Error> {
+        let key = (scene_key(s), kind == SchemeKind::Mla);
+        if let Some(sc) = self.schemes.get(&key) {
+            return Ok(sc.clone());
+        }
+        let model = self.model(s)?;
+        let sc = Rc::new(Scheme::new(&model, kind));
+        self.schemes.insert(key, sc.clone());
+        Ok(sc)
+    }
+
+    /// Answer a query, within the session's budget ([`Session::deadline`], else
+    /// [`default_deadline`]). [`Answer::to_json`] is the object its command prints with
+    /// `--json`, [`Answer::to_text`] what it prints without.
+    pub fn answer(&mut self, q: &Query) -> Result<Answer, Error> {
+        self.answer_within(q, None)
+    }
+
+    /// As [`Session::answer`], within `seconds` when given (a query's own `deadline`).
+    /// Past the budget: `Error::over_budget` (exit 3), never a partial answer.
+    pub fn answer_within(&mut self, q: &Query, seconds: Option<f64>) -> Result<Answer, Error> {
+        let budget = seconds.or(self.deadline).or_else(|| default_deadline(q));
+        let mut opts = self.flow.clone();
+        opts.deadline = earlier(opts.deadline, budget.and_then(deadline_in));
+        match q {
+            Query::Flow {
+                scene,
+                q,
+                u,
+                t,
+                order,
+                jacobian,
+            } => {
+                let model = self.model(scene)?;
+                let o = FlowOptions {
+                    order: *order,
+                    ..opts
+                };
+                let t = match t {
+                    At::One(t) => *t,
+                    At::Many(times) => {
+                        if *jacobian {
+                            return Err(Error::input(
+                                "`jacobian` is given only at one time `t`, not with `times`",
+                            ));
+                        }
+                        let enclosures = crate::flow::flow_at(&model, q, u, times, &o)?;
+                        return Ok(Answer::FlowAt {
+                            times: times.clone(),
+                            enclosures,
+                        });
+                    }
+                };
+                let (enclosure, jacobian) = if *jacobian {
+                    let (e, j) = crate::flow::flow_c1(&model, q, u, t, &o)?;
+                    (e, Some(j))
+                } else {
+                    (crate::flow(&model, q, u, t, &o)?, None)
+                };
+                Ok(Answer::Flow {
+                    enclosure,
+                    jacobian,
+                })
+            }
+            Query::Retract(p) => {
+                let model = self.model(&p.scene)?;
+                let r = exact::retract(&model, &points(&p.q0), &points(&p.q1), p.h, &opts)?;
+                Ok(Answer::Retract(r))
+            }
+            Query::Step(p) => {
+                let model = self.model(&p.scene)?;
+                let s = exact::step(&model, &points(&p.q0), &points(&p.q1), p.h, &opts)?;
+                Ok(Answer::Step(s))
+            }
+            Query::Lagrangian(p) => {
+                let model = self.model(&p.scene)?;
+                let (retraction, l) =
+                    exact::discrete_lagrangian(&model, &points(&p.q0), &points(&p.q1), p.h, &opts)?;
+                Ok(Answer::Lagrangian { l, retraction })
+            }
+            Query::Check {
+                scene,
+                steps,
+                q,
+                tol,
+                defect_tol,
+                pairs,
+            } => {
+                let model = self.model(scene)?;
+                let tols = Tolerances {
+                    tol: *tol,
+                    defect_tol: *defect_tol,
+                };
+                tols.check(*pairs)?;
+                let o = crate::oracle::CheckOptions {
+                    pairs: *pairs,
+                    flow: opts,
+                };
+                let verdict = crate::oracle::check_steps(&model, steps, q, &o)?;
+                let passed = tols.decide(verdict.max_distance, verdict.max_defect)?;
+                Ok(Answer::Check {
+                    verdict,
+                    tolerances: tols,
+                    passed,
+                })
+            }
+            Query::Integrate {
+                pair,
+                scheme,
+                steps,
+            } => {
+                if self.max_integrate_steps > 0 && *steps > self.max_integrate_steps {
+                    return Err(Error::input(format!(
+                        "steps: at most {} in this session",
+                        self.max_integrate_steps
+                    )));
+                }
+                let model = self.model(&pair.scene)?;
+                for q in [&pair.q0, &pair.q1] {
+                    if q.len() == model.n && q.iter().all(|x| x.is_finite()) {
+                        model.check_at(&points(q))?;
+                    }
+                }
+                let sc = self.scheme(&pair.scene, *scheme)?;
+                let mut tr = Trajectory {
+                    q: Vec::new(),
+                    p: Vec::new(),
+                    energy: Vec::new(),
+                    iterations: Vec::new(),
+                    max_residual: 0.0,
+                };
+                tr.max_residual = sc.integrate_each(
+                    &pair.q0,
+                    &pair.q1,
+                    pair.h,
+                    *steps,
+                    &NewtonOptions::default(),
+                    |r: Row| -> Result<(), Error> {
+                        Error::check_deadline(opts.deadline)?;
+                        tr.q.push(r.q.to_vec());
+                        tr.p.extend(r.p.map(<[f64]>::to_vec));
+                        tr.energy.extend(r.energy);
+                        tr.iterations.extend(r.iterations);
+                        Ok(())
+                    },
+                )?;
+                Ok(Answer::Integrate(tr))
+            }
+        }
+    }
+
+    /// An `integrate` query row by row in constant memory: `row` gets q_k, p_k and the
+    /// energy for k = 0..=steps in order, as soon as each is known; returns the largest
+    /// Newton residual. Within `seconds` when given, else the session's budget; past it, or
+    /// when `row` fails, the integration stops with that error.
+    pub fn integrate_each(
+        &mut self,
+        pair: &Pair,
+        scheme: SchemeKind,
+        steps: usize,
+        seconds: Option<f64>,
+        mut row: impl FnMut(Row) -> Result<(), Error>,
+    ) -> Result<f64, Error> {
+        if self.max_integrate_steps > 0 && steps > self.max_integrate_steps {
+            return Err(Error::input(format!(
+                "steps: at most {} in this session",
+                self.max_integrate_steps
+            )));
+        }
+        let deadline = earlier(
+            self.flow.deadline,
+            seconds.or(self.deadline).and_then(deadline_in),
+        );
+        let sc = self.scheme(&pair.scene, scheme)?;
+        sc.integrate_each(
+            &pair.q0,
+            &pair.q1,
+            pair.h,
+            steps,
+            &NewtonOptions::default(),
+            |r: Row| {
+                Error::check_deadline(deadline)?;
+                row(r)
+            },
+        )
+    }
+
+    /// One line of the batch protocol (contract command 5): `None` for a blank line, else
+    /// the answer line `{"id": .., "ok": ..}` or `{"id": .., "error": {"code", "message"}}`.
+    pub fn batch_line(&mut self, line: &str) -> Option<String> {
+        self.batch_answer(0, &Line::Text(line.as_bytes().to_vec()))
+            .map(|a| a.text)
+    }
+
+    /// Line `line_no` (1-based; 0: unknown) of a batch stream as read by [`LineReader`]:
+    /// `None` for a blank line, else exactly one answer line. A line that is not UTF-8, not
+    /// JSON or too long gets an error object with `"id": null` naming the line number.
+    pub fn batch_answer(&mut self, line_no: usize, line: &Line) -> Option<BatchAnswer> {
+        let at = if line_no > 0 {
+            format!("line {line_no}: ")
+        } else {
+            String::new()
+        };
+        let mut answered = None;
+        let (id, result) = match line {
+            Line::TooLong { bytes } => (
+                Value::Null,
+                Err(Error::input(format!(
+                    "{at}longer than {MAX_LINE_BYTES} bytes ({bytes} bytes); not read"
+                ))),
+            ),
+            Line::Text(bytes) => match std::str::from_utf8(bytes) {
+                Err(e) => (
+                    Value::Null,
+                    Err(Error::input(format!(
+                        "{at}not valid UTF-8 (byte {})",
+                        e.valid_up_to() + 1
+                    ))),
+                ),
+                Ok(text) if text.trim().is_empty() => return None,
+                Ok(text) => match parse_json(text) {
+                    Err(e) => {
+                        // JSON that is only refused for a repeated key still has its id
+                        let id = serde_json::from_str::<Value>(text)
+                            .ok()
+                            .and_then(|v| v.get("id").cloned())
+                            .unwrap_or(Value::Null);
+                        let what = if id.is_null() { "not JSON" } else { "refused" };
+                        (
+                            id,
+                            Err(Error::input(format!("{at}{what}: {}", e.message()))),
+                        )
+                    }
+                    Ok(v) => {
+                        let id = v.get("id").cloned().unwrap_or(Value::Null);
+                        let r = Query::from_json(&v).and_then(|q| {
+                            let a = self.answer_within(&q, deadline_from_json(&v)?)?;
+                            answered = Some(q);
+                            Ok(a.to_json())
+                        });
+                        (id, r)
+                    }
+                },
+            },
+        };
+        let out = match result {
+            Ok(ok) => json!({"id": id, "ok": ok}),
+            Err(e) => json!({"id": id, "error": error_object(&e)}),
+        };
+        Some(BatchAnswer {
+            text: out.to_string(),
+            answered,
+        })
+    }
+}
+
+/// An answer line of the batch protocol, and the query it answered when it is `ok` (so
+/// that a test can compare it with the line: the numbers used are the numbers given).
+#[derive(Clone, Debug)]
+pub struct BatchAnswer {
+    pub text: String,
+    pub answered: Option<Query>,
+}
+
+fn points(v: &[f64]) -> Vec<Interval> {
+    v.iter().map(|x| point(*x)).collect()
+}
+
+/// Whether a verdict passes the tolerance (spec (8.3)): `true` when `max_distance <= tol`
+/// is proved (or no tolerance is given), `false` when `max_distance > tol` is proved; a
+/// distance enclosure straddling `tol` decides nothing and is refused (exit 3).
+pub fn tolerance_verdict(v: &crate::oracle::Verdict, tol: Option<f64>) -> Result<bool, Error> {
+    tolerance_decision(v.max_distance, tol)
+}
+
+/// [`tolerance_verdict`] on the certified maximum distance alone.
+pub fn tolerance_decision(max_distance: Interval, tol: Option<f64>) -> Result<bool, Error> {
+    Tolerances {
+        tol,
+        defect_tol: None,
+    }
+    .decide(max_distance, None)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_lines_get_error_objects_and_ids_are_echoed() {
+        let mut s = Session::default();
+        assert_eq!(s.batch_line("   "), None);
+        let a: Value = serde_json::from_str(&s.batch_line("{nope").unwrap()).unwrap();
+        assert_eq!(a["id"], Value::Null);
+        assert_eq!(a["error"]["code"], 2);
+        let a: Value = serde_json::from_str(
+            &s.batch_line(r#"{"id": [7], "cmd": "fly", "scene": "particle"}"#)
+                .unwrap(),
+        )
+        .unwrap();
+        assert_eq!(a["id"], json!([7]));
+        assert_eq!(a["error"]["code"], 2);
+        let a: Value = serde_json::from_str(
+            &s.batch_line(r#"{"id": 1, "cmd": "flow", "scene": "particle", "q": [0,0,0], "u": [0.8,0.8], "t": 0.5}"#)
+                .unwrap(),
+        )
+        .unwrap();
+        assert_eq!(a["id"], 1);
+        assert!(a["ok"]["q"][0][0].as_f64().unwrap() <= a["ok"]["q"][0][1].as_f64().unwrap());
+    }
+}
