@@ -17,6 +17,7 @@ use crate::scalar::{point, Scalar};
 use inari::Interval;
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 use std::ops::{Add, Div, Mul, Neg, Sub};
 use std::thread::LocalKey;
 
@@ -50,7 +51,33 @@ enum Op {
 #[derive(Default)]
 struct Recording {
     ops: Vec<Op>,
-    seen: HashMap<(u8, u64, u64), u32>,
+    seen: HashMap<(u8, u64, u64), u32, BuildHasherDefault<KeyHasher>>,
+}
+
+/// The hash of the hash-consing table: operation keys are three small integers, so a
+/// multiply-rotate mix finished by splitmix64's is enough (the default SipHash was a third of
+/// the time of `Model::new`). Only the speed of recording depends on it, never a result.
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.write_u64(*b as u64);
+        }
+    }
+    fn write_u8(&mut self, x: u8) {
+        self.write_u64(x as u64);
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    }
+    fn finish(&self) -> u64 {
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
 }
 
 thread_local! {

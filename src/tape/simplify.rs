@@ -29,7 +29,7 @@ thread_local! {
 }
 
 /// The largest number of terms of a normal form that is carried.
-pub(super) const MAX_TERMS: usize = 24;
+pub(super) const MAX_TERMS: usize = 8;
 
 /// A monomial: (atom, power) pairs sorted by atom; the empty monomial is 1.
 type Mono = Vec<(u32, u32)>;
@@ -199,7 +199,7 @@ pub(super) fn rerecord(ops: &[Op]) -> Vec<Tracer> {
     let mut forms: Vec<Option<Poly>> = Vec::with_capacity(ops.len());
     for op in ops {
         let t = |a: u32| new[a as usize];
-        let f = |a: u32| forms[a as usize].clone();
+        let f = |a: u32| forms[a as usize].as_ref();
         let (node, form) = match *op {
             Op::Const(c) => (Tracer::cst(c), Some(Poly::constant(c))),
             Op::Add(a, b) | Op::Sub(a, b) => {
@@ -212,8 +212,8 @@ pub(super) fn rerecord(ops: &[Op]) -> Vec<Tracer> {
                     }
                 };
                 match (f(a), f(b)) {
-                    (Some(x), Some(y)) => match x.add(&y, s) {
-                        Some(sum) if only_cancels(&x, &y, &sum) => {
+                    (Some(x), Some(y)) => match x.add(y, s) {
+                        Some(sum) if only_cancels(x, y, &sum) => {
                             let mut kept = x.partial_atoms(&atoms);
                             kept.extend(y.partial_atoms(&atoms));
                             let left = sum.partial_atoms(&atoms);
@@ -230,7 +230,7 @@ pub(super) fn rerecord(ops: &[Op]) -> Vec<Tracer> {
                 }
             }
             Op::Mul(a, b) => {
-                let form = f(a).zip(f(b)).and_then(|(x, y)| x.mul(&y, &mut atoms));
+                let form = f(a).zip(f(b)).and_then(|(x, y)| x.mul(y, &mut atoms));
                 (t(a) * t(b), form)
             }
             Op::Div(a, b) => {
