@@ -135,11 +135,12 @@ impl Atoms {
     }
     /// `c m` with every `sin(x)^k`, k >= 2, rewritten as `sin(x)^(k-2) (1 - cos(x)^2)`.
     fn reduce(&mut self, m: Mono, c: f64) -> Option<Poly> {
-        let Some(&(s, k)) = m.iter().find(|(a, k)| *k >= 2 && self.sin_of.contains_key(a))
-        else {
+        let Some((s, k, x)) = m.iter().find_map(|&(a, k)| {
+            let x = *self.sin_of.get(&a)?;
+            (k >= 2).then_some((a, k, x))
+        }) else {
             return Some(Poly(BTreeMap::from([(m, c)])));
         };
-        let x = self.sin_of[&s];
         let cos = push(Op::Cos(x));
         self.note(cos, self.partial(x));
         let rest: Mono = m
