@@ -16,9 +16,13 @@ use inari::Interval;
 /// The certified state at time t.
 #[derive(Clone)]
 pub struct FlowEnclosure {
+    /// Contains the exact configuration `q(t)` (n intervals).
     pub q: Vec<Interval>,
+    /// Contains the exact quasi-velocities `u(t)` in the scene's basis of D (n - k intervals).
     pub u: Vec<Interval>,
+    /// Contains the exact velocity `qd(t) = E(q(t))^T u(t)` (n intervals, spec eq. (4.2)).
     pub v: Vec<Interval>,
+    /// What the integrator did between 0 and `t`.
     pub stats: FlowStats,
 }
 

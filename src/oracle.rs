@@ -21,6 +21,8 @@ pub struct CheckOptions {
     /// Also certify, for every consecutive pair, its defect w.r.t. M_h^{e,nh} and the energy
     /// of the exact trajectory through it (one retraction per pair).
     pub pairs: bool,
+    /// Settings of every validated flow and retraction the check runs (order, step budget,
+    /// deadline).
     pub flow: FlowOptions,
 }
 
@@ -131,6 +133,7 @@ pub fn check_trajectory_at(
 /// The steps of a candidate trajectory: uniform of size `h`, or at the given times.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Steps {
+    /// The same step `h > 0` between all consecutive rows.
     Uniform(f64),
     /// `t_0 < t_1 < .. < t_N`, one per row (spec eq. (8.4)).
     Times(Vec<f64>),
@@ -205,6 +208,7 @@ crate::readable::readable_debug!(PairVerdict {
 /// Certified figures about one row `q_k` of a candidate trajectory (spec Theorem 8.1).
 #[derive(Clone)]
 pub struct RowVerdict {
+    /// The row's index `k`.
     pub k: usize,
     /// `∋ |q_k - q^e_k|_inf`.
     pub distance: Interval,
@@ -414,7 +418,9 @@ fn check_rows(
 /// defects (`defect_tol`, spec (8.5)).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Tolerances {
+    /// Tolerance on `max_k |q_k - q^e_k|_inf` (spec (8.3)); `None`: not decided.
     pub tol: Option<f64>,
+    /// Tolerance on `max_k |s_k|_inf`, the pairs' defects (spec (8.5)); `None`: not decided.
     pub defect_tol: Option<f64>,
 }
 

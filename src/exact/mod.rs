@@ -424,6 +424,7 @@ fn newton_guess(
 /// The exact discrete flow and Legendre transforms at a pair (spec eqs. (6.5)-(6.7)).
 #[derive(Clone)]
 pub struct ExactStep {
+    /// The retraction of `(Q0, Q1)` the step starts from (spec eqs. (6.2)-(6.4)).
     pub retraction: Retraction,
     /// `q(h)`, the point of M_h^{e,nh}.
     pub q1: Vec<Interval>,
@@ -471,7 +472,8 @@ pub fn step(
     })
 }
 
-/// `p_a = <M(q) v, e_a(q)>` over boxes (spec eq. (4.8)).
+/// `p_a = <M(q) v + A(q), e_a(q)>` over boxes (spec eq. (4.8); `A = 0` unless the scene has
+/// a one-form).
 pub fn momentum(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Vec<Interval>, Error> {
     let x: Vec<Interval> = q.iter().chain(v).copied().collect();
     model
@@ -483,6 +485,7 @@ pub fn momentum(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Vec<Int
 /// The exact discrete trajectory `q_0 .. q_N` from `(Q0, Q1)` (spec eq. (6.6)).
 #[derive(Clone)]
 pub struct ExactTrajectory {
+    /// The retraction of `(Q0, Q1)`: its `u0` box fixes the trajectory (spec eq. (6.2)).
     pub retraction: Retraction,
     /// `q_k ∋ q(k h)`, k = 0..=N.
     pub q: Vec<Vec<Interval>>,
@@ -539,9 +542,14 @@ pub fn trajectory(
 /// D*-momentum at `kh` (as the rows of [`ExactTrajectory`]).
 #[derive(Clone)]
 pub struct Iterate {
+    /// The index `k` of the iterate (0 for `Q0`).
     pub k: usize,
+    /// Contains `q(kh)` (with non-uniform steps, `q(t_k - t_0)`); for `k = 1`, the
+    /// intersection of the flow's box with `Q1 + N(Q1) s` (spec eq. (6.4)).
     pub q: Vec<Interval>,
+    /// Contains `qd(kh)`; for `k = 0`, `R^{e-}(Q0, Q1)` of the retraction.
     pub v: Vec<Interval>,
+    /// Contains the D*-momentum `(<FL(qd(kh)), e_a(q(kh))>)_a` (spec eq. (4.8)).
     pub p: Vec<Interval>,
 }
 
