@@ -361,6 +361,23 @@ impl Scheme {
 
     /// One step: `q_{k+1}` from `(q_{k-1}, q_k)` (spec eq. (7.4)), with the Newton iterations
     /// and the final residual `|R|_inf`. The guess is `2 q_k - q_{k-1}`.
+    ///
+    /// # Example
+    /// ```
+    /// use dalembert::schemes::{NewtonOptions, Scheme, SchemeKind};
+    /// use dalembert::{AnyScene, Model};
+    /// let model = Model::new(&AnyScene::new("particle", &[])?)?;
+    /// let mla = Scheme::new(&model, SchemeKind::Mla);
+    /// let (q0, h, opts) = ([0.0; 3], 0.25, NewtonOptions::default());
+    /// // q_1 moved onto M_h^d first (spec eq. (7.3)), then one step
+    /// let (q1, _, _) = mla.project(&q0, &[0.2, 0.2, 0.0], &opts).expect("projection");
+    /// let (q2, _iterations, residual) = mla.step(&q0, &q1, h, &opts).expect("step");
+    /// assert!(residual < 1e-12);
+    /// // (q_1, q_2) is on M_h^d: mu((q_1 + q_2)/2)(q_2 - q_1) = 0, mu = (-y, 0, 1)
+    /// let c = -(q1[1] + q2[1]) / 2.0 * (q2[0] - q1[0]) + (q2[2] - q1[2]);
+    /// assert!(c.abs() < 1e-12);
+    /// # Ok::<(), dalembert::Error>(())
+    /// ```
     pub fn step(
         &self,
         qm: &[f64],

@@ -45,6 +45,35 @@ pub type Mat<S> = Vec<Vec<S>>;
 /// written once over `S: Scalar` and must be analytic where they are evaluated (spec
 /// eq. (3.17) says what [`crate::Model::new`] and [`crate::Model::check_at`] check and what
 /// stays assumed).
+///
+/// # Example
+/// The particle of spec eq. (3.2) as a user's own type: only its constraint is given, so
+/// `M = I`, `V = 0` and the basis is derived with the free coordinates `(x, y)`:
+/// `e_1 = (1, 0, y)`, `e_2 = (0, 1, 0)`.
+/// ```
+/// use dalembert::scalar::Scalar;
+/// use dalembert::scene::{Mat, Scene};
+/// use dalembert::{flow, FlowOptions, Model};
+///
+/// struct MyParticle;
+/// impl Scene for MyParticle {
+///     fn name(&self) -> String {
+///         "my-particle".into()
+///     }
+///     fn dim(&self) -> usize {
+///         3
+///     }
+///     /// zd - y xd = 0
+///     fn constraints<S: Scalar>(&self, q: &[S]) -> Mat<S> {
+///         vec![vec![-q[1].clone(), S::zero(), S::one()]]
+///     }
+/// }
+///
+/// let model = Model::new(&MyParticle)?;
+/// let e = flow(&model, &[0.0, 0.0, 0.0], &[0.8, 0.8], 2.0, &FlowOptions::default())?;
+/// assert!(e.q[1].contains(1.6)); // y(t) = 0.8 t, as for the built-in `particle`
+/// # Ok::<(), dalembert::Error>(())
+/// ```
 pub trait Scene {
     /// The name shown in answers and messages.
     fn name(&self) -> String;
