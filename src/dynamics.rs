@@ -1,26 +1,32 @@
 //! The continuous nonholonomic dynamics derived from scene data, generic over the scalar
 //! (spec/04-dynamics.md, eqs. (4.1)-(4.9)).
 //!
-//! Derivatives of the scene data with respect to q are taken by forward-mode [`Dual`]
-//! numbers in n directions, so scenes provide no derivative by hand.
+//! Derivatives of the scene data with respect to q are taken by forward-mode
+//! [`Dual`](crate::scalar::Dual) numbers in n directions, so scenes provide no derivative
+//! by hand.
 
 use crate::scalar::{Dual, Scalar};
 use crate::scene::{Mat, Scene};
 
 /// Scene data at one configuration, with first derivatives in q (spec eq. (4.1)).
 pub struct Geometry<S> {
+    /// Number of coordinates `n`.
     pub n: usize,
+    /// Number of constraints `k`.
     pub k: usize,
-    /// M(q) and dM/dq_j.
+    /// M(q), n x n.
     pub mass: Mat<S>,
+    /// `dmass[j] = dM/dq_j`.
     pub dmass: Vec<Mat<S>>,
     /// dV/dq_j.
     pub dpot: Vec<S>,
-    /// mu(q) (k x n) and dmu/dq_j.
+    /// mu(q), k x n.
     pub mu: Mat<S>,
+    /// `dmu[j] = dmu/dq_j`.
     pub dmu: Vec<Mat<S>>,
-    /// E(q) as rows e_a ((n-k) x n) and dE/dq_j.
+    /// E(q) as rows e_a, (n-k) x n.
     pub basis: Mat<S>,
+    /// `dbasis[j] = dE/dq_j`.
     pub dbasis: Vec<Mat<S>>,
     /// The one-form A(q) of the Lagrangian's linear term and `dA[j][i] = dA_i/dq_j`;
     /// `None` for a natural Lagrangian (spec eq. (3.1)).
@@ -43,6 +49,8 @@ fn split<S: Scalar>(m: Mat<Dual<S>>, n: usize) -> (Mat<S>, Vec<Mat<S>>) {
 }
 
 impl<S: Scalar> Geometry<S> {
+    /// The geometry at `q`: one evaluation of the scene over duals in `n` directions (spec eq.
+    /// (4.1)).
     pub fn at<Sc: Scene>(sc: &Sc, q: &[S]) -> Self {
         let n = sc.dim();
         let qd: Vec<Dual<S>> = (0..n).map(|j| Dual::var(q[j].clone(), j, n)).collect();
@@ -231,14 +239,17 @@ pub fn lagrangian<Sc: Scene, S: Scalar>(sc: &Sc, q: &[S], v: &[S]) -> S {
     }
 }
 
+/// The sum of the items, from 0, in order.
 pub fn sum<S: Scalar>(it: impl Iterator<Item = S>) -> S {
     it.fold(S::zero(), |a, b| a + b)
 }
 
+/// `sum_i a_i b_i` (over the shorter of the two).
 pub fn dot<S: Scalar>(a: &[S], b: &[S]) -> S {
     sum(a.iter().zip(b).map(|(x, y)| x.clone() * y.clone()))
 }
 
+/// `m v` for a matrix stored by rows.
 pub fn mat_vec<S: Scalar>(m: &Mat<S>, v: &[S]) -> Vec<S> {
     m.iter().map(|r| dot(r, v)).collect()
 }

@@ -37,7 +37,9 @@ pub enum Error {
 /// how far a flow had got.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Refusal {
+    /// The kind of refusal, for a program to match (spec 0.3).
     pub reason: Reason,
+    /// What was not proved, in words (printed after `could not certify:`).
     pub message: String,
     /// For a validated flow: the time up to which the enclosure had been proved when the
     /// work stopped (`None` when no flow was under way, or it had not started).
@@ -81,6 +83,7 @@ impl fmt::Display for Refusal {
 }
 
 impl Error {
+    /// An input error ([`Error::Input`], exit 2): the request is malformed.
     pub fn input(msg: impl Into<String>) -> Self {
         Error::Input(msg.into())
     }
@@ -96,6 +99,8 @@ impl Error {
             reached: None,
         })
     }
+    /// A fault of the crate itself ([`Error::Internal`], exit 3): an invariant of the code
+    /// that did not hold.
     pub fn internal(msg: impl Into<String>) -> Self {
         Error::Internal(msg.into())
     }
@@ -139,6 +144,7 @@ impl Error {
             Error::Uncertified(_) | Error::Internal(_) => 3,
         }
     }
+    /// The message alone, without the prefix that `Display` adds.
     pub fn message(&self) -> &str {
         match self {
             Error::Input(m) | Error::Internal(m) => m,

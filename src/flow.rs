@@ -16,9 +16,13 @@ use inari::Interval;
 /// The certified state at time t.
 #[derive(Clone)]
 pub struct FlowEnclosure {
+    /// Contains the exact configuration `q(t)` (n intervals).
     pub q: Vec<Interval>,
+    /// Contains the exact quasi-velocities `u(t)` in the scene's basis of D (n - k intervals).
     pub u: Vec<Interval>,
+    /// Contains the exact velocity `qd(t) = E(q(t))^T u(t)` (n intervals, spec eq. (4.2)).
     pub v: Vec<Interval>,
+    /// What the integrator did between 0 and `t`.
     pub stats: FlowStats,
 }
 
@@ -38,6 +42,17 @@ crate::readable::readable_debug!(FlowEnclosure {
 /// the trajectory is proved to exist on `[0, t]`. Fails with `Error::Input` for malformed
 /// input and `Error::Uncertified` when a step cannot be proved (singular data, blow-up,
 /// too many steps): never with a box that was not proved.
+///
+/// # Example
+/// ```
+/// use dalembert::{flow, AnyScene, FlowOptions, Model};
+/// let model = Model::new(&AnyScene::new("particle", &[])?)?;
+/// // q(0) = 0, qd(0) = 0.8 e_1(0) + 0.8 e_2(0); on the particle y(t) = 0.8 t exactly
+/// let e = flow(&model, &[0.0, 0.0, 0.0], &[0.8, 0.8], 2.0, &FlowOptions::default())?;
+/// assert!(e.q[1].contains(1.6) && e.u[1].contains(0.8));
+/// assert!(e.q.iter().chain(&e.v).all(|x| x.wid() < 1e-12));
+/// # Ok::<(), dalembert::Error>(())
+/// ```
 pub fn flow(
     model: &Model,
     q: &[f64],

@@ -82,6 +82,7 @@ impl Tally {
         self.refused += o.refused;
         self.input += o.input;
     }
+    /// The number of inputs counted.
     pub fn total(&self) -> usize {
         self.answered + self.budget + self.refused + self.input
     }

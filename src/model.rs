@@ -40,7 +40,7 @@ pub struct Model {
     pub(crate) velocity_jac: Tape,
     /// q -> mu(q), k x n row-major (spec eq. (3.1)).
     pub(crate) constraints: Tape,
-    /// (q, v) -> p_a = <M(q) v, e_a(q)> (spec eq. (4.8)).
+    /// (q, v) -> p_a = <M(q) v + A(q), e_a(q)> (spec eq. (4.8)).
     pub(crate) momentum_d: Tape,
     /// (q, v) -> E_L(q, v) (spec eq. (4.9)).
     pub(crate) energy: Tape,

@@ -6,7 +6,12 @@ use nalgebra::{DMatrix, DVector};
 #[derive(Clone, Debug, PartialEq)]
 pub enum NewtonOutcome {
     /// `|R(x)|_inf <= residual` after `iterations` iterations.
-    Converged { iterations: usize, residual: f64 },
+    Converged {
+        /// Iterations taken.
+        iterations: usize,
+        /// `|R(x)|_inf` at the returned `x`.
+        residual: f64,
+    },
     /// The named failure; the state is not returned.
     Failed(NewtonFailure),
 }
@@ -39,7 +44,9 @@ impl std::fmt::Display for NewtonFailure {
 /// `4 eps max(1, |x|)` or the residual is below `tol`.
 #[derive(Clone, Debug)]
 pub struct NewtonOptions {
+    /// At most this many iterations (default 50); then `IterationLimit`.
     pub max_iter: usize,
+    /// Converged once `|R(x)|_inf <= tol` (default 0: in practice the step criterion decides).
     pub tol: f64,
     /// Halvings of the step allowed in one line search (the step factor stays >= 2^-n).
     pub max_backtracks: u32,

@@ -1,7 +1,7 @@
 //! The oracle: certified verdicts on candidate discrete trajectories produced by any float
 //! integrator (spec/08-oracle.md). Small enough to use from a property test:
 //!
-//! ```no_run
+//! ```
 //! # use dalembert::{AnyScene, Model, oracle};
 //! let model = Model::new(&AnyScene::new("particle", &[]).unwrap()).unwrap();
 //! let q: Vec<Vec<f64>> = vec![vec![0.0; 3], vec![0.4, 0.4, 0.08], vec![0.76, 0.8, 0.29]];
@@ -21,6 +21,8 @@ pub struct CheckOptions {
     /// Also certify, for every consecutive pair, its defect w.r.t. M_h^{e,nh} and the energy
     /// of the exact trajectory through it (one retraction per pair).
     pub pairs: bool,
+    /// Settings of every validated flow and retraction the check runs (order, step budget,
+    /// deadline).
     pub flow: FlowOptions,
 }
 
@@ -89,6 +91,24 @@ pub(crate) fn energy(model: &Model, q: &[Interval], v: &[Interval]) -> Result<In
 /// flow". The pair figures are proved likewise (Theorems 6.1, 6.2). `Error::Input` for
 /// malformed candidates, `Error::Uncertified` when the oracle itself cannot conclude.
 /// The rows of [`check_each`], collected.
+///
+/// # Example
+/// ```
+/// use dalembert::oracle::{check_trajectory, CheckOptions};
+/// use dalembert::schemes::{NewtonOptions, Scheme, SchemeKind};
+/// use dalembert::{AnyScene, Model};
+/// let model = Model::new(&AnyScene::new("particle", &[])?)?;
+/// // a candidate: eight steps of DLA
+/// let h = 0.125;
+/// let dla = Scheme::new(&model, SchemeKind::Dla);
+/// let candidate = dla.integrate(&[0.0; 3], &[0.1, 0.1, 0.005], h, 8, &NewtonOptions::default())?;
+/// let v = check_trajectory(&model, h, &candidate.q, &CheckOptions::default())?;
+/// // proved: every q_k is within 1e-3 of the exact discrete flow from (q_0, q_1)
+/// assert!(v.max_distance.sup() < 1e-3);
+/// // and every pair's defect w.r.t. M_h^{e,nh}, |s_k|_inf, is below 1e-4
+/// assert!(v.max_defect.is_some_and(|d| d.sup() < 1e-4));
+/// # Ok::<(), dalembert::Error>(())
+/// ```
 pub fn check_trajectory(
     model: &Model,
     h: f64,
@@ -131,6 +151,7 @@ pub fn check_trajectory_at(
 /// The steps of a candidate trajectory: uniform of size `h`, or at the given times.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Steps {
+    /// The same step `h > 0` between all consecutive rows.
     Uniform(f64),
     /// `t_0 < t_1 < .. < t_N`, one per row (spec eq. (8.4)).
     Times(Vec<f64>),
@@ -205,6 +226,7 @@ crate::readable::readable_debug!(PairVerdict {
 /// Certified figures about one row `q_k` of a candidate trajectory (spec Theorem 8.1).
 #[derive(Clone)]
 pub struct RowVerdict {
+    /// The row's index `k`.
     pub k: usize,
     /// `∋ |q_k - q^e_k|_inf`.
     pub distance: Interval,
@@ -414,7 +436,9 @@ fn check_rows(
 /// defects (`defect_tol`, spec (8.5)).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Tolerances {
+    /// Tolerance on `max_k |q_k - q^e_k|_inf` (spec (8.3)); `None`: not decided.
     pub tol: Option<f64>,
+    /// Tolerance on `max_k |s_k|_inf`, the pairs' defects (spec (8.5)); `None`: not decided.
     pub defect_tol: Option<f64>,
 }
 

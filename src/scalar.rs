@@ -29,29 +29,41 @@ pub trait Scalar:
 {
     /// The exact real number `c` (a finite f64).
     fn cst(c: f64) -> Self;
+    /// The sine (argument in radians).
     fn sin(&self) -> Self;
+    /// The cosine (argument in radians).
     fn cos(&self) -> Self;
+    /// The square root, defined for arguments `>= 0` (over tapes, checked `> 0`: spec (2.8)).
     fn sqrt(&self) -> Self;
+    /// The exponential.
     fn exp(&self) -> Self;
     /// The natural logarithm.
     fn ln(&self) -> Self;
+    /// The arctangent, with values in `(-pi/2, pi/2)`.
     fn atan(&self) -> Self;
+    /// The hyperbolic sine.
     fn sinh(&self) -> Self;
+    /// The hyperbolic cosine.
     fn cosh(&self) -> Self;
     /// The real number pi (an enclosure of it for intervals: it is not an f64).
     fn pi() -> Self;
+    /// The tangent, `sin / cos` unless an instance has its own.
     fn tan(&self) -> Self {
         self.sin() / self.cos()
     }
+    /// The hyperbolic tangent, `sinh / cosh` unless an instance has its own.
     fn tanh(&self) -> Self {
         self.sinh() / self.cosh()
     }
+    /// The exact number 0.
     fn zero() -> Self {
         Self::cst(0.0)
     }
+    /// The exact number 1.
     fn one() -> Self {
         Self::cst(1.0)
     }
+    /// The square `self * self`.
     fn sqr(&self) -> Self {
         self.clone() * self.clone()
     }
@@ -137,7 +149,8 @@ pub fn point(c: f64) -> Interval {
     Interval::try_from((c, c)).unwrap_or(Interval::ENTIRE)
 }
 
-/// `[lo, hi]`, or ENTIRE when the pair is not a valid finite interval.
+/// `[lo, hi]` (an infinite end is kept: `iv(f64::NEG_INFINITY, 1.0)` is `[-inf, 1]`), or
+/// ENTIRE when the pair is no interval (a NaN, `lo > hi`, `lo = +inf` or `hi = -inf`).
 pub fn iv(lo: f64, hi: f64) -> Interval {
     Interval::try_from((lo, hi)).unwrap_or(Interval::ENTIRE)
 }
@@ -148,7 +161,9 @@ pub fn iv(lo: f64, hi: f64) -> Interval {
 /// none and broadcasts. Nesting (`Dual<Dual<S>>`) gives mixed second derivatives.
 #[derive(Clone, Debug)]
 pub struct Dual<S> {
+    /// The value `v`.
     pub v: S,
+    /// The tangents `d_j`, one per direction (empty for a constant).
     pub d: Vec<S>,
 }
 

@@ -18,7 +18,9 @@ pub use newton::{NewtonFailure, NewtonOptions, NewtonOutcome};
 /// Lagrange–d'Alembert, with the discrete nonholonomic forces).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SchemeKind {
+    /// DLA (Cortes–Martinez): the equations (7.4) without discrete forces.
     Dla,
+    /// MLA (the paper's): (7.4) with the discrete forces `F^± = (h/2) F_nh` of (7.2).
     Mla,
 }
 
@@ -196,8 +198,11 @@ fn record_with_jacobian(
 
 /// A scheme compiled for one scene (spec eq. (7.8)).
 pub struct Scheme {
+    /// Which scheme was compiled.
     pub kind: SchemeKind,
+    /// Number of coordinates `n` of the scene.
     pub n: usize,
+    /// Number of constraints `k` of the scene.
     pub k: usize,
     /// (q_{k-1}, q_k, h, q_{k+1}) -> (R, dR/dq_{k+1}).
     residual: Tape,
@@ -214,6 +219,8 @@ pub struct Scheme {
 /// A float trajectory of a scheme, with what the user may want to look at.
 #[derive(Clone, Debug)]
 pub struct Trajectory {
+    /// `q_0 .. q_N`: `q_0` as given, `q_1` moved onto M_h^d (spec eq. (7.3)), then the steps
+    /// (7.4).
     pub q: Vec<Vec<f64>>,
     /// `p_k` in D* coordinates: `F^- l_d(q_0, q_1)` at k = 0, `F^+ l_d(q_{k-1}, q_k)` after.
     pub p: Vec<Vec<f64>>,
@@ -228,9 +235,13 @@ pub struct Trajectory {
 /// One row of [`Scheme::integrate_each`].
 #[derive(Clone, Copy, Debug)]
 pub struct Row<'a> {
+    /// The index `k` of the row.
     pub k: usize,
+    /// `q_k` (for `k = 1`, after the projection onto M_h^d).
     pub q: &'a [f64],
+    /// `p_k` in D* coordinates, as in [`Trajectory::p`]; `None` when `steps = 0`.
     pub p: Option<&'a [f64]>,
+    /// `H|_{D*}(q_k, p_k)` (spec eq. (7.7)); `None` when `steps = 0`.
     pub energy: Option<f64>,
     /// Newton iterations of the solve that gave `q` (the projection of q_1 for k = 1).
     pub iterations: Option<usize>,
@@ -239,14 +250,18 @@ pub struct Row<'a> {
 /// A scheme that could not go on: which step and why.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SchemeError {
+    /// Malformed input (sizes, non-finite numbers, `h <= 0`): [`Error::Input`].
     Input(String),
     /// Newton failed at step `step` (0 = projecting q_1 onto M_h^d).
     Newton {
+        /// The index `k` of the solve that failed (`q_{k+1}` was sought; 0: the projection).
         step: usize,
+        /// Why Newton stopped (spec eq. (7.6)).
         failure: NewtonFailure,
     },
     /// The states are finite but the momentum or energy at `step` is not (overflow).
     NonFinite {
+        /// The index `k` of the row whose `p_k` or `H|_{D*}` is not finite.
         step: usize,
     },
 }
@@ -267,6 +282,9 @@ impl From<SchemeError> for Error {
 }
 
 impl Scheme {
+    /// Record the scheme for a compiled scene (spec eq. (7.8)): the residual of (7.4) and
+    /// the projection (7.3) with their Jacobians, the Legendre transforms (7.5) and
+    /// `H|_{D*}` (7.7).
     pub fn new(model: &Model, kind: SchemeKind) -> Scheme {
         let (n, k) = (model.n, model.k);
         let s = &model.scene;
@@ -341,7 +359,25 @@ impl Scheme {
         }
     }
 
-    /// One step: `q_{k+1}` from `(q_{k-1}, q_k)` (spec eq. (7.4)).
+    /// One step: `q_{k+1}` from `(q_{k-1}, q_k)` (spec eq. (7.4)), with the Newton iterations
+    /// and the final residual `|R|_inf`. The guess is `2 q_k - q_{k-1}`.
+    ///
+    /// # Example
+    /// ```
+    /// use dalembert::schemes::{NewtonOptions, Scheme, SchemeKind};
+    /// use dalembert::{AnyScene, Model};
+    /// let model = Model::new(&AnyScene::new("particle", &[])?)?;
+    /// let mla = Scheme::new(&model, SchemeKind::Mla);
+    /// let (q0, h, opts) = ([0.0; 3], 0.25, NewtonOptions::default());
+    /// // q_1 moved onto M_h^d first (spec eq. (7.3)), then one step
+    /// let (q1, _, _) = mla.project(&q0, &[0.2, 0.2, 0.0], &opts).expect("projection");
+    /// let (q2, _iterations, residual) = mla.step(&q0, &q1, h, &opts).expect("step");
+    /// assert!(residual < 1e-12);
+    /// // (q_1, q_2) is on M_h^d: mu((q_1 + q_2)/2)(q_2 - q_1) = 0, mu = (-y, 0, 1)
+    /// let c = -(q1[1] + q2[1]) / 2.0 * (q2[0] - q1[0]) + (q2[2] - q1[2]);
+    /// assert!(c.abs() < 1e-12);
+    /// # Ok::<(), dalembert::Error>(())
+    /// ```
     pub fn step(
         &self,
         qm: &[f64],

@@ -10,12 +10,14 @@ use nalgebra::DMatrix;
 /// Interval matrix, rows.
 pub type IMat = Vec<Vec<Interval>>;
 
+/// A float matrix as an interval matrix of points (exact).
 pub fn imat(m: &DMatrix<f64>) -> IMat {
     (0..m.nrows())
         .map(|i| (0..m.ncols()).map(|j| point(m[(i, j)])).collect())
         .collect()
 }
 
+/// The `n x n` identity.
 pub fn identity(n: usize) -> IMat {
     (0..n)
         .map(|i| {
@@ -26,6 +28,7 @@ pub fn identity(n: usize) -> IMat {
         .collect()
 }
 
+/// `a b` in interval arithmetic (sums by fused multiply-add, outward rounded).
 pub fn mul(a: &IMat, b: &IMat) -> IMat {
     let (n, k, m) = (a.len(), b.len(), b.first().map_or(0, |r| r.len()));
     (0..n)
@@ -51,6 +54,7 @@ pub fn add(a: &IMat, b: &IMat) -> IMat {
         .collect()
 }
 
+/// `a x` in interval arithmetic (sums by fused multiply-add, outward rounded).
 pub fn mul_vec(a: &IMat, x: &[Interval]) -> Vec<Interval> {
     a.iter()
         .map(|r| {
@@ -61,6 +65,7 @@ pub fn mul_vec(a: &IMat, x: &[Interval]) -> Vec<Interval> {
         .collect()
 }
 
+/// The midpoints of the entries, as a float matrix (a choice, spec 0.2).
 pub fn mid(a: &IMat) -> DMatrix<f64> {
     let (n, m) = (a.len(), a.first().map_or(0, |r| r.len()));
     DMatrix::from_fn(n, m, |i, j| a[i][j].mid())
@@ -73,6 +78,7 @@ pub fn norm_inf_sup(a: &IMat) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Whether every entry is non-empty with finite ends.
 pub fn all_finite(a: &IMat) -> bool {
     a.iter().all(|r| r.iter().all(|x| finite(*x)))
 }

@@ -26,6 +26,9 @@ use linalg::IMat;
 /// Settings of the validated integrator. `order = 0` chooses automatically.
 #[derive(Clone, Debug)]
 pub struct FlowOptions {
+    /// Taylor order `p` of the steps. `0` (default): `p = 22` (`DEFAULT_ORDER`), and a step
+    /// that reaches the end may take a lower order that also reaches it (spec eqs. (5.8),
+    /// (5.8')); a given order is used for every step.
     pub order: usize,
     /// Refuse (exit 3) rather than take more steps than this.
     pub max_steps: usize,
@@ -72,11 +75,16 @@ impl Default for FlowOptions {
 /// What the integrator did.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FlowStats {
+    /// The Taylor order `p` of the steps (a last step may have used a lower one, spec (5.8')).
     pub order: usize,
+    /// Accepted steps.
     pub steps: usize,
     /// Steps tried and rejected (a priori enclosure or remainder not good enough).
     pub rejected: usize,
+    /// The smallest accepted step (the lower end of an interval last step); 0 when no step
+    /// was taken.
     pub h_min: f64,
+    /// The largest accepted step (the upper end of an interval last step).
     pub h_max: f64,
 }
 

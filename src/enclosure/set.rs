@@ -12,9 +12,13 @@ use nalgebra::DMatrix;
 /// interval vector that contains 0.
 #[derive(Clone)]
 pub struct LohnerSet {
+    /// The centre `m` (exact f64 data).
     pub m: Vec<f64>,
+    /// The basis `B`, `d x d` (exact f64 data).
     pub b: DMatrix<f64>,
+    /// `[r]`, containing 0.
     pub r: Vec<Interval>,
+    /// A box that also contains every state of the set (the box of spec eq. (5.12)).
     pub boxed: Vec<Interval>,
     /// A marked subset `{ m + B r : r in sub.r } ∩ sub.boxed` carried along with the same
     /// centre, basis and Jacobians (spec eq. (5.14)): e.g. the image of the initial centre,
@@ -33,7 +37,9 @@ crate::readable::readable_debug!(LohnerSet {
 /// The marked subset of a [`LohnerSet`]: its own `[r]` (inside the set's) and box.
 #[derive(Clone)]
 pub struct SubSet {
+    /// The subset's `[r_S]` (spec eq. (5.14)).
     pub r: Vec<Interval>,
+    /// The subset's box `[x_S]`.
     pub boxed: Vec<Interval>,
 }
 

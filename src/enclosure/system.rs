@@ -11,8 +11,11 @@ use crate::tape::{Tape, Tracer};
 /// the last `tail` components of the initial state only (the shooting Jacobian of the
 /// retraction needs D x / D u0, not D x / D q0).
 pub struct System {
+    /// `x -> F(x)`, `d` inputs and outputs.
     pub field: Tape,
+    /// `(x, V) -> (F(x), DF(x) V)`, `V` a `d x d` matrix row-major.
     pub field_var: Tape,
+    /// `(x, W) -> (F(x), DF(x) W)`, `W` a `d x tail` matrix row-major.
     pub field_var_tail: Tape,
 }
 

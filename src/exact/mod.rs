@@ -125,6 +125,22 @@ impl Retraction {
 /// `(u0, s)`; `v0`, `v1`, `q1` enclose `R^{e-}`, `R^{e+}` and `q(h)` of that solution.
 /// `Error::Uncertified` when Newton does not converge, the Jacobian is singular, or the
 /// Krawczyk test fails (e.g. h too large for uniqueness); nothing unproved is returned.
+///
+/// # Example
+/// ```
+/// use dalembert::exact::retract;
+/// use dalembert::scalar::point;
+/// use dalembert::{AnyScene, FlowOptions, Model};
+/// let model = Model::new(&AnyScene::new("particle", &[])?)?;
+/// let pts = |v: &[f64]| v.iter().map(|&x| point(x)).collect::<Vec<_>>();
+/// let (q0, q1) = (pts(&[0.0, 0.0, 0.0]), pts(&[0.4, 0.4, 0.0]));
+/// let r = retract(&model, &q0, &q1, 0.5, &FlowOptions::default())?;
+/// // the defect s excludes 0: (Q0, Q1) is proved off M_h^{e,nh} (here s is about 0.073)
+/// assert!(!r.possibly_member() && r.s[0].inf() > 0.07);
+/// // N(Q1) = (-y1, 0, 1) leaves y alone, and y(h) = u0_2 h: u0_2 = 0.4 / 0.5
+/// assert!(r.u0[1].contains(0.8) && r.q1[1].contains(0.4));
+/// # Ok::<(), dalembert::Error>(())
+/// ```
 pub fn retract(
     model: &Model,
     q0: &[Interval],
@@ -424,6 +440,7 @@ fn newton_guess(
 /// The exact discrete flow and Legendre transforms at a pair (spec eqs. (6.5)-(6.7)).
 #[derive(Clone)]
 pub struct ExactStep {
+    /// The retraction of `(Q0, Q1)` the step starts from (spec eqs. (6.2)-(6.4)).
     pub retraction: Retraction,
     /// `q(h)`, the point of M_h^{e,nh}.
     pub q1: Vec<Interval>,
@@ -449,6 +466,22 @@ crate::readable::readable_debug!(ExactStep {
 /// For every `(Q0, Q1)` in the boxes, with `(u0, s)` the unique solution of spec eq. (6.2)
 /// in the Krawczyk box: `q1 ∋ q(h)`, `q2 ∋ q(2h)`, `p_minus ∋ F^- l`, `p_plus ∋ F^+ l`
 /// (spec Theorem 6.2).
+///
+/// # Example
+/// ```
+/// use dalembert::exact::step;
+/// use dalembert::scalar::point;
+/// use dalembert::{AnyScene, FlowOptions, Model};
+/// let model = Model::new(&AnyScene::new("particle", &[])?)?;
+/// let pts = |v: &[f64]| v.iter().map(|&x| point(x)).collect::<Vec<_>>();
+/// let (q0, q1) = (pts(&[0.0, 0.0, 0.0]), pts(&[0.4, 0.4, 0.08]));
+/// let s = step(&model, &q0, &q1, 0.5, &FlowOptions::default())?;
+/// // on the particle y(t) = u_2 t and p_2 = yd = u_2 = 0.8 on the whole trajectory
+/// assert!(s.q2[1].contains(0.8));
+/// assert!(s.p_minus[1].contains(0.8) && s.p_plus[1].contains(0.8));
+/// assert!(s.q2.iter().all(|x| x.wid() < 1e-12));
+/// # Ok::<(), dalembert::Error>(())
+/// ```
 pub fn step(
     model: &Model,
     q0: &[Interval],
@@ -471,7 +504,8 @@ pub fn step(
     })
 }
 
-/// `p_a = <M(q) v, e_a(q)>` over boxes (spec eq. (4.8)).
+/// `p_a = <M(q) v + A(q), e_a(q)>` over boxes (spec eq. (4.8); `A = 0` unless the scene has
+/// a one-form).
 pub fn momentum(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Vec<Interval>, Error> {
     let x: Vec<Interval> = q.iter().chain(v).copied().collect();
     model
@@ -483,6 +517,7 @@ pub fn momentum(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Vec<Int
 /// The exact discrete trajectory `q_0 .. q_N` from `(Q0, Q1)` (spec eq. (6.6)).
 #[derive(Clone)]
 pub struct ExactTrajectory {
+    /// The retraction of `(Q0, Q1)`: its `u0` box fixes the trajectory (spec eq. (6.2)).
     pub retraction: Retraction,
     /// `q_k ∋ q(k h)`, k = 0..=N.
     pub q: Vec<Vec<Interval>>,
@@ -539,9 +574,14 @@ pub fn trajectory(
 /// D*-momentum at `kh` (as the rows of [`ExactTrajectory`]).
 #[derive(Clone)]
 pub struct Iterate {
+    /// The index `k` of the iterate (0 for `Q0`).
     pub k: usize,
+    /// Contains `q(kh)` (with non-uniform steps, `q(t_k - t_0)`); for `k = 1`, the
+    /// intersection of the flow's box with `Q1 + N(Q1) s` (spec eq. (6.4)).
     pub q: Vec<Interval>,
+    /// Contains `qd(kh)`; for `k = 0`, `R^{e-}(Q0, Q1)` of the retraction.
     pub v: Vec<Interval>,
+    /// Contains the D*-momentum `(<FL(qd(kh)), e_a(q(kh))>)_a` (spec eq. (4.8)).
     pub p: Vec<Interval>,
 }
 

@@ -21,12 +21,17 @@ use std::io::Write;
 pub enum Answer {
     /// `flow` at one time `t`; with `jacobian`, also D(q, u)(t) / D(q, u)(0).
     Flow {
+        /// The certified state at `t` (spec Theorem 5.1).
         enclosure: FlowEnclosure,
+        /// Contains `D(q, u)(t) / D(q, u)(0)`, rows and columns q then u (spec Theorem 5.3);
+        /// `None` unless asked for.
         jacobian: Option<Vec<Vec<Interval>>>,
     },
     /// `flow` at each of `times` (dense output), from one integration.
     FlowAt {
+        /// The times asked for, increasing.
         times: Vec<f64>,
+        /// The certified state at each of `times`, in order (spec Theorem 5.4).
         enclosures: Vec<FlowEnclosure>,
     },
     /// `retract`: the exact retractions and the defect of the pair.
@@ -34,11 +39,20 @@ pub enum Answer {
     /// `step`: one step of the exact discrete flow with the Legendre transforms.
     Step(ExactStep),
     /// `lagrangian`: the exact discrete Lagrangian and the retraction it integrates along.
-    Lagrangian { l: Interval, retraction: Retraction },
+    Lagrangian {
+        /// Contains the action `int_0^h L(q, qd) dt` (spec eqs. (6.7)-(6.8)).
+        l: Interval,
+        /// The retraction of the pair, whose trajectory the action is taken along.
+        retraction: Retraction,
+    },
     /// `check`: the verdict, the tolerances it was decided on, and the decision.
     Check {
+        /// The certified figures (spec Theorem 8.1).
         verdict: Verdict,
+        /// The tolerances given (none, one or both).
         tolerances: Tolerances,
+        /// `true` when every given tolerance is proved met (or none is given), `false` when
+        /// one is proved exceeded (spec (8.3), (8.5)).
         passed: bool,
     },
     /// `integrate`: the float trajectory of a scheme.
@@ -286,10 +300,12 @@ pub fn interval(x: Interval) -> Value {
     json!([x.inf(), x.sup()])
 }
 
+/// The intervals as a JSON array of `[lo, hi]`.
 pub fn intervals(x: &[Interval]) -> Value {
     Value::Array(x.iter().map(|v| interval(*v)).collect())
 }
 
+/// The object `stats` of a flow answer: `order`, `steps`, `rejected`, `h_min`, `h_max`.
 pub fn stats(s: &FlowStats) -> Value {
     json!({"order": s.order, "steps": s.steps, "rejected": s.rejected, "h_min": s.h_min, "h_max": s.h_max})
 }

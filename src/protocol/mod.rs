@@ -35,7 +35,9 @@ use std::rc::Rc;
 /// inline JSON object, spec chapter 10) with the parameters that override its defaults.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneSpec {
+    /// The built-in scene's name, or a user's scene's name (then for messages only).
     pub name: String,
+    /// Parameter values `(name, value)` that override the scene's defaults.
     pub params: Vec<(String, f64)>,
     /// `Some` for a user's scene (then `name` is its name, for messages only).
     pub definition: Option<std::sync::Arc<SceneFile>>,
@@ -64,29 +66,47 @@ impl SceneSpec {
 /// One request (contract commands 1-4, and the `lagrangian` extension).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Query {
+    /// `flow` (contract command 1): the state at `t` from `q(0) = q`, `qd(0) = E(q)^T u`
+    /// (spec Theorem 5.1).
     Flow {
+        /// The scene.
         scene: SceneSpec,
+        /// The initial configuration (n numbers).
         q: Vec<f64>,
+        /// The initial quasi-velocities (n - k numbers).
         u: Vec<f64>,
         /// One time (`t`) or many (`times`, dense output: spec eq. (5.16), contract E11).
         t: At,
+        /// The Taylor order: 2 to 60, or 0 (not given) for the automatic choice (spec (5.8)).
         order: usize,
         /// Also the derivative D(q, u)(t) / D(q, u)(0) (`flow --jacobian`).
         jacobian: bool,
     },
+    /// `retract` (contract command 2): the exact retraction at the pair (spec eqs.
+    /// (6.2)-(6.4)).
     Retract(Pair),
+    /// `step` (contract command 3): one step of the exact discrete flow with the Legendre
+    /// transforms (spec Theorem 6.2).
     Step(Pair),
+    /// `lagrangian`: the exact discrete Lagrangian of the pair (spec eqs. (6.7)-(6.8)).
     Lagrangian(Pair),
+    /// `integrate` (contract command 4): the float sequence `q_0 .. q_N` of DLA or MLA.
     Integrate {
+        /// The scene, `q0`, `q1` (moved onto M_h^d by the scheme, spec eq. (7.3)) and `h`.
         pair: Pair,
+        /// DLA or MLA.
         scheme: SchemeKind,
+        /// The number `N` of steps, at most [`MAX_STEPS`].
         steps: usize,
     },
     /// A certified verdict on a whole trajectory `q_0 .. q_N` of step `h`, or at times
     /// `t_0 < .. < t_N` (contract E12) (the `check` command's, as a batch query).
     Check {
+        /// The scene.
         scene: SceneSpec,
+        /// The step `h` of the rows, or their times.
         steps: Steps,
+        /// The candidate `q_0 .. q_N`, one configuration per row.
         q: Vec<Vec<f64>>,
         /// Tolerance on `max_k |q_k - q^e_k|_inf`: the answer says `passed` (proved within),
         /// or fails (proved beyond) or is refused as undecided.
@@ -111,9 +131,13 @@ pub enum At {
 /// The arguments shared by the commands on a pair of configurations.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pair {
+    /// The scene.
     pub scene: SceneSpec,
+    /// The first configuration `Q0` (n numbers).
     pub q0: Vec<f64>,
+    /// The second configuration `Q1` (n numbers).
     pub q1: Vec<f64>,
+    /// The step `h` between them.
     pub h: f64,
 }
 
@@ -184,6 +208,8 @@ fn scene_key(s: &SceneSpec) -> String {
 }
 
 impl Session {
+    /// The compiled model of a scene (spec eq. (3.16)): from the session's cache, or compiled
+    /// and cached now.
     pub fn model(&mut self, s: &SceneSpec) -> Result<Rc<Model>, Error> {
         let key = scene_key(s);
         if let Some(m) = self.models.get(&key) {
@@ -457,7 +483,9 @@ impl Session {
 /// that a test can compare it with the line: the numbers used are the numbers given).
 #[derive(Clone, Debug)]
 pub struct BatchAnswer {
+    /// The answer line (JSON, without a line end).
     pub text: String,
+    /// The query that was answered, when the answer is `ok`; `None` for an error.
     pub answered: Option<Query>,
 }
 

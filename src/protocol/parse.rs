@@ -16,7 +16,10 @@ pub enum Line {
     /// The bytes of the line, without its `\n`.
     Text(Vec<u8>),
     /// A line longer than the limit, and how long it was.
-    TooLong { bytes: u64 },
+    TooLong {
+        /// The line's length in bytes, without its `\n`.
+        bytes: u64,
+    },
 }
 
 /// Lines of bytes from a reader, each at most `limit` bytes kept: a longer line is skipped
@@ -27,6 +30,7 @@ pub struct LineReader<R> {
 }
 
 impl<R: std::io::BufRead> LineReader<R> {
+    /// Lines of `inner`, at most `limit` bytes of each kept.
     pub fn new(inner: R, limit: usize) -> Self {
         LineReader { inner, limit }
     }
@@ -103,6 +107,7 @@ pub fn parse_param(s: &str) -> Result<(String, f64), Error> {
     Ok((k.to_string(), parse_num("param", v)?))
 }
 
+/// `--steps`: an integer in `0..=MAX_STEPS`.
 pub fn parse_steps(s: &str) -> Result<usize, Error> {
     match s.trim().parse::<usize>() {
         Ok(n) if n <= MAX_STEPS => Ok(n),
@@ -112,6 +117,7 @@ pub fn parse_steps(s: &str) -> Result<usize, Error> {
     }
 }
 
+/// `--order`: a Taylor order, an integer in `2..=60` (spec (5.8)).
 pub fn parse_order(s: &str) -> Result<usize, Error> {
     match s.trim().parse::<usize>() {
         Ok(p) if (2..=60).contains(&p) => Ok(p),

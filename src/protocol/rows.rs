@@ -41,6 +41,8 @@ pub struct IntegrateRows {
 }
 
 impl IntegrateRows {
+    /// The rows of an `integrate` answer for a scene of `n` coordinates: the object of
+    /// contract command 4 when `json`, else the CSV.
     pub fn new(json: bool, n: usize) -> Self {
         IntegrateRows {
             json,
@@ -138,6 +140,7 @@ pub struct CheckRows {
 }
 
 impl CheckRows {
+    /// The rows of a `check` answer: the batch object when `json`, else the verdict table.
     pub fn new(json: bool) -> Self {
         CheckRows { json }
     }

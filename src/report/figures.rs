@@ -20,24 +20,32 @@ pub struct Settings {
     pub particle_steps: usize,
     /// Steps of the knife runs (paper: 600).
     pub knife_steps: usize,
-    /// Abscissae x1 and ordinates y1 of the M_h^{e,nh} figure.
+    /// The M_h^{e,nh} figure (spec (9.3)): the abscissae `x1`.
     pub space_x: Vec<f64>,
+    /// The M_h^{e,nh} figure: the values of `y1`, one slice each.
     pub space_y: Vec<f64>,
-    /// Work-precision: final time, scheme step sizes, Taylor orders and fixed steps of the
-    /// certified flow, and the least measured time per point (seconds).
+    /// Work-precision (spec (9.4)): the final time `T`.
     pub wp_time: f64,
+    /// Work-precision: the schemes' step sizes.
     pub wp_scheme_h: Vec<f64>,
+    /// Work-precision: the Taylor orders of the certified flow.
     pub wp_orders: Vec<usize>,
+    /// Work-precision: the certified flow's fixed steps (spec eq. (5.13)).
     pub wp_flow_h: Vec<f64>,
+    /// Work-precision: each time is the shortest of runs repeated for at least this many
+    /// seconds (and at least three times when `> 0`).
     pub wp_min_seconds: f64,
-    /// Orders: the local and global ladders and the number of starts of
-    /// [`super::orders::starts`] used (all of them: the README table's).
+    /// Orders (spec (9.6)): the step sizes of the local ladder.
     pub orders_local_h: Vec<f64>,
+    /// Orders: the step sizes of the global ladder over `[0, 1]`.
     pub orders_global_h: Vec<f64>,
+    /// Orders: how many of [`super::orders::starts`] are used (`usize::MAX`: all of them,
+    /// the README table's).
     pub orders_starts: usize,
 }
 
 impl Settings {
+    /// The paper's settings (spec (9.1)-(9.6)).
     pub fn paper() -> Self {
         Settings {
             particle_steps: 1200,
@@ -54,6 +62,7 @@ impl Settings {
             orders_starts: usize::MAX,
         }
     }
+    /// A small setting that runs in a few seconds (`figures --quick`, tests).
     pub fn quick() -> Self {
         Settings {
             particle_steps: 30,

@@ -18,35 +18,50 @@ pub struct Figure {
     pub name: String,
     /// What is plotted, in words (shown under the panels).
     pub caption: String,
+    /// The charts, left to right.
     pub panels: Vec<Panel>,
+    /// The data, one CSV file per table.
     pub tables: Vec<Table>,
 }
 
 /// One chart.
 #[derive(Clone, Debug)]
 pub struct Panel {
+    /// The chart's title.
     pub title: String,
+    /// Label of the x axis.
     pub x_label: String,
+    /// Label of the y axis.
     pub y_label: String,
+    /// Logarithmic x axis.
     pub x_log: bool,
+    /// Logarithmic y axis.
     pub y_log: bool,
+    /// The series drawn in this chart.
     pub series: Vec<Series>,
 }
 
 /// How a series is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Style {
+    /// A solid line through the points.
     Line,
+    /// A dashed line through the points.
     Dashed,
+    /// A marker at each point, no line.
     Markers,
+    /// A solid line with a marker at each point.
     LineMarkers,
 }
 
 /// A named list of points `(x, y)`.
 #[derive(Clone, Debug)]
 pub struct Series {
+    /// The legend's text.
     pub label: String,
+    /// How the series is drawn.
     pub style: Style,
+    /// The points `(x, y)`, in drawing order.
     pub points: Vec<(f64, f64)>,
     /// Index into the renderer's palette (default: the series' position in its panel).
     pub color: Option<usize>,
@@ -58,12 +73,16 @@ pub struct Series {
 /// Numbers with a header; `name` is empty for a figure's only table.
 #[derive(Clone, Debug)]
 pub struct Table {
+    /// The CSV file is `<figure>_<name>.csv`; empty: `<figure>.csv`.
     pub name: String,
+    /// The column names.
     pub header: Vec<String>,
+    /// The rows, one number per column.
     pub rows: Vec<Vec<f64>>,
 }
 
 impl Series {
+    /// A series with the palette's colour for its position and no error bars.
     pub fn new(label: impl Into<String>, style: Style, points: Vec<(f64, f64)>) -> Self {
         Series {
             label: label.into(),
@@ -87,6 +106,7 @@ impl Series {
 }
 
 impl Table {
+    /// An empty table with these column names.
     pub fn new(name: &str, header: &[&str]) -> Self {
         Table {
             name: name.to_string(),

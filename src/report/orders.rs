@@ -12,6 +12,7 @@ use crate::{AnyScene, Error, FlowOptions, Model};
 pub const LOCAL_H: [f64; 5] = [0.125, 0.0625, 0.03125, 0.015625, 0.0078125];
 /// The global ladder of the table: h = 1/16 .. 1/64, over [0, T_END].
 pub const GLOBAL_H: [f64; 3] = [0.0625, 0.03125, 0.015625];
+/// The end `T` of the global ladder's interval `[0, T]`.
 pub const T_END: f64 = 1.0;
 /// The schemes, in the order of the table's columns.
 pub const SCHEMES: [SchemeKind; 2] = [SchemeKind::Dla, SchemeKind::Mla];
@@ -19,8 +20,11 @@ pub const SCHEMES: [SchemeKind; 2] = [SchemeKind::Dla, SchemeKind::Mla];
 /// A scene and a start `(q0, u0)`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Start {
+    /// The built-in scene's name (default parameters).
     pub scene: &'static str,
+    /// The initial configuration.
     pub q0: Vec<f64>,
+    /// The initial quasi-velocities.
     pub u0: Vec<f64>,
 }
 
@@ -55,8 +59,11 @@ pub fn starts() -> Vec<Start> {
 /// the oracle (or the scheme) refused.
 #[derive(Clone, Debug)]
 pub struct Orders {
+    /// The start the ladders were run from.
     pub start: Start,
+    /// The local ladders (spec (11.1)) of DLA and MLA, or why each was refused.
     pub local: [Result<Ladder, Error>; 2],
+    /// The global ladders (spec (11.3)) of DLA and MLA, or why each was refused.
     pub global: [Result<Ladder, Error>; 2],
 }
 

@@ -10,40 +10,68 @@ use crate::{AnyScene, Error, FlowOptions, Model};
 /// One input pair.
 #[derive(Clone, Debug)]
 pub struct Case {
+    /// The scene's name.
     pub scene: String,
+    /// Its parameters (the others at their defaults).
     pub params: Vec<(String, f64)>,
     /// The family and what is extreme: "h", "coordinates", "phi", "eps".
     pub family: String,
+    /// The step `h`.
     pub h: f64,
+    /// The first configuration.
     pub q0: Vec<f64>,
+    /// `q0 + h E(q0)^T u`, `u = (0.8, 0.8)`, in f64 (spec (9.5)).
     pub q1: Vec<f64>,
 }
 
 /// What the certified step (`exact::step`, spec Theorem 6.2) did.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Certified {
-    /// Answered; the largest width over q1, q2, p_minus, p_plus, and the largest width
-    /// relative to `max(1, |component|)`.
-    Answered { width: f64, relative: f64 },
-    /// Refused: exit status (2 or 3) and message.
-    Refused { code: i32, reason: String },
+    /// Answered.
+    Answered {
+        /// The largest width over `q1`, `q2`, `p_minus`, `p_plus`.
+        width: f64,
+        /// The largest width relative to `max(1, |component|)`.
+        relative: f64,
+    },
+    /// Refused.
+    Refused {
+        /// The exit status: 2 (input) or 3 (not certified).
+        code: i32,
+        /// The error's message.
+        reason: String,
+    },
 }
 
 /// What a scheme's Newton solves did on the first two steps (projection of q1 onto M_h^d,
 /// then q2).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Solve {
-    /// Iterations of the projection and of the step.
-    Converged { iterations: Vec<usize> },
-    /// Failed at `step` (0 = the projection), with the named failure.
-    Failed { step: usize, failure: String },
+    /// Both solves converged.
+    Converged {
+        /// Newton iterations of the projection and of the step.
+        iterations: Vec<usize>,
+    },
+    /// A solve failed.
+    Failed {
+        /// Where: 0 the projection of q1, 1 the step to q2 (for a momentum or energy not
+        /// finite, its row k = 0..=2).
+        step: usize,
+        /// The named failure (spec eq. (7.6)), or why the input or the result was refused.
+        failure: String,
+    },
 }
 
+/// One row of the table: a case and what each method did with it.
 #[derive(Clone, Debug)]
 pub struct Row {
+    /// The case.
     pub case: Case,
+    /// What the certified step did.
     pub certified: Certified,
+    /// What DLA's Newton solves did.
     pub dla: Solve,
+    /// What MLA's Newton solves did.
     pub mla: Solve,
     /// Wall time of the case (certified step and both schemes), seconds.
     pub seconds: f64,

@@ -20,6 +20,7 @@ use crate::Error;
 /// constraint xd + y zd = 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactOscillator {
+    /// The coefficient `eps` of the coupling `eps x^2 z^2 / 2` in V (any real).
     pub eps: f64,
     /// `Some(delta)`: the non-reversible variant, with S = delta cos z.
     pub delta: Option<f64>,

@@ -12,6 +12,7 @@ pub struct Knife;
 /// As [`Knife`] with constraint sin(phi) xd - (cos(phi) - eps) yd = 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KnifeEps {
+    /// The `eps` of `cos(phi) - eps`; [`AnyScene::new`] requires `|eps| < 1` (spec eq. (3.4)).
     pub eps: f64,
 }
 

@@ -4,7 +4,7 @@
 //! - `L(q, qd) = 1/2 qd^T M(q) qd + A(q) qd - V(q)` on `Q = R^n` (angles as real
 //!   coordinates; the one-form `A` is absent, i.e. zero, unless a scene declares one),
 //! - `k` constraint covectors `mu^a(q)` (rows of the k x n matrix `mu(q)`), `mu(q) qd = 0`,
-//! - a basis `e_1(q) .. e_{n-k}(q)` of `D_q = ker mu(q)`, so that `v = E(q) u` is in D exactly.
+//! - a basis `e_1(q) .. e_{n-k}(q)` of `D_q = ker mu(q)`, so that `v = E(q)^T u` is in D exactly.
 //!
 //! Everything else (dynamics, multipliers, enclosures, schemes) is derived in generic code;
 //! nothing downstream knows which scene it is running. Each scene file also declares, as a
@@ -45,6 +45,35 @@ pub type Mat<S> = Vec<Vec<S>>;
 /// written once over `S: Scalar` and must be analytic where they are evaluated (spec
 /// eq. (3.17) says what [`crate::Model::new`] and [`crate::Model::check_at`] check and what
 /// stays assumed).
+///
+/// # Example
+/// The particle of spec eq. (3.2) as a user's own type: only its constraint is given, so
+/// `M = I`, `V = 0` and the basis is derived with the free coordinates `(x, y)`:
+/// `e_1 = (1, 0, y)`, `e_2 = (0, 1, 0)`.
+/// ```
+/// use dalembert::scalar::Scalar;
+/// use dalembert::scene::{Mat, Scene};
+/// use dalembert::{flow, FlowOptions, Model};
+///
+/// struct MyParticle;
+/// impl Scene for MyParticle {
+///     fn name(&self) -> String {
+///         "my-particle".into()
+///     }
+///     fn dim(&self) -> usize {
+///         3
+///     }
+///     /// zd - y xd = 0
+///     fn constraints<S: Scalar>(&self, q: &[S]) -> Mat<S> {
+///         vec![vec![-q[1].clone(), S::zero(), S::one()]]
+///     }
+/// }
+///
+/// let model = Model::new(&MyParticle)?;
+/// let e = flow(&model, &[0.0, 0.0, 0.0], &[0.8, 0.8], 2.0, &FlowOptions::default())?;
+/// assert!(e.q[1].contains(1.6)); // y(t) = 0.8 t, as for the built-in `particle`
+/// # Ok::<(), dalembert::Error>(())
+/// ```
 pub trait Scene {
     /// The name shown in answers and messages.
     fn name(&self) -> String;
@@ -181,6 +210,7 @@ pub fn det<S: Scalar>(m: &Mat<S>) -> S {
 /// implementations use to pose the same problem.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Description {
+    /// The scene's name (for a built-in scene, its `--scene` name).
     pub name: String,
     /// One line: what the system is and where it comes from.
     pub summary: String,
@@ -190,7 +220,9 @@ pub struct Description {
     pub velocities: Vec<String>,
     /// Parameters: name, value in this scene (the default in a listing), description.
     pub params: Vec<(String, f64, String)>,
+    /// Number of coordinates `n`.
     pub n: usize,
+    /// Number of constraints `k` (rows of mu).
     pub k: usize,
     /// The Lagrangian, as a formula.
     pub lagrangian: String,
@@ -243,8 +275,11 @@ pub(crate) use described_by;
 /// A scene parameter: name, default and a one-line description (with its admissible range).
 #[derive(Debug)]
 pub struct ParamInfo {
+    /// The name in `--param name=value`.
     pub name: &'static str,
+    /// The value used when none is given.
     pub default: f64,
+    /// One line: what the parameter is, and its admissible range.
     pub description: &'static str,
 }
 
@@ -260,9 +295,11 @@ pub struct SceneInfo {
     pub coordinates: &'static [&'static str],
     /// Names of the quasi-velocities u_a (components of v in the basis e_a).
     pub velocities: &'static [&'static str],
+    /// The parameters the scene takes.
     pub params: &'static [ParamInfo],
-    /// n and k.
+    /// Number of coordinates `n`.
     pub n: usize,
+    /// Number of constraints `k` (rows of mu).
     pub k: usize,
     /// The Lagrangian, as a formula.
     pub lagrangian: &'static str,
@@ -347,11 +384,18 @@ impl Params<'_> {
 /// A scene chosen by name at run time, with its parameters fixed.
 #[derive(Clone, Debug, PartialEq)]
 pub enum AnyScene {
+    /// `particle` (spec eq. (3.2)).
     Particle(Particle),
+    /// `knife` (spec eq. (3.3)).
     Knife(Knife),
+    /// `knife-eps` (spec eq. (3.4)).
     KnifeEps(KnifeEps),
+    /// `rolling-disk` (spec eq. (3.6)).
     RollingDisk(RollingDisk),
+    /// `sleigh` (spec eq. (3.7)).
     Sleigh(Sleigh),
+    /// `contact-oscillator` (spec eq. (3.8)), or `contact-oscillator-nr` (3.9) when `delta` is
+    /// given.
     ContactOscillator(ContactOscillator),
 }
 
@@ -411,6 +455,8 @@ impl AnyScene {
         Ok(info_of(name)?.params)
     }
 
+    /// The static description of this scene (for a `ContactOscillator` with `delta`, that of
+    /// `contact-oscillator-nr`).
     pub fn info(&self) -> &'static SceneInfo {
         match self {
             AnyScene::Particle(_) => &particle::INFO,

@@ -1,11 +1,13 @@
-//! Recording a computation once and replaying it: over any [`Scalar`] (one value per node)
-//! and over truncated Taylor series of intervals (spec/02-taylor.md, eqs. (2.1)-(2.7)).
+//! Recording a computation once and replaying it: over any
+//! [`Scalar`](crate::scalar::Scalar) (one value per node) and over truncated Taylor series
+//! of intervals (spec/02-taylor.md, eqs. (2.1)-(2.7)).
 //!
-//! A scene's vector field is written once over `S: Scalar`. Instantiated with [`Tracer`],
-//! it records a straight-line program (a tape); the validated integrator replays the tape
-//! with the recurrences of automatic Taylor differentiation, O(p^2) per node for p
-//! coefficients. Replaying over `f64` gives the float field, over `Interval` the rigorous one:
-//! they cannot drift apart because they are the same tape.
+//! A scene's vector field is written once over `S: Scalar`. Instantiated with
+//! [`Tracer`](crate::tape::Tracer), it records a straight-line program (a tape); the
+//! validated integrator replays the tape with the recurrences of automatic Taylor
+//! differentiation, O(p^2) per node for p coefficients. Replaying over `f64` gives the
+//! float field, over `Interval` the rigorous one: they cannot drift apart because they are
+//! the same tape.
 //!
 //! The only simplifications made while recording are exact identities of real arithmetic
 //! (`x + 0 = x`, `x * 0 = 0`, `x * 1 = x`, `x / 1 = x`), so replaying is sound.
@@ -386,15 +388,19 @@ impl Tape {
         self.n_inputs == other.n_inputs && canon(self) == canon(other)
     }
 
+    /// Number of inputs of the recorded function.
     pub fn n_inputs(&self) -> usize {
         self.n_inputs
     }
+    /// Number of outputs.
     pub fn n_outputs(&self) -> usize {
         self.outputs.len()
     }
+    /// Number of recorded operations.
     pub fn len(&self) -> usize {
         self.ops.len()
     }
+    /// Whether no operation was recorded.
     pub fn is_empty(&self) -> bool {
         self.ops.is_empty()
     }
@@ -768,6 +774,7 @@ pub trait Coef: Scalar + Copy + 'static {
     fn safe_divisor(&self) -> bool;
     /// Proved positive.
     fn safe_sqrt_arg(&self) -> bool;
+    /// Finite (intervals: non-empty with finite ends).
     fn is_finite_coef(&self) -> bool;
     /// `self + a b`; for intervals fused (one outward rounding, inari's `mul_add`), which
     /// encloses the exact value as the unfused form does, and is tighter and faster.

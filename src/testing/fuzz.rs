@@ -53,6 +53,7 @@ use std::time::{Duration, Instant};
 /// What a solver returns: the next configuration and whether its iteration converged.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolverAnswer {
+    /// The solver's next configuration (n numbers are expected).
     pub q2: Vec<f64>,
     /// `true` claims that `q2` is within the stated tolerance of the exact discrete step;
     /// `false` hands back a last iterate and claims nothing about it.
@@ -68,6 +69,8 @@ pub struct SolverAnswer {
 pub trait NewtonSolver {
     /// The solver's own failure; any type (its `Debug` text is kept in the outcome).
     type Error: std::fmt::Debug;
+    /// `q2` from the pair `(q0, q1)` and the step `h`, with the claim `converged`; or the
+    /// solver's own failure.
     fn solve(&self, q0: &[f64], q1: &[f64], h: f64) -> Result<SolverAnswer, Self::Error>;
 }
 
@@ -115,7 +118,10 @@ pub enum PairKind {
     /// rounding (the pair builder of spec eq. (11.6)).
     OnManifold,
     /// An on-manifold `q1` moved by `distance` along the unit first constraint normal.
-    Near { distance: f64 },
+    Near {
+        /// The signed distance moved.
+        distance: f64,
+    },
     /// `q1 = q0 + h E(q0)^T u0` (spec eq. (9.5)), off `M_h^{e,nh}` by `O(h^2 |u0|^2)`:
     /// where the certified flow refused, or chosen as such.
     Euler,
@@ -124,11 +130,15 @@ pub enum PairKind {
 /// One decoded input: the pair, the step, and how they were made.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolverInput {
+    /// The first configuration (n finite numbers).
     pub q0: Vec<f64>,
+    /// The second configuration, made as `kind` says (n finite numbers).
     pub q1: Vec<f64>,
+    /// The step, finite and `> 0`.
     pub h: f64,
     /// The quasi-velocities the pair was made from.
     pub u0: Vec<f64>,
+    /// How `q1` was made.
     pub kind: PairKind,
 }
 
@@ -248,6 +258,7 @@ pub struct InputSpace {
     pub u_bound: f64,
     /// Ordinary steps lie in `[h_min, h_max]`. Default `[0.01, 0.5]`.
     pub h_min: f64,
+    /// Upper end of the ordinary steps' range. Default 0.5.
     pub h_max: f64,
     /// Also tiny and large steps, large configurations and velocities. Default true.
     pub extremes: bool,
@@ -268,6 +279,7 @@ impl Default for InputSpace {
 /// The inputs and the oracle's budget.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FuzzOptions {
+    /// Where the inputs are drawn.
     pub space: InputSpace,
     /// Steps of every certified flow (the pair builder's and the oracle's). Default 400.
     pub max_steps: usize,
@@ -308,7 +320,12 @@ pub enum FuzzOutcome {
     /// Claimed converged, and the oracle certified the step: `distance` encloses
     /// `|q2 - q^e_2|_inf` and its lower end is within `tol` (its upper end may not be: the
     /// enclosure's width is not held against the solver).
-    Certified { distance: Interval, tol: f64 },
+    Certified {
+        /// Contains `|q2 - q^e_2|_inf` (spec Theorem 8.1 with N = 2).
+        distance: Interval,
+        /// The tolerance stated for this input.
+        tol: f64,
+    },
     /// Claimed converged; the oracle could not certify the step within its budget (its
     /// typed refusal). Not a finding.
     Refused(Error),
@@ -412,14 +429,20 @@ pub fn check_answer<S: NewtonSolver + ?Sized>(
 /// Counts of outcomes over a set of inputs (for a replay test to print and bound).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Tally {
+    /// Inputs with [`FuzzOutcome::Certified`].
     pub certified: usize,
+    /// Inputs with [`FuzzOutcome::Refused`].
     pub refused: usize,
+    /// Inputs with [`FuzzOutcome::Unchecked`].
     pub unchecked: usize,
+    /// Inputs with [`FuzzOutcome::NotConverged`].
     pub not_converged: usize,
+    /// Inputs with [`FuzzOutcome::SolverFailed`].
     pub solver_failed: usize,
 }
 
 impl Tally {
+    /// Count one outcome.
     pub fn add(&mut self, outcome: &FuzzOutcome) {
         *match outcome {
             FuzzOutcome::Certified { .. } => &mut self.certified,
@@ -429,6 +452,7 @@ impl Tally {
             FuzzOutcome::SolverFailed(_) => &mut self.solver_failed,
         } += 1;
     }
+    /// The number of outcomes counted.
     pub fn total(&self) -> usize {
         self.certified + self.refused + self.unchecked + self.not_converged + self.solver_failed
     }

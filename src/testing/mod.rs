@@ -31,6 +31,8 @@ use inari::Interval;
 /// A user's one-step map of a two-step (variational) integrator: `q_{k+1}` from
 /// `(q_{k-1}, q_k)` and the step `h`, or the stepper's own failure (its message).
 pub trait Stepper {
+    /// `q_{k+1}` from `q_prev = q_{k-1}`, `q = q_k` and the step `h`; `Err` with the stepper's
+    /// own message when it fails.
     fn step(&self, q_prev: &[f64], q: &[f64], h: f64) -> Result<Vec<f64>, String>;
     /// The integrator's own starting step `q_1` from a state `(q_0, v_0)` (v_0 the velocity
     /// in coordinates), when it has one; `None` (the default): start from the exact motion.
@@ -311,10 +313,14 @@ pub fn observed_order(ea: Interval, eb: Interval, ha: f64, hb: f64) -> Interval 
 /// A start pair for a scheme, with what the oracle proved about it.
 #[derive(Clone, Debug)]
 pub struct Pair {
+    /// The first configuration `q0`.
     pub q0: Vec<f64>,
     /// The quasi-velocities the pair was made from.
     pub u0: Vec<f64>,
+    /// The second configuration: `mid(flow(q0, u0, h).q)`, possibly moved a chosen distance
+    /// off `M_h^{e,nh}` along the first constraint normal (spec eq. (11.6)).
     pub q1: Vec<f64>,
+    /// The step `h > 0` of the pair.
     pub h: f64,
     /// Encloses the defect s of `(q0, q1)` with respect to `M_h^{e,nh}` (spec eq. (6.2)).
     pub defect: Vec<Interval>,
