@@ -419,3 +419,50 @@ fn batch_check_answers_what_the_check_command_prints() {
     // DLA is not within 1e-12 of the exact discrete flow: proved beyond the tolerance
     assert_eq!(a[5]["ok"]["passed"], false, "{}", a[5]);
 }
+
+/// `integrate` checks the scene at both start configurations (spec (3.17)) on the command
+/// line as in batch: a mass matrix `diag(x, 1)` is not positive definite at x = -1, so both
+/// refuse that start with the same input error (exit 2) and accept x = 1.
+#[test]
+fn integrate_checks_the_scene_at_its_start_on_the_command_line_as_in_batch() {
+    let f = file(
+        "mass_x.toml",
+        "coordinates = [\"x\", \"y\"]\nquasi_velocities = [\"xd\"]\n\
+         mass = [[\"x\", 0], [0, 1]]\nconstraints = [[0, 1]]\nfree = [\"x\"]\n",
+    );
+    let f = f.to_str().unwrap();
+    let cli = |q0: &str, q1: &str| {
+        run(&[
+            "integrate",
+            "--scene-file",
+            f,
+            "--scheme",
+            "dla",
+            "--q0",
+            q0,
+            "--q1",
+            q1,
+            "--h",
+            "0.1",
+            "--steps",
+            "2",
+        ])
+    };
+    refused(&cli("-1,0", "-1.1,0"), 2, "not proved positive definite");
+    refused(&cli("1,0", "-1,0"), 2, "not proved positive definite");
+    ok_stdout(&cli("1,0", "1.1,0"));
+    let scene = serde_json::json!({
+        "coordinates": ["x", "y"], "quasi_velocities": ["xd"],
+        "mass": [["x", 0], [0, 1]], "constraints": [[0, 1]], "free": ["x"]
+    });
+    let line = serde_json::json!({
+        "id": 1, "cmd": "integrate", "scene": scene, "scheme": "dla",
+        "q0": [-1.0, 0.0], "q1": [-1.1, 0.0], "h": 0.1, "steps": 2
+    });
+    let a = batch(&format!("{line}\n"));
+    assert_eq!(a[0]["error"]["code"], 2, "{}", a[0]);
+    assert!(a[0]["error"]["message"]
+        .as_str()
+        .unwrap()
+        .contains("not proved positive definite"));
+}

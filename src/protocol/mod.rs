@@ -334,19 +334,6 @@ impl Session {
                 scheme,
                 steps,
             } => {
-                if self.max_integrate_steps > 0 && *steps > self.max_integrate_steps {
-                    return Err(Error::input(format!(
-                        "steps: at most {} in this session",
-                        self.max_integrate_steps
-                    )));
-                }
-                let model = self.model(&pair.scene)?;
-                for q in [&pair.q0, &pair.q1] {
-                    if q.len() == model.n && q.iter().all(|x| x.is_finite()) {
-                        model.check_at(&points(q))?;
-                    }
-                }
-                let sc = self.scheme(&pair.scene, *scheme)?;
                 let mut tr = Trajectory {
                     q: Vec::new(),
                     p: Vec::new(),
@@ -354,27 +341,21 @@ impl Session {
                     iterations: Vec::new(),
                     max_residual: 0.0,
                 };
-                tr.max_residual = sc.integrate_each(
-                    &pair.q0,
-                    &pair.q1,
-                    pair.h,
-                    *steps,
-                    &NewtonOptions::default(),
-                    |r: Row| -> Result<(), Error> {
-                        Error::check_deadline(opts.deadline)?;
+                tr.max_residual =
+                    self.integrate_each(pair, *scheme, *steps, seconds, |r: Row| {
                         tr.q.push(r.q.to_vec());
                         tr.p.extend(r.p.map(<[f64]>::to_vec));
                         tr.energy.extend(r.energy);
                         tr.iterations.extend(r.iterations);
                         Ok(())
-                    },
-                )?;
+                    })?;
                 Ok(Answer::Integrate(tr))
             }
         }
     }
 
-    /// An `integrate` query row by row in constant memory: `row` gets q_k, p_k and the
+    /// An `integrate` query row by row in constant memory (the command line's `integrate`
+    /// and batch's both run here): the scene is checked at `q0` and `q1` (spec (3.17)), then `row` gets q_k, p_k and the
     /// energy for k = 0..=steps in order, as soon as each is known; returns the largest
     /// Newton residual. Within `seconds` when given, else the session's budget; past it, or
     /// when `row` fails, the integration stops with that error.
@@ -396,6 +377,13 @@ impl Session {
             self.flow.deadline,
             seconds.or(self.deadline).and_then(deadline_in),
         );
+        // the scene's structure at both start configurations (spec (3.17))
+        let model = self.model(&pair.scene)?;
+        for q in [&pair.q0, &pair.q1] {
+            if q.len() == model.n && q.iter().all(|x| x.is_finite()) {
+                model.check_at(&points(q))?;
+            }
+        }
         let sc = self.scheme(&pair.scene, scheme)?;
         sc.integrate_each(
             &pair.q0,
