@@ -319,26 +319,24 @@ mod tests {
     /// random points and boxes; the simplified one is never wider at a point.
     #[test]
     fn simplified_tapes_enclose_the_same_function() {
-        let f = |x: &[Interval]| -> Vec<Interval> {
-            let (a, b) = (x[0], x[1]);
+        // one expression over any scalar: replayed from a tape, and directly over intervals
+        fn exprs<S: Scalar>(x: &[S]) -> Vec<S> {
+            let (a, b) = (x[0].clone(), x[1].clone());
             let (s, c) = (a.sin(), a.cos());
             vec![
-                (a + b) * (a - b) - a * a + b * b + c * c + s * s,
-                (s * s * s + s * c * c) * b - s * b,
-                a * Interval::cst(0.1) * Interval::cst(0.1) - a * Interval::cst(0.01),
-                b * s * s + b * c * c,
+                (a.clone() + b.clone()) * (a.clone() - b.clone()) - a.clone() * a.clone()
+                    + b.clone() * b.clone()
+                    + c.clone() * c.clone()
+                    + s.clone() * s.clone(),
+                (s.clone() * s.clone() * s.clone() + s.clone() * c.clone() * c.clone())
+                    * b.clone()
+                    - s.clone() * b.clone(),
+                a.clone() * S::cst(0.1) * S::cst(0.1) - a * S::cst(0.01),
+                b.clone() * s.clone() * s + b * c.clone() * c,
             ]
-        };
-        let tape = Tape::record(2, |x| {
-            let (a, b) = (x[0], x[1]);
-            let (s, c) = (a.sin(), a.cos());
-            vec![
-                (a + b) * (a - b) - a * a + b * b + c * c + s * s,
-                (s * s * s + s * c * c) * b - s * b,
-                a * Tracer::cst(0.1) * Tracer::cst(0.1) - a * Tracer::cst(0.01),
-                b * s * s + b * c * c,
-            ]
-        });
+        }
+        let f = exprs::<Interval>;
+        let tape = Tape::record(2, exprs);
         let mut seed = 0x5eed_u64;
         let mut next = || {
             seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
