@@ -282,9 +282,16 @@ fn newton_invariant(scene: usize, mla: bool, qm: &[f64], qk: &[f64], h: f64) -> 
                 .iter()
                 .filter(|x| !x.is_empty())
                 .fold(0.0f64, |a, x| a.max(x.mig()));
+            // the rounding of the residual's terms, as the interval evaluation carries it
+            // (near overflow the terms are ~1e307 and one ulp of them is ~1e291)
+            let rounding = r
+                .iter()
+                .filter(|x| !x.is_empty())
+                .fold(0.0f64, |a, x| a.max(x.wid()));
             assert!(
-                proved <= 4.0 * reported + 1e-9 * (1.0 + scale(&next, qk, h)),
-                "residual at least {proved:e} against reported {reported:e}"
+                proved
+                    <= 4.0 * reported + 4.0 * rounding + 1e-9 * (1.0 + scale(&next, qk, h)),
+                "residual at least {proved:e} against reported {reported:e} (rounding {rounding:e})"
             );
         }
         tally
