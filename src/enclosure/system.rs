@@ -35,7 +35,7 @@ impl System {
         fd: impl Fn(&[Dual<Tracer>]) -> Vec<Dual<Tracer>>,
     ) -> System {
         let var = |c: usize| {
-            Tape::record(d + d * c, |xv| {
+            Tape::record_simplified(d + d * c, |xv| {
                 let x: Vec<Dual<Tracer>> = (0..d)
                     .map(|i| Dual::new(xv[i], xv[d + i * c..d + (i + 1) * c].to_vec()))
                     .collect();
@@ -48,7 +48,7 @@ impl System {
             })
         };
         System {
-            field: Tape::record(d, f),
+            field: Tape::record_simplified(d, f),
             field_var: var(d),
             field_var_tail: var(tail),
         }

@@ -290,23 +290,36 @@ impl Tape {
         let inputs: Vec<Tracer> = (0..n_inputs).map(|i| push(Op::Input(i))).collect();
         let outs = f(&inputs);
         let rec = RECORDING.with(|t| std::mem::take(&mut *t.borrow_mut()));
-        let plain = Tape {
+        Tape {
             ops: rec.ops,
             n_inputs,
             outputs: outs.iter().map(|t| t.0).collect(),
         }
-        .without_dead_code();
-        // (2.13) the same program with its cancelling sums replaced by their normal forms
+        .without_dead_code()
+    }
+
+    /// [`Tape::record`], then simplified exactly (spec (2.13)): the cancelling sums are
+    /// replaced by their normal forms. Used for the vector fields the validated integrator
+    /// carries sets through, where the cancelled terms' widths cap the steps; the float
+    /// schemes' tapes are recorded as written (an expanded normal form can round worse in
+    /// f64 near overflow).
+    pub fn record_simplified(n_inputs: usize, f: impl FnOnce(&[Tracer]) -> Vec<Tracer>) -> Tape {
+        Tape::record(n_inputs, f).simplified()
+    }
+
+    /// This program with its cancelling sums replaced by their normal forms (spec (2.13)).
+    fn simplified(self) -> Tape {
         #[cfg(test)]
         if !simplify::ENABLED.with(|e| e.get()) {
-            return plain;
+            return self;
         }
-        let new = simplify::rerecord(&plain.ops);
+        RECORDING.with(|t| *t.borrow_mut() = Recording::default());
+        let new = simplify::rerecord(&self.ops);
         let rec = RECORDING.with(|t| std::mem::take(&mut *t.borrow_mut()));
         Tape {
             ops: rec.ops,
-            n_inputs,
-            outputs: plain.outputs.iter().map(|o| new[*o as usize].0).collect(),
+            n_inputs: self.n_inputs,
+            outputs: self.outputs.iter().map(|o| new[*o as usize].0).collect(),
         }
         .without_dead_code()
     }

@@ -295,7 +295,7 @@ mod tests {
     /// `cos^2 + sin^2` leave exactly `u1' = cos(phi) / 2`, as derived by hand.
     #[test]
     fn cancelling_terms_and_sin_squared_plus_cos_squared_go() {
-        let tape = Tape::record(3, |x| {
+        let tape = Tape::record_simplified(3, |x| {
             let (phi, u1, u2) = (x[0], x[1], x[2]);
             let (s, c) = (phi.sin(), phi.cos());
             let num = -(c * (u1 * (u2 * -s) + Tracer::cst(-0.5)) + s * (u1 * (u2 * c)));
@@ -336,7 +336,7 @@ mod tests {
             ]
         }
         let f = exprs::<Interval>;
-        let tape = Tape::record(2, exprs);
+        let tape = Tape::record_simplified(2, exprs);
         let mut seed = 0x5eed_u64;
         let mut next = || {
             seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
@@ -365,10 +365,10 @@ mod tests {
     /// coefficient that is not an f64 (0.1 * 0.1) leaves its node as recorded.
     #[test]
     fn domains_and_inexact_coefficients_are_kept() {
-        let tape = Tape::record(2, |x| vec![x[0] / x[1] - x[0] / x[1]]);
+        let tape = Tape::record_simplified(2, |x| vec![x[0] / x[1] - x[0] / x[1]]);
         assert!(tape.eval_checked(&[point(1.0), point(0.0)]).is_none());
         assert!(tape.ops.iter().any(|o| matches!(o, Op::Div(..))));
-        let tape = Tape::record(1, |x| {
+        let tape = Tape::record_simplified(1, |x| {
             vec![x[0] * Tracer::cst(0.1) * Tracer::cst(0.1) - x[0] * Tracer::cst(0.01)]
         });
         assert!(tape.ops.iter().any(|o| matches!(o, Op::Sub(..))), "{:?}", tape.ops);
