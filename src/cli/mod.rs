@@ -448,9 +448,5 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
     let answer = session.answer_within(&query, deadline)?;
     drop(session);
     bar.clear();
-    Ok(Some(if as_json {
-        answer.to_json().to_string()
-    } else {
-        answer.to_text()
-    }))
+    Ok(Some(answer.render(as_json)))
 }

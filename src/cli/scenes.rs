@@ -30,9 +30,5 @@ pub fn run(file: Option<&str>, params: &[String], as_json: bool) -> Result<Strin
             Answer::Scenes(vec![model.scene.description()])
         }
     };
-    Ok(if as_json {
-        answer.to_json().to_string()
-    } else {
-        answer.to_text()
-    })
+    Ok(answer.render(as_json))
 }

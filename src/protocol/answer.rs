@@ -124,6 +124,15 @@ impl Answer {
         }
     }
 
+    /// What the command prints: the JSON object with `--json` (`json`), else the text.
+    pub fn render(&self, json: bool) -> String {
+        if json {
+            self.to_json().to_string()
+        } else {
+            self.to_text()
+        }
+    }
+
     /// What the command prints without `--json` (without the final newline): for `flow`,
     /// `retract`, `step` and `lagrangian` one `key: value` line per key of the JSON object
     /// (the stops of `flow --times` a block each); for `integrate` the CSV

@@ -291,12 +291,7 @@ mod tests {
                 let mut out = Vec::new();
                 rows.finish(&mut out, max_residual, |i, w| w.write_all(&parts[i]))
                     .unwrap();
-                let want = if json {
-                    whole.to_json().to_string()
-                } else {
-                    whole.to_text()
-                };
-                assert_eq!(String::from_utf8(out).unwrap(), want + "\n");
+                assert_eq!(String::from_utf8(out).unwrap(), whole.render(json) + "\n");
             }
         }
     }
@@ -366,12 +361,7 @@ mod tests {
                         |i, w| w.write_all(&parts[i]),
                     )
                     .unwrap();
-                let want = if json {
-                    whole.to_json().to_string()
-                } else {
-                    whole.to_text()
-                };
-                assert_eq!(String::from_utf8(out).unwrap(), want + "\n");
+                assert_eq!(String::from_utf8(out).unwrap(), whole.render(json) + "\n");
             }
         }
     }
