@@ -6,6 +6,9 @@
 //! ```sh
 //! cargo run --release --features fuzzing --example fuzz_cost [TARGET]
 //! ```
+//!
+//! With `FUZZ_COST_DIR=DIR` (and a TARGET) it times the inputs in DIR instead, for example
+//! the corpus copy a campaign grew; `FUZZ_COST_SLOWEST=1` lists the slowest eight inputs.
 
 use std::path::Path;
 use std::time::Instant;
@@ -27,11 +30,19 @@ fn main() {
         }
         let mut times = Vec::new();
         let mut tally = dalembert::fuzzing::Tally::default();
-        for dir in ["corpus", "regressions"] {
-            let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("fuzz")
-                .join(dir)
-                .join(name);
+        let dirs: Vec<std::path::PathBuf> = match std::env::var_os("FUZZ_COST_DIR") {
+            Some(d) => vec![d.into()],
+            None => ["corpus", "regressions"]
+                .iter()
+                .map(|dir| {
+                    Path::new(env!("CARGO_MANIFEST_DIR"))
+                        .join("fuzz")
+                        .join(dir)
+                        .join(name)
+                })
+                .collect(),
+        };
+        for path in dirs {
             let Ok(entries) = std::fs::read_dir(&path) else {
                 continue;
             };

@@ -5,6 +5,9 @@ use std::fmt;
 /// The message of [`Error::over_budget`].
 pub const OVER_BUDGET: &str = "not certified within the budget (the deadline passed)";
 
+/// The message of [`Error::over_work`].
+pub const OVER_WORK: &str = "not certified within the budget (the work limit was reached)";
+
 /// Why a request was not answered. `Input` maps to exit status 2, `Uncertified` and
 /// `Internal` to 3.
 ///
@@ -50,7 +53,8 @@ pub struct Refusal {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum Reason {
-    /// A budget was spent: the deadline passed ([`crate::FlowOptions::deadline`]), or more
+    /// A budget was spent: the deadline passed ([`crate::FlowOptions::deadline`]), the
+    /// work limit was reached ([`crate::FlowOptions::work_limit`]), or more
     /// steps than [`crate::FlowOptions::max_steps`] (or the retraction's Newton work)
     /// would be needed. A larger budget may answer.
     Budget,
@@ -108,6 +112,12 @@ impl Error {
     /// message starts with `not certified within the budget`.
     pub fn over_budget() -> Self {
         Error::refused(Reason::Budget, OVER_BUDGET)
+    }
+    /// The refusal of work that reached its work limit (exit 3, [`Reason::Budget`],
+    /// [`crate::FlowOptions::work_limit`]). Its message starts with `not certified within
+    /// the budget`.
+    pub fn over_work() -> Self {
+        Error::refused(Reason::Budget, OVER_WORK)
     }
     /// `Err(over_budget())` once `deadline` has passed; `Ok` when there is none.
     pub fn check_deadline(deadline: Option<std::time::Instant>) -> Result<(), Error> {

@@ -25,9 +25,12 @@ use std::cell::RefCell;
 /// cost of a few ordinary ones (issue "Fuzzing at volume"). With the simplified tapes
 /// (spec (2.13)) the corpus's certified shares are the same as with 16. Steps, not time: a
 /// run replays the same on every machine.
+const FUZZ_WORK: u64 = 2_000_000;
+
 fn budget() -> FlowOptions {
     FlowOptions {
         max_steps: 8,
+        work_limit: Some(crate::work_done() + FUZZ_WORK),
         ..FlowOptions::default()
     }
 }

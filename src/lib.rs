@@ -66,3 +66,4 @@ pub use flow::{flow, FlowEnclosure};
 pub use model::Model;
 pub use progress::Progress;
 pub use scene::{AnyScene, Scene};
+pub use tape::work_done;

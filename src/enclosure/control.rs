@@ -61,7 +61,7 @@ pub(super) fn flow_set_general(
         if stats.steps >= opts.max_steps || stats.steps + stats.rejected >= 2 * opts.max_steps {
             return Err(too_many(opts.max_steps, t).reached(done.inf()));
         }
-        Error::check_deadline(opts.deadline).map_err(|e| e.reached(done.inf()))?;
+        opts.check_budget().map_err(|e| e.reached(done.inf()))?;
         let rem = (total - done).intersection(iv(0.0, f64::MAX));
         // (5.3) Taylor coefficients at the centre, for every try of this step.
         let centre: Vec<Interval> = set.m.iter().map(|x| point(*x)).collect();
@@ -101,6 +101,9 @@ pub(super) fn flow_set_general(
         }
         let mut tries = 0;
         loop {
+            if tries > 0 {
+                opts.check_budget().map_err(|e| e.reached(done.inf()))?;
+            }
             let hi = if last { rem } else { point(h) };
             let strict = !fixed && tries < 12;
             let step = lohner_step(

@@ -43,6 +43,12 @@ pub struct FlowOptions {
     /// before every step of the validated flow and every float flow of the retraction's
     /// Newton guess. `None`: no time limit (the step counts still bound the work).
     pub deadline: Option<std::time::Instant>,
+    /// Refuse with [`Error::over_work`] (exit 3, [`crate::Reason::Budget`]) once
+    /// [`crate::work_done`] on this thread has reached this count: checked where the
+    /// deadline is, and before every try of a step. Set it as `Some(work_done() + W)` for a
+    /// call that may do the work `W` (spec (5.8''')); unlike a deadline it replays the same
+    /// on every machine. `None` (default): no work limit.
+    pub work_limit: Option<u64>,
     /// How the basis of the set is renewed at each step (spec eq. (5.10)).
     pub basis: Basis,
 }
@@ -59,6 +65,18 @@ pub enum Basis {
     Orthogonal,
 }
 
+impl FlowOptions {
+    /// `Err` ([`Reason::Budget`](crate::Reason::Budget)) once the deadline has passed or
+    /// the work limit is reached; `Ok` otherwise.
+    pub fn check_budget(&self) -> Result<(), Error> {
+        Error::check_deadline(self.deadline)?;
+        match self.work_limit {
+            Some(w) if crate::tape::work_done() >= w => Err(Error::over_work()),
+            _ => Ok(()),
+        }
+    }
+}
+
 impl Default for FlowOptions {
     fn default() -> Self {
         FlowOptions {
@@ -67,6 +85,7 @@ impl Default for FlowOptions {
             step: 0.0,
             progress: Progress::default(),
             deadline: None,
+            work_limit: None,
             basis: Basis::Parallelepiped,
         }
     }

@@ -153,8 +153,9 @@ pub fn retract(
     let m = n - k;
     let nq1 = normal_matrix(model, q1)?;
     let guess = newton_guess(model, q0, q1, h, opts);
-    // past the deadline the Newton guess stops early: say so rather than why it stopped
-    Error::check_deadline(opts.deadline)?;
+    // past the deadline or the work limit the Newton guess stops early: say so rather
+    // than why it stopped
+    opts.check_budget()?;
     let (guess, jac, residual) = guess?;
     let c = jac
         .try_inverse()
@@ -323,7 +324,7 @@ fn newton_guess(
     let budget = NEWTON_WORK * opts.max_steps;
     // Work left for one more float integration, or None when the budget is spent.
     let capped = || -> Option<FlowOptions> {
-        Error::check_deadline(opts.deadline).ok()?;
+        opts.check_budget().ok()?;
         let left = budget.checked_sub(work.get()).filter(|l| *l > 0)?;
         Some(FlowOptions {
             max_steps: left.min(opts.max_steps),

@@ -17,7 +17,7 @@
 
 use crate::scalar::{point, Scalar};
 use inari::Interval;
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -461,6 +461,7 @@ impl Tape {
     /// coefficient (spec eq. (2.8)).
     pub fn ode_taylor<T: Coef>(&self, x0: &[T], order: usize) -> Option<Vec<Vec<T>>> {
         let d = self.n_inputs;
+        charge(self.ops.len(), order);
         let mut s = Series::new(self.ops.len(), order + 1);
         let mut xs: Vec<Vec<T>> = vec![x0.to_vec()];
         for k in 0..=order {
@@ -769,6 +770,23 @@ impl<T: Coef> Drop for Series<T> {
         let c = std::mem::take(&mut self.c);
         T::scratch().with(|s| s.replace(c));
     }
+}
+
+thread_local! {
+    static WORK: Cell<u64> = const { Cell::new(0) };
+}
+
+/// The arithmetic work this thread has done in Taylor series so far (spec (5.8''')): every
+/// [`Tape::ode_taylor`] of order `p` on a tape of `L` operations adds `L (p + 1) (p + 2) / 2`,
+/// the number of coefficient terms a tape of products computes. A measure of work that
+/// replays the same on every machine; [`crate::FlowOptions::work_limit`] is stated in it.
+pub fn work_done() -> u64 {
+    WORK.with(Cell::get)
+}
+
+fn charge(ops: usize, order: usize) {
+    let terms = (ops as u64).saturating_mul(((order + 1) * (order + 2) / 2) as u64);
+    WORK.with(|w| w.set(w.get().saturating_add(terms)));
 }
 
 thread_local! {
