@@ -385,7 +385,12 @@ pub fn scenes_step(data: &[u8]) -> Tally {
 /// reads, and each number the query used is bit for bit the one in the line. Never a panic.
 pub fn batch_line(data: &[u8]) -> Tally {
     let mut session = Session::default();
-    session.flow = budget();
+    session.flow = FlowOptions {
+        work_limit: None,
+        ..budget()
+    };
+    // the work limit is per query, like the deadline
+    session.work = Some(FUZZ_WORK);
     session.max_integrate_steps = 1000;
     let mut reader = LineReader::new(data, 1024);
     let (mut lines, mut answers, mut blank) = (0, 0, 0);

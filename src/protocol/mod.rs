@@ -157,6 +157,10 @@ pub struct Session {
     /// Time budget in seconds of every query that names none (`batch --deadline`); `None`:
     /// [`default_deadline`] of the query's command.
     pub deadline: Option<f64>,
+    /// Work allowed to every query ([`crate::work_done`] terms, spec (5.8''')), on top of
+    /// `flow.work_limit`; `None`: no work limit. Unlike a deadline it replays the same on
+    /// every machine (the fuzz target `batch_line` sets it).
+    pub work: Option<u64>,
 }
 
 /// The budget in seconds of a single-step query (`retract`, `step`, `lagrangian`, and each
@@ -247,6 +251,10 @@ impl Session {
         let budget = seconds.or(self.deadline).or_else(|| default_deadline(q));
         let mut opts = self.flow.clone();
         opts.deadline = earlier(opts.deadline, budget.and_then(deadline_in));
+        if let Some(w) = self.work {
+            let limit = crate::work_done().saturating_add(w);
+            opts.work_limit = Some(opts.work_limit.map_or(limit, |l| l.min(limit)));
+        }
         match q {
             Query::Flow {
                 scene,

@@ -288,6 +288,11 @@ pub struct FuzzOptions {
     /// deadline (only `max_steps`), so that decoding does not depend on time: the same bytes
     /// are the same input on every machine.
     pub budget: Duration,
+    /// Arithmetic work allowed to the pair builder and, separately, to the oracle's check
+    /// ([`crate::work_done`] terms, spec (5.8''')). Default 20 million: about 50 ms here,
+    /// 20 times the costliest input of the example corpus. Unlike the deadline it refuses
+    /// the same input on every machine.
+    pub max_work: u64,
 }
 
 impl Default for FuzzOptions {
@@ -296,6 +301,7 @@ impl Default for FuzzOptions {
             space: InputSpace::default(),
             max_steps: 400,
             budget: Duration::from_millis(50),
+            max_work: 20_000_000,
         }
     }
 }
@@ -304,6 +310,7 @@ impl FuzzOptions {
     fn flow(&self, deadline: bool) -> FlowOptions {
         FlowOptions {
             max_steps: self.max_steps,
+            work_limit: Some(crate::work_done().saturating_add(self.max_work)),
             deadline: if deadline {
                 Instant::now().checked_add(self.budget)
             } else {
