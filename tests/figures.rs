@@ -122,7 +122,7 @@ const SVGS: [&str; 7] = [
     "work_precision",
     "orders",
 ];
-const CSVS: [&str; 9] = [
+const CSVS: [&str; 10] = [
     "particle_energy",
     "particle_error",
     "discrete_space",
@@ -130,6 +130,7 @@ const CSVS: [&str; 9] = [
     "knife_eps_energy",
     "work_precision_schemes",
     "work_precision_certified",
+    "work_precision_sets",
     "orders_local",
     "orders_global",
 ];
@@ -262,6 +263,24 @@ fn figures_quick_writes_well_formed_svg_and_csv() {
     let (hs, widths) = (column(h, r, "h"), column(h, r, "width"));
     assert!(widths.iter().all(|w| *w >= 0.0));
     assert!(hs.iter().zip(&widths).any(|(h, w)| *h == 0.0 && *w < 1e-12));
+    // The two bases of (5.10) at every horizon of the quick setting (T = 1, 4), each a
+    // narrow enclosure from automatic steps.
+    let (h, r) = &csv["work_precision_sets"];
+    let (ts, basis, widths) = (
+        column(h, r, "t"),
+        column(h, r, "basis"),
+        column(h, r, "width"),
+    );
+    for b in [0.0, 1.0] {
+        let mine: Vec<f64> = ts
+            .iter()
+            .zip(&basis)
+            .filter(|x| *x.1 == b)
+            .map(|x| *x.0)
+            .collect();
+        assert_eq!(mine, [1.0, 4.0], "basis {b}");
+    }
+    assert!(widths.iter().all(|w| *w > 0.0 && *w < 1e-12), "{widths:?}");
     orders_show_what_the_library_certifies(&csv, &dir.join("orders.svg"));
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -8,7 +8,7 @@ use crate::oracle::{distance, energy};
 use crate::scalar::point;
 use crate::schemes::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use crate::testing::Ladder;
-use crate::{flow, AnyScene, Error, FlowOptions, Model};
+use crate::{flow, AnyScene, Basis, Error, FlowOptions, Model};
 use inari::Interval;
 use std::time::Instant;
 
@@ -35,6 +35,9 @@ pub struct Settings {
     /// Work-precision: each time is the shortest of runs repeated for at least this many
     /// seconds (and at least three times when `> 0`).
     pub wp_min_seconds: f64,
+    /// Work-precision, second panel: the horizons `T` at which the two bases of (5.10) are
+    /// compared on the knife (automatic steps).
+    pub wp_set_times: Vec<f64>,
     /// Orders (spec (9.6)): the step sizes of the local ladder.
     pub orders_local_h: Vec<f64>,
     /// Orders: the step sizes of the global ladder over `[0, 1]`.
@@ -57,6 +60,7 @@ impl Settings {
             wp_orders: vec![6, 10, 15, 20, 30],
             wp_flow_h: (2..=7).map(|i| 0.5f64.powi(i)).collect(),
             wp_min_seconds: 0.05,
+            wp_set_times: vec![8.0, 25.0, 50.0, 100.0, 200.0, 400.0, 600.0],
             orders_local_h: orders::LOCAL_H.to_vec(),
             orders_global_h: orders::GLOBAL_H.to_vec(),
             orders_starts: usize::MAX,
@@ -74,6 +78,7 @@ impl Settings {
             wp_orders: vec![10, 20],
             wp_flow_h: vec![0.5, 0.25],
             wp_min_seconds: 0.0,
+            wp_set_times: vec![1.0, 4.0],
             orders_local_h: orders::LOCAL_H[..3].to_vec(),
             orders_global_h: vec![0.25, 0.125],
             orders_starts: usize::MAX,
@@ -386,7 +391,9 @@ pub fn work_precision(s: &Settings, progress: &Progress) -> Result<Figure, Error
     let m = model("knife", &[])?;
     let (q0, u0, t) = ([0.1, -0.2, 0.3], [0.7, 0.9], s.wp_time);
     let reference = flow(&m, &q0, &u0, t, &FlowOptions::default())?;
-    let total = s.wp_scheme_h.len() + s.wp_orders.len() * (s.wp_flow_h.len() + 1);
+    let total = s.wp_scheme_h.len()
+        + s.wp_orders.len() * (s.wp_flow_h.len() + 1)
+        + 2 * s.wp_set_times.len();
     let mut done = 0;
     let mut schemes = Table::new(
         "schemes",
@@ -460,6 +467,39 @@ pub fn work_precision(s: &Settings, progress: &Progress) -> Result<Figure, Error
         Style::Markers,
         automatic,
     ));
+    // The set of (5.10) against Lohner's orthogonal one, the set before issue 14, over
+    // growing horizons (automatic steps, default order).
+    let mut sets = Table::new("sets", &["t", "basis", "cost", "width", "steps"]);
+    let mut set_series = vec![];
+    for (code, basis, label) in [
+        (
+            0.0,
+            Basis::Parallelepiped,
+            "parallelepiped basis (default, (5.10))",
+        ),
+        (
+            1.0,
+            Basis::Orthogonal,
+            "orthogonal basis (Lohner's QR, the set before)",
+        ),
+    ] {
+        let mut pts = vec![];
+        for &tt in &s.wp_set_times {
+            progress.count("work-precision: certified sets", done, total);
+            done += 1;
+            let opts = FlowOptions {
+                basis,
+                ..FlowOptions::default()
+            };
+            let (e, secs) = timed(s.wp_min_seconds, || flow(&m, &q0, &u0, tt, &opts));
+            let e = e?;
+            let width = max_width(&e.q);
+            sets.rows
+                .push(vec![tt, code, secs / tt, width, e.stats.steps as f64]);
+            pts.push((tt, width));
+        }
+        set_series.push(Series::new(label, Style::LineMarkers, pts));
+    }
     progress.count("work-precision", total, total);
     let fmt_list = |v: &[f64]| {
         v.iter()
@@ -474,7 +514,9 @@ pub fn work_precision(s: &Settings, progress: &Progress) -> Result<Figure, Error
              of |q_N - q(T)|_inf against the certified flow, q1 = q(h), h = {}. Certified \
              flow: width of the enclosure of q(T), Taylor orders {:?}, fixed steps {} (each \
              order one line) and the automatic step rule (markers){}. Cost: wall time per \
-             unit of simulated time on this machine.",
+             unit of simulated time on this machine. Second panel: width of the certified \
+             q(T) with automatic steps against T = {}, with the parallelepiped basis of \
+             (5.10) and with Lohner's orthogonal one.",
             fmt_list(&s.wp_scheme_h),
             s.wp_orders,
             fmt_list(&s.wp_flow_h),
@@ -482,17 +524,28 @@ pub fn work_precision(s: &Settings, progress: &Progress) -> Result<Figure, Error
                 format!("; {failed} runs could not be certified and are not shown")
             } else {
                 String::new()
-            }
+            },
+            fmt_list(&s.wp_set_times),
         ),
-        panels: vec![Panel {
-            title: "Work-precision, knife edge".into(),
-            x_label: "seconds per unit time".into(),
-            y_label: "error (schemes) / width (certified)".into(),
-            x_log: true,
-            y_log: true,
-            series: panel_series,
-        }],
-        tables: vec![schemes, certified],
+        panels: vec![
+            Panel {
+                title: "Work-precision, knife edge".into(),
+                x_label: "seconds per unit time".into(),
+                y_label: "error (schemes) / width (certified)".into(),
+                x_log: true,
+                y_log: true,
+                series: panel_series,
+            },
+            Panel {
+                title: "Certified sets, knife edge".into(),
+                x_label: "T".into(),
+                y_label: "width of q(T)".into(),
+                x_log: true,
+                y_log: true,
+                series: set_series,
+            },
+        ],
+        tables: vec![schemes, certified, sets],
     })
 }
 
