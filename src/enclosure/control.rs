@@ -55,6 +55,9 @@ pub(super) fn flow_set_general(
     let mut reached = t <= 0.0;
     // Index in JAC_ORDERS of the variational order to try first (5.6).
     let mut jac_order = 0;
+    // (5.8) (c): the step of the last first try rejected just above the tolerance, and the
+    // steps accepted since
+    let mut ceiling: Option<(f64, i32)> = None;
     while !reached {
         // the work is the steps taken and tried: rejected tries count too (a hard start can
         // reject dozens of tries per step)
@@ -84,7 +87,10 @@ pub(super) fn flow_set_general(
         } else {
             let rule = step_size(&mid, p, &set.m);
             let predicted = memo.map_or(rule, |(h0, ratio)| h0 * rescale(ratio, p, 1.5));
-            round_step_fine(rule.min(predicted))
+            let cap = ceiling.map_or(f64::INFINITY, |(hc, k)| {
+                hc * 0.97 * (1.0 + CEILING_GROWTH).powi(k)
+            });
+            round_step_fine(rule.min(predicted).min(cap))
         }
         .min(rem.inf());
         let mut last = h >= rem.inf();
@@ -140,6 +146,9 @@ pub(super) fn flow_set_general(
                     done = if last { total } else { done + hi };
                     reached = last;
                     stats.steps += 1;
+                    if let Some((_, k)) = &mut ceiling {
+                        *k = k.saturating_add(1);
+                    }
                     stats.h_min = stats.h_min.min(hi.inf());
                     stats.h_max = stats.h_max.max(hi.sup());
                     opts.progress
@@ -160,6 +169,9 @@ pub(super) fn flow_set_general(
                     stats.rejected += 1;
                 }
                 Err(fail @ (StepFail::Shrink | StepFail::TooWide(_))) => {
+                    if tries == 0 && !last && matches!(fail, StepFail::TooWide(r) if r <= 4.0) {
+                        ceiling = Some((hi.sup(), 0));
+                    }
                     tries += 1;
                     stats.rejected += 1;
                     // (5.8): a remainder too wide by `ratio` gives the step that should
@@ -216,6 +228,9 @@ pub(super) const LOW_ORDERS: [usize; 5] = [6, 8, 10, 12, 15];
 /// remainder varies along a trajectory (about 20 times on the knife between steps of the
 /// same size), and aiming at 0.15 keeps the rejections under 5%.
 pub(super) const REMAINDER_TARGET: f64 = 0.15;
+
+/// (5.8) (c): how fast the ceiling left by a rejected first try lifts, per accepted step.
+const CEILING_GROWTH: f64 = 0.002;
 
 pub(crate) fn too_many(max: usize, t: f64) -> Error {
     Error::refused(
