@@ -785,7 +785,9 @@ pub fn work_done() -> u64 {
 }
 
 fn charge(ops: usize, order: usize) {
-    let terms = (ops as u64).saturating_mul(((order + 1) * (order + 2) / 2) as u64);
+    let order = order as u64;
+    let per_op = order.saturating_add(1).saturating_mul(order.saturating_add(2)) / 2;
+    let terms = (ops as u64).saturating_mul(per_op);
     WORK.with(|w| w.set(w.get().saturating_add(terms)));
 }
 
