@@ -777,9 +777,10 @@ thread_local! {
 }
 
 /// The arithmetic work this thread has done in Taylor series so far (spec (5.8''')): every
-/// [`Tape::ode_taylor`] of order `p` on a tape of `L` operations adds `L (p + 1) (p + 2) / 2`,
-/// the number of coefficient terms a tape of products computes. A measure of work that
-/// replays the same on every machine; [`crate::FlowOptions::work_limit`] is stated in it.
+/// series of order `p` on a tape of `L` operations (`Tape::ode_taylor`) adds
+/// `L (p + 1) (p + 2) / 2`, the number of coefficient terms a tape of products computes. A
+/// measure of work that replays the same on every machine;
+/// [`crate::FlowOptions::work_limit`] is stated in it.
 pub fn work_done() -> u64 {
     WORK.with(Cell::get)
 }
