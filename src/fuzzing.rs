@@ -33,9 +33,9 @@ const FUZZ_WORK: u64 = 2_000_000;
 fn budget() -> FlowOptions {
     FlowOptions {
         max_steps: 8,
-        work_limit: Some(crate::work_done().saturating_add(FUZZ_WORK)),
         ..FlowOptions::default()
     }
+    .allow_work(FUZZ_WORK)
 }
 
 /// What the inputs of a fuzz target came to, for the corpus replay's shares

@@ -45,9 +45,9 @@ pub struct FlowOptions {
     pub deadline: Option<std::time::Instant>,
     /// Refuse with [`Error::over_work`] (exit 3, [`crate::Reason::Budget`]) once
     /// [`crate::work_done`] on this thread has reached this count: checked where the
-    /// deadline is, and before every try of a step. Set it as `Some(work_done() + W)` for a
-    /// call that may do the work `W` (spec (5.8''')); unlike a deadline it replays the same
-    /// on every machine. `None` (default): no work limit.
+    /// deadline is, and before every try of a step. [`FlowOptions::allow_work`]`(W)` sets it
+    /// for a call that may do the work `W` (spec (5.8''')); unlike a deadline it replays the
+    /// same on every machine. `None` (default): no work limit.
     pub work_limit: Option<u64>,
     /// How the basis of the set is renewed at each step (spec eq. (5.10)).
     pub basis: Basis,
@@ -66,6 +66,14 @@ pub enum Basis {
 }
 
 impl FlowOptions {
+    /// These options with the work `w` allowed from now (spec (5.8''')): `work_limit`
+    /// becomes [`crate::work_done`]` + w`, or stays where it is if that is lower.
+    pub fn allow_work(mut self, w: u64) -> Self {
+        let limit = crate::tape::work_done().saturating_add(w);
+        self.work_limit = Some(self.work_limit.map_or(limit, |l| l.min(limit)));
+        self
+    }
+
     /// `Err` ([`Reason::Budget`](crate::Reason::Budget)) once the deadline has passed or
     /// the work limit is reached; `Ok` otherwise.
     pub fn check_budget(&self) -> Result<(), Error> {

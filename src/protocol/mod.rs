@@ -252,8 +252,7 @@ impl Session {
         let mut opts = self.flow.clone();
         opts.deadline = earlier(opts.deadline, budget.and_then(deadline_in));
         if let Some(w) = self.work {
-            let limit = crate::work_done().saturating_add(w);
-            opts.work_limit = Some(opts.work_limit.map_or(limit, |l| l.min(limit)));
+            opts = opts.allow_work(w);
         }
         match q {
             Query::Flow {

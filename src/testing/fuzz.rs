@@ -310,7 +310,6 @@ impl FuzzOptions {
     fn flow(&self, deadline: bool) -> FlowOptions {
         FlowOptions {
             max_steps: self.max_steps,
-            work_limit: Some(crate::work_done().saturating_add(self.max_work)),
             deadline: if deadline {
                 Instant::now().checked_add(self.budget)
             } else {
@@ -318,6 +317,7 @@ impl FuzzOptions {
             },
             ..FlowOptions::default()
         }
+        .allow_work(self.max_work)
     }
 }
 
