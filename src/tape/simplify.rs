@@ -93,15 +93,20 @@ impl Poly {
     }
     /// `self + s * other` (s = 1 or -1), exactly; `None` if a coefficient is not an f64.
     fn add(&self, other: &Poly, s: f64) -> Option<Poly> {
-        let mut out = self.0.clone();
+        let mut out = self.clone();
+        out.add_assign(other, s)?;
+        Some(out)
+    }
+    /// `self += s * other` as [`Poly::add`], in place (`None`: `self` is then garbage).
+    fn add_assign(&mut self, other: &Poly, s: f64) -> Option<()> {
         for (m, c) in &other.0 {
-            let e = out.entry(m.clone()).or_insert(0.0);
+            let e = self.0.entry(m.clone()).or_insert(0.0);
             *e = exact(point(*e) + point(s * c))?;
             if *e == 0.0 {
-                out.remove(m);
+                self.0.remove(m);
             }
         }
-        (out.len() <= MAX_TERMS).then_some(Poly(out))
+        (self.0.len() <= MAX_TERMS).then_some(())
     }
     /// `c * self`, exactly.
     fn scale(&self, c: f64) -> Option<Poly> {
@@ -121,7 +126,7 @@ impl Poly {
             for (m2, c2) in &other.0 {
                 let c = exact(point(*c1) * point(*c2))?;
                 let term = atoms.reduce(mono_mul(m1, m2), c)?;
-                out = out.add(&term, 1.0)?;
+                out.add_assign(&term, 1.0)?;
             }
         }
         Some(out)
