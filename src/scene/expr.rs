@@ -17,7 +17,8 @@ use crate::scalar::Scalar;
 /// The largest magnitude of a literal integer exponent.
 pub const MAX_INT_EXPONENT: i32 = 1024;
 /// The deepest nesting (parentheses, function calls, powers, unary minus) an expression
-/// may have: evaluation walks the tree recursively.
+/// may have, as written and as its canonical form writes it (every sum, product, negation
+/// and power in parentheses): evaluation walks the tree recursively.
 pub const MAX_DEPTH: usize = 100;
 /// The longest expression, in characters.
 pub const MAX_LEN: usize = 100_000;
@@ -544,6 +545,17 @@ pub fn parse(src: &str, names: &Names) -> Result<Expr, ExprError> {
     if p.pos < p.toks.len() {
         return Err(p.unexpected());
     }
+    // the canonical text (the scene's key) writes parentheses the source may have left out;
+    // it must read back, so its nesting is held to the same limit
+    if e.canonical_depth() > MAX_DEPTH {
+        return Err(ExprError {
+            what: format!(
+                "nested more than {MAX_DEPTH} deep once every sum, product, negation and \
+                 power is in parentheses (as the canonical form writes it)"
+            ),
+            at: None,
+        });
+    }
     Ok(e)
 }
 
@@ -617,6 +629,36 @@ impl Expr {
         let mut s = String::new();
         self.write(names, &mut s);
         s
+    }
+
+    /// The nesting depth (as the reader counts it: parentheses, calls, powers and unary
+    /// minus) of [`Expr::canonical`]'s text, computed from the tree as `write` writes it.
+    fn canonical_depth(&self) -> usize {
+        match self {
+            // a literal is non-negative; a sign would be a unary minus
+            Expr::Num(v) => usize::from(v.is_sign_negative()),
+            Expr::Pi | Expr::Coord(_) | Expr::Param(_) => 0,
+            // `(-e)`
+            Expr::Neg(e) => 2 + e.canonical_depth(),
+            // `(a + b - ...)`
+            Expr::Sum(first, rest) | Expr::Product(first, rest) => {
+                1 + rest
+                    .iter()
+                    .map(|(_, e)| e.canonical_depth())
+                    .fold(first.canonical_depth(), usize::max)
+            }
+            // `(b^n)`, `(b^-n)`, `(b^(e))`: the exponent is read after `^`, one level in
+            Expr::Pow(b, ex) => {
+                let exponent = match ex {
+                    Exponent::Int(n) => usize::from(*n < 0),
+                    Exponent::Half(minus) => usize::from(*minus),
+                    Exponent::General(e) => 1 + e.canonical_depth(),
+                };
+                1 + b.canonical_depth().max(1 + exponent)
+            }
+            // `f(e)`
+            Expr::Call(_, e) => 1 + e.canonical_depth(),
+        }
     }
 
     fn write(&self, names: &Names, s: &mut String) {
@@ -1066,6 +1108,45 @@ mod tests {
                 "{} = {got}, computed {want}",
                 sym.text()
             );
+        }
+    }
+
+    /// Every accepted expression's canonical text reads back to the same canonical text
+    /// (it is the scene's key). Chains that nest shallowly as written but deeply once
+    /// parenthesised (the `scene_file` fuzz target's finding: `-0.25^-1^-1^...`, each
+    /// level 2 deep as written and 4 in canonical form) are refused at the first length
+    /// whose canonical form would pass the limit, and accepted below it.
+    #[test]
+    fn canonical_text_reads_back() {
+        let (c, pa) = names();
+        let nm = Names {
+            coordinates: &c,
+            parameters: &pa,
+        };
+        let chains: [fn(usize) -> String; 5] = [
+            |k| format!("-0.25{}", "^-1".repeat(k)),
+            |k| format!("x{}", "^(y)".repeat(k)),
+            |k| format!("{}x", "-".repeat(k)),
+            |k| format!("{}x{}", "sin(2*".repeat(k), ")".repeat(k)),
+            |k| format!("{}x{}", "(y+".repeat(k), ")^0.5".repeat(k)),
+        ];
+        for (i, chain) in chains.iter().enumerate() {
+            let mut accepted = 0;
+            for k in 1..=120 {
+                match parse(&chain(k), &nm) {
+                    Ok(e) => {
+                        accepted = k;
+                        let text = e.canonical(&nm);
+                        let again = parse(&text, &nm)
+                            .unwrap_or_else(|err| panic!("chain {i}, {k}: {text}: {err:?}"));
+                        assert_eq!(again.canonical(&nm), text, "chain {i}, {k}");
+                        assert!(e.canonical_depth() <= MAX_DEPTH);
+                    }
+                    Err(err) => assert!(err.what.contains("nested more than"), "{err:?}"),
+                }
+            }
+            // some lengths were read, and the longest ones refused
+            assert!((10..120).contains(&accepted), "chain {i}: {accepted}");
         }
     }
 }
