@@ -1039,6 +1039,35 @@ mod tests {
             let c1 = e.canonical(&nm);
             assert_eq!(parse(&c1, &nm).unwrap(), e, "{src} -> {c1}");
         }
+        // Chains that nest shallowly as written but deeply once parenthesised (the
+        // `scene_file` fuzz target's finding: `-0.25^-1^-1^...`, 2 levels a power as written
+        // and 4 in canonical form) are refused from the first length whose canonical form
+        // would pass the limit, and read back below it.
+        let chains: [fn(usize) -> String; 5] = [
+            |k| format!("-0.25{}", "^-1".repeat(k)),
+            |k| format!("x{}", "^(y)".repeat(k)),
+            |k| format!("{}x", "-".repeat(k)),
+            |k| format!("{}x{}", "sin(2*".repeat(k), ")".repeat(k)),
+            |k| format!("{}x{}", "(y+".repeat(k), ")^0.5".repeat(k)),
+        ];
+        for (i, chain) in chains.iter().enumerate() {
+            let mut accepted = 0;
+            for k in 1..=120 {
+                match parse(&chain(k), &nm) {
+                    Ok(e) => {
+                        accepted = k;
+                        let text = e.canonical(&nm);
+                        let again = parse(&text, &nm)
+                            .unwrap_or_else(|err| panic!("chain {i}, {k}: {text}: {err:?}"));
+                        assert_eq!(again.canonical(&nm), text, "chain {i}, {k}");
+                        assert!(e.canonical_depth() <= MAX_DEPTH);
+                    }
+                    Err(err) => assert!(err.what.contains("nested more than"), "{err:?}"),
+                }
+            }
+            // some lengths were read, and the longest ones refused
+            assert!((10..120).contains(&accepted), "chain {i}: {accepted}");
+        }
     }
 
     #[test]
@@ -1108,45 +1137,6 @@ mod tests {
                 "{} = {got}, computed {want}",
                 sym.text()
             );
-        }
-    }
-
-    /// Every accepted expression's canonical text reads back to the same canonical text
-    /// (it is the scene's key). Chains that nest shallowly as written but deeply once
-    /// parenthesised (the `scene_file` fuzz target's finding: `-0.25^-1^-1^...`, each
-    /// level 2 deep as written and 4 in canonical form) are refused at the first length
-    /// whose canonical form would pass the limit, and accepted below it.
-    #[test]
-    fn canonical_text_reads_back() {
-        let (c, pa) = names();
-        let nm = Names {
-            coordinates: &c,
-            parameters: &pa,
-        };
-        let chains: [fn(usize) -> String; 5] = [
-            |k| format!("-0.25{}", "^-1".repeat(k)),
-            |k| format!("x{}", "^(y)".repeat(k)),
-            |k| format!("{}x", "-".repeat(k)),
-            |k| format!("{}x{}", "sin(2*".repeat(k), ")".repeat(k)),
-            |k| format!("{}x{}", "(y+".repeat(k), ")^0.5".repeat(k)),
-        ];
-        for (i, chain) in chains.iter().enumerate() {
-            let mut accepted = 0;
-            for k in 1..=120 {
-                match parse(&chain(k), &nm) {
-                    Ok(e) => {
-                        accepted = k;
-                        let text = e.canonical(&nm);
-                        let again = parse(&text, &nm)
-                            .unwrap_or_else(|err| panic!("chain {i}, {k}: {text}: {err:?}"));
-                        assert_eq!(again.canonical(&nm), text, "chain {i}, {k}");
-                        assert!(e.canonical_depth() <= MAX_DEPTH);
-                    }
-                    Err(err) => assert!(err.what.contains("nested more than"), "{err:?}"),
-                }
-            }
-            // some lengths were read, and the longest ones refused
-            assert!((10..120).contains(&accepted), "chain {i}: {accepted}");
         }
     }
 }
