@@ -128,7 +128,10 @@ pub(super) fn flow_set_general(
                 Ok(out) => {
                     if let Some((j, ba, b_inv)) = &out.jac {
                         let acc = total_jac.take().unwrap_or_else(|| JacobianSet::identity(d));
-                        let next = acc.step(j, ba, b_inv);
+                        let mut next = acc.step(j, ba, b_inv);
+                        if let Some(b) = &out.rebased {
+                            next = next.rebase(b);
+                        }
                         if !linalg::all_finite(&next.r) {
                             return Err(Error::refused(
                                 Reason::Unbounded,

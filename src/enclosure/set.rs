@@ -7,43 +7,57 @@ use crate::tape::finite;
 use inari::Interval;
 use nalgebra::DMatrix;
 
-/// A set `{ m + B r : r in [r] } ∩ boxed` (Lohner's parallelepiped and a box, both
-/// enclosures of the same states; spec eq. (5.1)): `m` and `B` are exact f64 data, `[r]` an
-/// interval vector that contains 0.
+/// A set `{ m + C r0 + B r : r0 in [r0], r in [r] } ∩ boxed` (a doubleton: Lohner's
+/// parallelepiped in two parts, and a box, all enclosures of the same states; spec eq.
+/// (5.1)): `m`, `C` and `B` are exact f64 data, `[r0]` and `[r]` interval vectors that
+/// contain 0. `C r0` is the propagated part (the initial set, and the errors folded into it
+/// by a reorganisation, spec (5.10')); `B r` gathers the errors of the steps since.
 #[derive(Clone)]
 pub struct LohnerSet {
     /// The centre `m` (exact f64 data).
     pub m: Vec<f64>,
-    /// The basis `B`, `d x d` (exact f64 data).
+    /// The basis `C` of the propagated part, `d x d` (exact f64 data).
+    pub c: DMatrix<f64>,
+    /// `[r0]`, containing 0.
+    pub r0: Vec<Interval>,
+    /// The basis `B` of the error part, `d x d` (exact f64 data).
     pub b: DMatrix<f64>,
     /// `[r]`, containing 0.
     pub r: Vec<Interval>,
     /// A box that also contains every state of the set (the box of spec eq. (5.12)).
     pub boxed: Vec<Interval>,
-    /// A marked subset `{ m + B r : r in sub.r } ∩ sub.boxed` carried along with the same
-    /// centre, basis and Jacobians (spec eq. (5.14)): e.g. the image of the initial centre,
-    /// which the Krawczyk test needs beside the image of the whole box.
+    /// A marked subset `{ m + C r0 + B r : r0 in sub.r0, r in sub.r } ∩ sub.boxed` carried
+    /// along with the same centre, bases and Jacobians (spec eq. (5.14)): e.g. the image of
+    /// the initial centre, which the Krawczyk test needs beside the image of the whole box.
     pub sub: Option<SubSet>,
 }
 
 crate::readable::readable_debug!(LohnerSet {
     m: dbg,
+    c: dbg,
+    r0: iv,
     b: dbg,
     r: iv,
     boxed: iv,
     sub: dbg
 });
 
-/// The marked subset of a [`LohnerSet`]: its own `[r]` (inside the set's) and box.
+/// The marked subset of a [`LohnerSet`]: its own `[r0]`, `[r]` (inside the set's) and box.
 #[derive(Clone)]
 pub struct SubSet {
+    /// The subset's `[r0_S]` (spec eq. (5.14)).
+    pub r0: Vec<Interval>,
     /// The subset's `[r_S]` (spec eq. (5.14)).
     pub r: Vec<Interval>,
     /// The subset's box `[x_S]`.
     pub boxed: Vec<Interval>,
 }
 
-crate::readable::readable_debug!(SubSet { r: iv, boxed: iv });
+crate::readable::readable_debug!(SubSet {
+    r0: iv,
+    r: iv,
+    boxed: iv
+});
 
 /// `x - m` in intervals.
 pub(super) fn relative(x: &[Interval], m: &[f64]) -> Vec<Interval> {
@@ -53,10 +67,13 @@ pub(super) fn relative(x: &[Interval], m: &[f64]) -> Vec<Interval> {
 impl LohnerSet {
     /// The single point `x` (exact f64 values).
     pub fn point(x: &[f64]) -> Self {
+        let d = x.len();
         LohnerSet {
             m: x.to_vec(),
-            b: DMatrix::identity(x.len(), x.len()),
-            r: vec![point(0.0); x.len()],
+            c: DMatrix::identity(d, d),
+            r0: vec![point(0.0); d],
+            b: DMatrix::identity(d, d),
+            r: vec![point(0.0); d],
             boxed: x.iter().map(|v| point(*v)).collect(),
             sub: None,
         }
@@ -66,12 +83,15 @@ impl LohnerSet {
         let m: Vec<f64> = x.iter().map(|v| v.mid()).collect();
         Self::centred(&m, x)
     }
-    /// The box `x` with centre `m` (a point of `x`).
+    /// The box `x` with centre `m` (a point of `x`): `x - m` in the propagated part.
     fn centred(m: &[f64], x: &[Interval]) -> Self {
+        let d = x.len();
         LohnerSet {
             m: m.to_vec(),
-            b: DMatrix::identity(x.len(), x.len()),
-            r: relative(x, m),
+            c: DMatrix::identity(d, d),
+            r0: relative(x, m),
+            b: DMatrix::identity(d, d),
+            r: vec![point(0.0); d],
             boxed: x.to_vec(),
             sub: None,
         }
@@ -81,7 +101,8 @@ impl LohnerSet {
     pub fn with_subset(m: &[f64], x: &[Interval], sub: &[Interval]) -> Self {
         LohnerSet {
             sub: Some(SubSet {
-                r: relative(sub, m),
+                r0: relative(sub, m),
+                r: vec![point(0.0); m.len()],
                 boxed: sub.to_vec(),
             }),
             ..Self::centred(m, x)
@@ -90,20 +111,29 @@ impl LohnerSet {
     /// An interval box containing the set (spec eq. (5.2)): the parallelepiped's hull
     /// intersected with the box (both contain the set, so the intersection is not empty).
     pub fn hull(&self) -> Vec<Interval> {
-        self.hull_of(&self.r, &self.boxed)
+        self.hull_of(&self.r0, &self.r, &self.boxed)
     }
     /// A box containing the marked subset, if there is one.
     pub fn sub_hull(&self) -> Option<Vec<Interval>> {
-        self.sub.as_ref().map(|s| self.hull_of(&s.r, &s.boxed))
+        self.sub
+            .as_ref()
+            .map(|s| self.hull_of(&s.r0, &s.r, &s.boxed))
     }
-    pub(super) fn hull_of(&self, r: &[Interval], boxed: &[Interval]) -> Vec<Interval> {
+    /// `(m + [C] r0 + [B] r) ∩ boxed`.
+    pub(super) fn hull_of(
+        &self,
+        r0: &[Interval],
+        r: &[Interval],
+        boxed: &[Interval],
+    ) -> Vec<Interval> {
+        let cr0 = linalg::mul_vec(&linalg::imat(&self.c), r0);
         let br = linalg::mul_vec(&linalg::imat(&self.b), r);
         self.m
             .iter()
-            .zip(br)
+            .zip(cr0.iter().zip(br))
             .zip(boxed)
-            .map(|((c, x), bx)| {
-                let p = point(*c) + x;
+            .map(|((c, (x0, x)), bx)| {
+                let p = point(*c) + (*x0 + x);
                 let both = p.intersection(*bx);
                 if both.is_empty() {
                     p
@@ -114,8 +144,33 @@ impl LohnerSet {
             .collect()
     }
 
+    /// (5.10') Reorganisation: `C r0 + B r = B (B^-1 C r0 + r)`, so the same set (and
+    /// marked subset) is `C := B`, `[r0] := ([B^-1] C) [r0] + [r]`, `B := I`, `[r] := 0`,
+    /// with `b_inv ∋ B^-1` (5.9). Returns the old `B`, which the derivative carried in
+    /// this basis (5.15) needs.
+    pub(super) fn reorganise(&mut self, b_inv: &IMat) -> DMatrix<f64> {
+        let d = self.m.len();
+        let bc = linalg::mul(b_inv, &linalg::imat(&self.c));
+        let fold = |r0: &[Interval], r: &[Interval]| -> Vec<Interval> {
+            linalg::mul_vec(&bc, r0)
+                .iter()
+                .zip(r)
+                .map(|(a, b)| *a + *b)
+                .collect()
+        };
+        self.r0 = fold(&self.r0, &self.r);
+        self.r = vec![point(0.0); d];
+        if let Some(sb) = &mut self.sub {
+            sb.r0 = fold(&sb.r0, &sb.r);
+            sb.r = vec![point(0.0); d];
+        }
+        let b = std::mem::replace(&mut self.b, DMatrix::identity(d, d));
+        self.c = b.clone();
+        b
+    }
+
     /// An enclosure of `{ G(x) : x in the set }` by the centred form
-    /// `G(m) + (DG([X]) B) [r]`, intersected with `G([X])` (spec eq. (5.12)); `g_jac` is the
+    /// `G(m) + (DG([X]) C) [r0] + (DG([X]) B) [r]`, intersected with `G([X])` (spec eq. (5.12)); `g_jac` is the
     /// tape of `(G, DG)` (`G` then `DG` row-major). `None` if an evaluation is not proved.
     pub fn image(&self, g_jac: &crate::tape::Tape) -> Option<Vec<Interval>> {
         let d = self.m.len();
@@ -125,7 +180,9 @@ impl LohnerSet {
         let dg: IMat = (0..k)
             .map(|i| over[k + i * d..k + (i + 1) * d].to_vec())
             .collect();
-        let lin = linalg::mul_vec(&linalg::mul(&dg, &linalg::imat(&self.b)), &self.r);
+        let lin0 = linalg::mul_vec(&linalg::mul(&dg, &linalg::imat(&self.c)), &self.r0);
+        let lin1 = linalg::mul_vec(&linalg::mul(&dg, &linalg::imat(&self.b)), &self.r);
+        let lin: Vec<Interval> = lin0.iter().zip(&lin1).map(|(a, b)| *a + *b).collect();
         let out: Vec<Interval> = (0..k)
             .map(|i| {
                 let c = at_m[i] + lin[i];
@@ -173,11 +230,92 @@ impl JacobianSet {
         let r = linalg::add(&linalg::mul(ba, &self.r), &linalg::mul(b_inv, &off));
         JacobianSet { c, r }
     }
+    /// The same derivative after the state's reorganisation (spec (5.10')) replaced the
+    /// basis `B` by `I`: `C + B [R] ⊂ C + I ([B] [R])`.
+    pub(super) fn rebase(&self, b: &DMatrix<f64>) -> Self {
+        JacobianSet {
+            c: self.c.clone(),
+            r: linalg::mul(&linalg::imat(b), &self.r),
+        }
+    }
     /// `C + [B][R]` in intervals.
     pub(super) fn hull(&self, b: &DMatrix<f64>) -> IMat {
         linalg::add(
             &linalg::imat(&self.c),
             &linalg::mul(&linalg::imat(b), &self.r),
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scalar::iv;
+
+    /// (5.10'): after the reorganisation the set still holds every point
+    /// `m + C a + B b` (a, b corners of `[r0]`, `[r]`), its marked subset every point of the
+    /// subset, and the new bases are `C = old B`, `B = I`.
+    #[test]
+    fn reorganisation_keeps_every_point_of_the_set_and_its_subset() {
+        let m = vec![1.0, -2.0, 0.5];
+        let c = DMatrix::from_row_slice(3, 3, &[2.0, 1.0, 0.0, 0.5, 3.0, -1.0, 0.0, 1.0, 1.0]);
+        let b = DMatrix::from_row_slice(3, 3, &[1.0, 0.2, 0.0, 0.1, 1.0, 0.3, 0.0, 0.4, 1.0]);
+        let sym = |r: &[f64]| r.iter().map(|x| iv(-x, *x)).collect::<Vec<_>>();
+        let (r0, r) = (sym(&[1e-3, 2e-3, 5e-4]), sym(&[1e-4, 3e-5, 2e-4]));
+        let (sub_r0, sub_r) = (sym(&[1e-5, 0.0, 1e-5]), sym(&[0.0, 1e-6, 1e-6]));
+        let b_inv = b
+            .clone()
+            .try_inverse()
+            .and_then(|x| linalg::enclose_inverse(&b, &x))
+            .unwrap();
+        let mut set = LohnerSet {
+            m: m.clone(),
+            c: c.clone(),
+            r0: r0.clone(),
+            b: b.clone(),
+            r: r.clone(),
+            boxed: vec![iv(-10.0, 10.0); 3],
+            sub: Some(SubSet {
+                r0: sub_r0.clone(),
+                r: sub_r.clone(),
+                boxed: vec![iv(-10.0, 10.0); 3],
+            }),
+        };
+        let before = set.hull();
+        let old_b = set.reorganise(&b_inv);
+        assert_eq!(old_b, b);
+        assert_eq!(set.c, b);
+        assert_eq!(set.b, DMatrix::identity(3, 3));
+        assert!(set.r.iter().all(|x| x.inf() == 0.0 && x.sup() == 0.0));
+        let (after, sub_after) = (set.hull(), set.sub_hull().unwrap());
+        // every corner combination, enclosed in intervals from the exact data
+        let corners = |r: &[Interval], k: usize| -> Vec<Interval> {
+            (0..3)
+                .map(|i| point(if k >> i & 1 == 1 { r[i].sup() } else { r[i].inf() }))
+                .collect()
+        };
+        for (r0, r, hull) in [(&r0, &r, &after), (&sub_r0, &sub_r, &sub_after)] {
+            for ka in 0..8 {
+                for kb in 0..8 {
+                    let ca = linalg::mul_vec(&linalg::imat(&c), &corners(r0, ka));
+                    let bb = linalg::mul_vec(&linalg::imat(&b), &corners(r, kb));
+                    for i in 0..3 {
+                        let x = point(m[i]) + ca[i] + bb[i];
+                        assert!(
+                            !x.intersection(hull[i]).is_empty(),
+                            "corner ({ka}, {kb}), component {i}: [{}, {}] outside [{}, {}]",
+                            x.inf(),
+                            x.sup(),
+                            hull[i].inf(),
+                            hull[i].sup()
+                        );
+                    }
+                }
+            }
+        }
+        // not vacuous: the fold wraps C r0 into B's frame, a few times wider at most here
+        for (a, b) in after.iter().zip(&before) {
+            assert!(a.wid() < 4.0 * b.wid(), "{} against {}", a.wid(), b.wid());
+        }
     }
 }

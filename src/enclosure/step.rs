@@ -40,6 +40,8 @@ pub(super) struct StepOut {
     /// For C^1 output: the step's derivative factor `[J]`, `[B'^{-1}][J B]` and
     /// `[B'^{-1}]` (spec eq. (5.15)).
     pub(super) jac: Option<(IMat, IMat, IMat)>,
+    /// The basis `B'` that a reorganisation (5.10') replaced by `I`, if any.
+    pub(super) rebased: Option<DMatrix<f64>>,
     /// The remainder's width relative to its tolerance (5.8).
     pub(super) ratio: f64,
 }
@@ -60,7 +62,7 @@ pub(super) fn lohner_step(
 ) -> Result<StepOut, StepFail> {
     let d = set.m.len();
     let fatal = |s: &str| StepFail::Fatal(s.to_string());
-    if !set.r.iter().all(|r| r.contains(0.0)) {
+    if !set.r.iter().chain(&set.r0).all(|r| r.contains(0.0)) {
         return Err(fatal("internal invariant broken: 0 not in r"));
     }
     let scale = set.m.iter().fold(1.0f64, |a, x| a.max(x.abs()));
@@ -69,7 +71,7 @@ pub(super) fn lohner_step(
     if strict && phi.iter().any(|x| x.wid() > scale * (16.0 * f64::EPSILON)) {
         return Err(StepFail::Shrink);
     }
-    let point_set = set.r.iter().all(|r| r.is_exact_zero());
+    let point_set = set.r.iter().chain(&set.r0).all(|r| r.is_exact_zero());
     let xbox = set.hull();
     // the size of x0 - m over the set
     let extent = xbox
@@ -88,6 +90,7 @@ pub(super) fn lohner_step(
         return Ok(StepOut {
             set: point_image(set, z),
             jac: None,
+            rebased: None,
             ratio,
         });
     }
@@ -98,18 +101,37 @@ pub(super) fn lohner_step(
         None => box_enclosure(sys, &xbox, &phi, h, p, scale, strict, c1)?,
     };
     let a = linalg::mul(&jac, &linalg::imat(&set.b));
-    if !z.iter().all(|x| finite(*x)) || !linalg::all_finite(&a) {
+    let jc = linalg::mul(&jac, &linalg::imat(&set.c));
+    if !z.iter().all(|x| finite(*x)) || !linalg::all_finite(&a) || !linalg::all_finite(&jc) {
         return Err(StepFail::Shrink);
     }
-    // (5.9)-(5.10) new basis: mid(A) itself or its orthogonal factor. Lohner's column
-    // sorting (by ||A_j|| wid(r_j)) was measured to be worse here: on the particle at
-    // t = 600 it gave widths 1.7e-7 against 5.2e-11 unsorted (spec section 5.5).
+    // (5.9)-(5.10) The propagated part: `C' = mid([J] C)`, its excess `[J] C - C'` joins the
+    // errors. The error part: new basis mid(A) itself or its orthogonal factor. Lohner's
+    // column sorting (by ||A_j|| wid(r_j)) was measured to be worse here: on the particle
+    // at t = 600 it gave widths 1.7e-7 against 5.2e-11 unsorted (spec section 5.5).
+    let c_new = linalg::mid(&jc);
+    let dc: IMat = jc
+        .iter()
+        .enumerate()
+        .map(|(i, row)| {
+            row.iter()
+                .enumerate()
+                .map(|(j, x)| *x - point(c_new[(i, j)]))
+                .collect()
+        })
+        .collect();
     let m_new: Vec<f64> = z.iter().map(|x| x.mid()).collect();
     let zc = relative(&z, &m_new);
     let (b_new, b_inv) = choose_basis(linalg::mid(&a), basis);
     let ba = linalg::mul(&b_inv, &a);
-    let shift = linalg::mul_vec(&b_inv, &zc);
-    let image_r = |r: &[Interval]| -> Vec<Interval> {
+    // r' = [B'^-1][J B] r + [B'^-1] ((z - m') + ([J] C - C') r0)
+    let image_r = |r0: &[Interval], r: &[Interval]| -> Vec<Interval> {
+        let y: Vec<Interval> = zc
+            .iter()
+            .zip(linalg::mul_vec(&dc, r0))
+            .map(|(a, b)| *a + b)
+            .collect();
+        let shift = linalg::mul_vec(&b_inv, &y);
         let part = linalg::mul_vec(&ba, r);
         part.iter().zip(&shift).map(|(x, y)| *x + *y).collect()
     };
@@ -123,28 +145,47 @@ pub(super) fn lohner_step(
         let jdx = linalg::mul_vec(&jac, &dx);
         z.iter().zip(jdx).map(|(a, b)| *a + b).collect()
     };
-    let r_new = image_r(&set.r);
+    let r_new = image_r(&set.r0, &set.r);
     let sub = set.sub.as_ref().map(|sb| SubSet {
-        r: image_r(&sb.r),
-        boxed: image_box(&set.hull_of(&sb.r, &sb.boxed)),
+        r0: sb.r0.clone(),
+        r: image_r(&sb.r0, &sb.r),
+        boxed: image_box(&set.hull_of(&sb.r0, &sb.r, &sb.boxed)),
     });
     let unbounded = |r: &[Interval]| !r.iter().all(|x| finite(*x));
     if unbounded(&r_new) || sub.as_ref().is_some_and(|sb| unbounded(&sb.r)) {
         return Err(fatal("enclosure became unbounded"));
     }
-    let set = LohnerSet {
+    let mut set = LohnerSet {
         m: m_new,
+        c: c_new,
+        r0: set.r0.clone(),
         b: b_new,
         r: r_new,
         boxed: image_box(&xbox),
         sub,
     };
+    // (5.10') once the errors outgrow the propagated part, they are folded into it
+    let diam = |r: &[Interval]| r.iter().fold(0.0f64, |a, x| a.max(x.wid()));
+    let rebased = if diam(&set.r) > REORGANISE * diam(&set.r0) {
+        let b = set.reorganise(&b_inv);
+        if unbounded(&set.r0) || set.sub.as_ref().is_some_and(|sb| unbounded(&sb.r0)) {
+            return Err(fatal("enclosure became unbounded"));
+        }
+        Some(b)
+    } else {
+        None
+    };
     Ok(StepOut {
         set,
         jac: c1.then_some((jac, ba, b_inv)),
+        rebased,
         ratio,
     })
 }
+
+/// (5.10') The errors are folded into the propagated part once their widest component is
+/// this many times the propagated part's.
+pub(super) const REORGANISE: f64 = 10.0;
 
 /// The basis `B'` of the next set and an interval matrix containing its inverse (spec eqs.
 /// (5.9)-(5.10)): `mid([A])` itself for [`Basis::Parallelepiped`] (its inverse proved by
