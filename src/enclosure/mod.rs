@@ -57,7 +57,7 @@ pub struct FlowOptions {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Basis {
     /// `B' = mid([J] B)`, the propagated parallelepiped (its inverse proved by (5.9); the
-    /// orthogonal basis when that fails). The default: on the knife at T = 600 it is 80
+    /// orthogonal basis when that fails). The default: on the knife at T = 600 it is 94
     /// times narrower than the orthogonal one.
     #[default]
     Parallelepiped,
