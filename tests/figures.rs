@@ -263,22 +263,23 @@ fn figures_quick_writes_well_formed_svg_and_csv() {
     let (hs, widths) = (column(h, r, "h"), column(h, r, "width"));
     assert!(widths.iter().all(|w| *w >= 0.0));
     assert!(hs.iter().zip(&widths).any(|(h, w)| *h == 0.0 && *w < 1e-12));
-    // The two bases of (5.10) at every horizon of the quick setting (T = 1, 4), each a
-    // narrow enclosure from automatic steps.
+    // The three sets (the doubleton, the single parallelepiped, the orthogonal basis) at
+    // every horizon of the quick setting (T = 1, 4), each a narrow enclosure from automatic
+    // steps.
     let (h, r) = &csv["work_precision_sets"];
     let (ts, basis, widths) = (
         column(h, r, "t"),
-        column(h, r, "basis"),
+        column(h, r, "set"),
         column(h, r, "width"),
     );
-    for b in [0.0, 1.0] {
+    for b in [0.0, 1.0, 2.0] {
         let mine: Vec<f64> = ts
             .iter()
             .zip(&basis)
             .filter(|x| *x.1 == b)
             .map(|x| *x.0)
             .collect();
-        assert_eq!(mine, [1.0, 4.0], "basis {b}");
+        assert_eq!(mine, [1.0, 4.0], "set {b}");
     }
     assert!(widths.iter().all(|w| *w > 0.0 && *w < 1e-12), "{widths:?}");
     orders_show_what_the_library_certifies(&csv, &dir.join("orders.svg"));

@@ -120,7 +120,7 @@ pub(super) fn flow_set_general(
                 p_step,
                 strict,
                 c1,
-                opts.basis,
+                opts,
                 precise,
                 &mut jac_order,
             );

@@ -56,7 +56,7 @@ pub(super) fn lohner_step(
     p: usize,
     strict: bool,
     c1: bool,
-    basis: Basis,
+    opts: &FlowOptions,
     precise: bool,
     jac_order: &mut usize,
 ) -> Result<StepOut, StepFail> {
@@ -122,7 +122,7 @@ pub(super) fn lohner_step(
         .collect();
     let m_new: Vec<f64> = z.iter().map(|x| x.mid()).collect();
     let zc = relative(&z, &m_new);
-    let (b_new, b_inv) = choose_basis(linalg::mid(&a), basis);
+    let (b_new, b_inv) = choose_basis(linalg::mid(&a), opts.basis);
     let ba = linalg::mul(&b_inv, &a);
     // r' = [B'^-1][J B] r + [B'^-1] ((z - m') + ([J] C - C') r0)
     let image_r = |r0: &[Interval], r: &[Interval]| -> Vec<Interval> {
@@ -166,7 +166,7 @@ pub(super) fn lohner_step(
     };
     // (5.10') once the errors outgrow the propagated part, they are folded into it
     let diam = |r: &[Interval]| r.iter().fold(0.0f64, |a, x| a.max(x.wid()));
-    let rebased = if diam(&set.r) > REORGANISE * diam(&set.r0) {
+    let rebased = if opts.reorganise && diam(&set.r) > REORGANISE * diam(&set.r0) {
         let b = set.reorganise(&b_inv);
         if unbounded(&set.r0) || set.sub.as_ref().is_some_and(|sb| unbounded(&sb.r0)) {
             return Err(fatal("enclosure became unbounded"));
