@@ -189,8 +189,11 @@ pub fn retract(
                 ),
             ));
         }
+        // no reorganisation (5.10'): the set at h keeps the initial box's coordinates in
+        // its propagated part, so that it can be restricted to K(X) below (spec (6.4'))
         let capped = FlowOptions {
             max_steps: left.min(opts.max_steps),
+            reorganise: false,
             ..opts.clone()
         };
         let set = LohnerSet::with_subset(&centre, &x0_of(&z[..m]), &marked);
@@ -214,8 +217,16 @@ pub fn retract(
         *last_set.borrow_mut() = Some(set);
         Ok((g, dg))
     };
-    // first radius: twice the float Newton correction still left at the guess
-    let rad: Vec<f64> = (&c * residual).iter().map(|x| 2.0 * x.abs()).collect();
+    // first radius: twice the float Newton correction still left at the guess, and what
+    // the rounding of G(z~) (a few ulps of q(h)) moves K(X) by through C: a first box
+    // without it is too small for the defect s whenever s is near 0 (the particle's pair
+    // of the README took two box flows)
+    let ulps: Vec<f64> = q1.iter().map(|x| 4.0 * f64::EPSILON * x.mag()).collect();
+    let rad: Vec<f64> = (&c * residual)
+        .iter()
+        .enumerate()
+        .map(|(i, x)| 2.0 * x.abs() + (0..n).map(|j| c[(i, j)].abs() * ulps[j]).sum::<f64>())
+        .collect();
     let scale = guess[..m].iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let z = krawczyk(&guess, &c, &rad, scale, gd)?;
     let (u0, s) = (z[..m].to_vec(), z[m..].to_vec());
@@ -224,6 +235,14 @@ pub fn retract(
         .into_inner()
         .ok_or_else(|| Error::internal("no state set from the Krawczyk box"))?;
     set.sub = None;
+    // (6.4') The set at h is the flow of the whole box X; the solution's u0 lies in
+    // K(X) ⊂ X. Without reorganisations the states from x0 = centre + a lie in
+    // m + C a + B [r] (spec (5.10')), so the propagated part may be restricted to
+    // a in K(X) - centre (with 0, which the set's invariant keeps).
+    for (i, u) in u0.iter().enumerate() {
+        let a = (*u - point(centre[n + i])).convex_hull(point(0.0));
+        set.r0[n + i] = set.r0[n + i].intersection(a);
+    }
     let hull = set.hull();
     let v1 = set_velocity(model, &set)?;
     // q(h) is enclosed twice: by the flow and by Q1 + N(Q1) s (spec eq. (6.4)).
