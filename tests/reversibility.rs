@@ -53,22 +53,30 @@ fn reverse(set: &LohnerSet, n: usize) -> LohnerSet {
     s
 }
 
-fn round_trip(name: &str, q: &[f64], u: &[f64], t: f64) -> f64 {
+/// `start` flowed forward by T, reversed, flowed again and reversed back: every point of
+/// `inside` must lie in the result. Returns the result's widest component.
+fn round_trip_of(name: &str, start: LohnerSet, t: f64, inside: &[Vec<f64>]) -> f64 {
     let m = model(name);
-    let x0: Vec<f64> = q.iter().chain(u).copied().collect();
     let opts = FlowOptions::default();
-    let (fwd, _) = flow_set(m.dynamics(), LohnerSet::point(&x0), t, &opts).unwrap();
+    let (fwd, _) = flow_set(m.dynamics(), start, t, &opts).unwrap();
     let (back, _) = flow_set(m.dynamics(), reverse(&fwd, m.n()), t, &opts).unwrap();
     let hull = reverse(&back, m.n()).hull();
-    for (i, (x, v)) in hull.iter().zip(&x0).enumerate() {
-        assert!(
-            x.contains(*v),
-            "{name}, T = {t}: component {i} of the start, {v}, not in [{}, {}]",
-            x.inf(),
-            x.sup()
-        );
+    for p in inside {
+        for (i, (x, v)) in hull.iter().zip(p).enumerate() {
+            assert!(
+                x.contains(*v),
+                "{name}, T = {t}: component {i} of the start {p:?} not in [{}, {}]",
+                x.inf(),
+                x.sup()
+            );
+        }
     }
     hull.iter().map(|x| x.wid()).fold(0.0, f64::max)
+}
+
+fn round_trip(name: &str, q: &[f64], u: &[f64], t: f64) -> f64 {
+    let x0: Vec<f64> = q.iter().chain(u).copied().collect();
+    round_trip_of(name, LohnerSet::point(&x0), t, &[x0.clone()])
 }
 
 #[test]
@@ -201,35 +209,24 @@ fn both_bases_contain_the_knife_closed_form() {
 /// steps gather in `B r` and are folded into it by the reorganisations (5.10'), many times
 /// over these spans, in both directions. Returns the result's widest component.
 fn box_round_trip(name: &str, x0: &[f64], rad: f64, t: f64) -> f64 {
-    let m = model(name);
     let start: Vec<Interval> = x0
         .iter()
         .map(|x| Interval::try_from((x - rad, x + rad)).unwrap())
         .collect();
-    let opts = FlowOptions::default();
-    let (fwd, _) = flow_set(m.dynamics(), LohnerSet::from_box(&start), t, &opts).unwrap();
-    let (back, _) = flow_set(m.dynamics(), reverse(&fwd, m.n()), t, &opts).unwrap();
-    let hull = reverse(&back, m.n()).hull();
     let d = x0.len();
-    for corner in 0..(1usize << d) + 1 {
-        // the 2^d corners, then the centre
-        let p: Vec<f64> = (0..d)
-            .map(|i| match corner {
-                c if c == 1 << d => x0[i],
-                c if c >> i & 1 == 1 => start[i].sup(),
-                _ => start[i].inf(),
-            })
-            .collect();
-        for (i, (x, v)) in hull.iter().zip(&p).enumerate() {
-            assert!(
-                x.contains(*v),
-                "{name}, T = {t}: component {i} of start {p:?} not in [{}, {}]",
-                x.inf(),
-                x.sup()
-            );
-        }
-    }
-    hull.iter().map(|x| x.wid()).fold(0.0, f64::max)
+    // the 2^d corners, then the centre
+    let points: Vec<Vec<f64>> = (0..(1usize << d) + 1)
+        .map(|corner| {
+            (0..d)
+                .map(|i| match corner {
+                    c if c == 1 << d => x0[i],
+                    c if c >> i & 1 == 1 => start[i].sup(),
+                    _ => start[i].inf(),
+                })
+                .collect()
+        })
+        .collect();
+    round_trip_of(name, LohnerSet::from_box(&start), t, &points)
 }
 
 #[test]

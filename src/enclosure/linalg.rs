@@ -71,6 +71,23 @@ pub fn mid(a: &IMat) -> DMatrix<f64> {
     DMatrix::from_fn(n, m, |i, j| a[i][j].mid())
 }
 
+/// `(mid(A), A - mid(A))`: a float matrix and the interval matrix of what `A` exceeds it
+/// by, outward rounded (CAPD's `split`): `A ⊆ mid(A) + (A - mid(A))`.
+pub fn split(a: &IMat) -> (DMatrix<f64>, IMat) {
+    let c = mid(a);
+    let off = a
+        .iter()
+        .enumerate()
+        .map(|(i, row)| {
+            row.iter()
+                .enumerate()
+                .map(|(j, x)| *x - point(c[(i, j)]))
+                .collect()
+        })
+        .collect();
+    (c, off)
+}
+
 /// Upper bound of the infinity norm of an interval matrix.
 pub fn norm_inf_sup(a: &IMat) -> f64 {
     a.iter()

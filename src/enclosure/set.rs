@@ -215,18 +215,7 @@ impl JacobianSet {
     /// (5.15) One step: `[J]` the step's derivative factor, `ba = [B'^{-1}][J B]` and
     /// `b_inv = [B'^{-1}]` from the state's update (5.10).
     pub(super) fn step(&self, jac: &IMat, ba: &IMat, b_inv: &IMat) -> Self {
-        let jc = linalg::mul(jac, &linalg::imat(&self.c));
-        let c = linalg::mid(&jc);
-        let off: IMat = jc
-            .iter()
-            .enumerate()
-            .map(|(i, row)| {
-                row.iter()
-                    .enumerate()
-                    .map(|(j, x)| *x - point(c[(i, j)]))
-                    .collect()
-            })
-            .collect();
+        let (c, off) = linalg::split(&linalg::mul(jac, &linalg::imat(&self.c)));
         let r = linalg::add(&linalg::mul(ba, &self.r), &linalg::mul(b_inv, &off));
         JacobianSet { c, r }
     }

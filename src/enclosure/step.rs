@@ -109,17 +109,7 @@ pub(super) fn lohner_step(
     // errors. The error part: new basis mid(A) itself or its orthogonal factor. Lohner's
     // column sorting (by ||A_j|| wid(r_j)) was measured to be worse here: on the particle
     // at t = 600 it gave widths 1.7e-7 against 5.2e-11 unsorted (spec section 5.5).
-    let c_new = linalg::mid(&jc);
-    let dc: IMat = jc
-        .iter()
-        .enumerate()
-        .map(|(i, row)| {
-            row.iter()
-                .enumerate()
-                .map(|(j, x)| *x - point(c_new[(i, j)]))
-                .collect()
-        })
-        .collect();
+    let (c_new, dc) = linalg::split(&jc);
     let m_new: Vec<f64> = z.iter().map(|x| x.mid()).collect();
     let zc = relative(&z, &m_new);
     let (b_new, b_inv) = choose_basis(linalg::mid(&a), opts.basis);
