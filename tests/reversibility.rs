@@ -76,7 +76,7 @@ fn round_trip_of(name: &str, start: LohnerSet, t: f64, inside: &[Vec<f64>]) -> f
 
 fn round_trip(name: &str, q: &[f64], u: &[f64], t: f64) -> f64 {
     let x0: Vec<f64> = q.iter().chain(u).copied().collect();
-    round_trip_of(name, LohnerSet::point(&x0), t, &[x0.clone()])
+    round_trip_of(name, LohnerSet::point(&x0), t, std::slice::from_ref(&x0))
 }
 
 #[test]
