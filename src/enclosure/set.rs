@@ -1,5 +1,6 @@
-//! The set representation (spec eqs. (5.1), (5.15)): Lohner's parallelepiped with a box,
-//! its marked subset, and the derivative carried as `C + B [R]`.
+//! The set representation (spec eqs. (5.1), (5.10'), (5.15)): Lohner's parallelepiped in
+//! two parts (a doubleton) with a box, its marked subset, and the derivative carried as
+//! `C + B [R]`.
 
 use super::linalg::{self, IMat};
 use crate::scalar::point;
