@@ -221,12 +221,9 @@ pub fn retract(
     // the rounding of G(z~) (a few ulps of q(h)) moves K(X) by through C: a first box
     // without it is too small for the defect s whenever s is near 0 (the particle's pair
     // of the README took two box flows)
-    let ulps: Vec<f64> = q1.iter().map(|x| 4.0 * f64::EPSILON * x.mag()).collect();
-    let rad: Vec<f64> = (&c * residual)
-        .iter()
-        .enumerate()
-        .map(|(i, x)| 2.0 * x.abs() + (0..n).map(|j| c[(i, j)].abs() * ulps[j]).sum::<f64>())
-        .collect();
+    let ulps = DVector::from_iterator(n, q1.iter().map(|x| 4.0 * f64::EPSILON * x.mag()));
+    let rad = (&c * residual).abs() * 2.0 + c.abs() * ulps;
+    let rad: Vec<f64> = rad.iter().copied().collect();
     let scale = guess[..m].iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let z = krawczyk(&guess, &c, &rad, scale, gd)?;
     let (u0, s) = (z[..m].to_vec(), z[m..].to_vec());
