@@ -1,4 +1,4 @@
-//! Step and order control (spec eqs. (5.7), (5.8), (5.8'), (5.8'')): the loop that carries a
+//! Step and order control (spec eqs. (5.7), (5.8) (a)-(d), (5.8'), (5.8'')): the loop that carries a
 //! set over a span of time, choosing each step before trying it and the last step's order.
 
 use super::linalg::{self, IMat};
@@ -93,6 +93,13 @@ pub(super) fn flow_set_general(
             round_step_fine(rule.min(predicted).min(cap))
         }
         .min(rem.inf());
+        // (5.8) (d) A rest of the span that takes at most PLANNED steps of this size is
+        // covered in equal steps, each held to the tolerance without slices (5.5).
+        let rest = (rem.sup() / h).ceil();
+        let planned = !fixed && rest <= PLANNED;
+        if planned && rest >= 2.0 {
+            h = round_step_fine(rem.sup() / rest);
+        }
         let mut last = h >= rem.inf();
         // (5.8') A last step that a lower order also reaches in one step takes that order
         // (the work of a Taylor series grows like the square of its order): a short flow,
@@ -111,14 +118,18 @@ pub(super) fn flow_set_general(
                 opts.check_budget().map_err(|e| e.reached(done.inf()))?;
             }
             let hi = if last { rem } else { point(h) };
-            let strict = !fixed && tries < 12;
+            let tol = match (fixed || tries >= 12, planned) {
+                (true, _) => Tolerance::Loose,
+                (false, true) => Tolerance::Unsliced,
+                (false, false) => Tolerance::Strict,
+            };
             let step = lohner_step(
                 sys,
                 &set,
                 &c[..=p_step],
                 hi,
                 p_step,
-                strict,
+                tol,
                 c1,
                 opts,
                 precise,
@@ -223,6 +234,10 @@ pub(super) fn flow_set_general(
     }
     Ok((set, jac, stats))
 }
+
+/// (5.8) (d): a rest of the span that takes at most this many steps is taken in equal,
+/// unsliced steps.
+pub(super) const PLANNED: f64 = 3.0;
 
 /// The lower orders a last step may take instead of the flow's order (spec (5.8')).
 pub(super) const LOW_ORDERS: [usize; 5] = [6, 8, 10, 12, 15];

@@ -22,6 +22,18 @@ pub(super) enum StepFail {
 /// Number of time slices over which the remainder's coefficient is enclosed (spec (5.5)).
 pub(super) const SLICES: usize = 8;
 
+/// How a try's remainder (5.5) is held to the tolerance (spec (5.8)).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Tolerance {
+    /// Accepted whatever its width (a fixed step (5.13), or after 12 tries).
+    Loose,
+    /// Rejected when wider than the tolerance, after slicing (5.5) if that is needed.
+    Strict,
+    /// Rejected when wider than the tolerance before slicing: the steps of a short rest
+    /// (5.8) (d), where a shorter step costs less than the slices.
+    Unsliced,
+}
+
 /// Largest accepted width of the Lagrange remainder, relative to the state's size.
 pub(super) const REMAINDER_TOL: f64 = f64::EPSILON;
 
@@ -54,7 +66,7 @@ pub(super) fn lohner_step(
     c: &[Vec<Interval>],
     h: Interval,
     p: usize,
-    strict: bool,
+    tol: Tolerance,
     c1: bool,
     opts: &FlowOptions,
     precise: bool,
@@ -68,7 +80,7 @@ pub(super) fn lohner_step(
     let scale = set.m.iter().fold(1.0f64, |a, x| a.max(x.abs()));
     // (5.3) the Taylor polynomial at the centre (coefficients `c`)
     let phi: Vec<Interval> = (0..d).map(|i| horner(c.len(), |k| c[k][i], h)).collect();
-    if strict && phi.iter().any(|x| x.wid() > scale * (16.0 * f64::EPSILON)) {
+    if tol != Tolerance::Loose && phi.iter().any(|x| x.wid() > scale * (16.0 * f64::EPSILON)) {
         return Err(StepFail::Shrink);
     }
     let point_set = set.r.iter().chain(&set.r0).all(|r| r.is_exact_zero());
@@ -80,7 +92,7 @@ pub(super) fn lohner_step(
         .fold(0.0f64, |a, (x, c)| a.max((*x - point(*c)).mag()));
     // z encloses x(h; m); x(h; x0) lies in z + J (x0 - m) for every x0 in the set.
     // (5.4)-(5.5) for the trajectory from the centre alone
-    let (rem, _, ratio) = remainder(sys, c, h, p, scale, strict)?;
+    let (rem, _, ratio) = remainder(sys, c, h, p, scale, tol)?;
     let z: Vec<Interval> = phi.iter().zip(&rem).map(|(a, b)| *a + *b).collect();
     if !z.iter().all(|x| finite(*x)) {
         return Err(StepFail::Shrink);
@@ -98,7 +110,7 @@ pub(super) fn lohner_step(
     // is negligible there; otherwise (5.6'') over the whole set.
     let (z, jac, ratio) = match step_jacobian(sys, &xbox, h, p, scale, extent, precise, jac_order) {
         Some(jac) => (z, jac, ratio),
-        None => box_enclosure(sys, &xbox, &phi, h, p, scale, strict, c1)?,
+        None => box_enclosure(sys, &xbox, &phi, h, p, scale, tol, c1)?,
     };
     let a = linalg::mul(&jac, &linalg::imat(&set.b));
     let jc = linalg::mul(&jac, &linalg::imat(&set.c));
@@ -231,7 +243,7 @@ pub(super) fn box_enclosure(
     h: Interval,
     p: usize,
     scale: f64,
-    strict: bool,
+    tol: Tolerance,
     c1: bool,
 ) -> Result<(Vec<Interval>, IMat, f64), StepFail> {
     let d = xbox.len();
@@ -240,7 +252,7 @@ pub(super) fn box_enclosure(
         .ode_taylor(&with_identity(xbox), p)
         .ok_or(StepFail::Shrink)?;
     let b: Vec<Vec<Interval>> = cv.iter().map(|ck| ck[..d].to_vec()).collect();
-    let (rem, y, ratio) = remainder(sys, &b, h, p, scale, strict)?;
+    let (rem, y, ratio) = remainder(sys, &b, h, p, scale, tol)?;
     let z = phi.iter().zip(&rem).map(|(a, b)| *a + *b).collect();
     let mut jac = variational_polynomial(&cv, d, h);
     if c1 {
@@ -297,16 +309,18 @@ pub(super) fn a_priori(
 /// hull), proves that every trajectory from it exists on `[0, h]` and returns `[R]` with
 /// `x(h) - phi(x0) in [R]`, and the a priori box `Y`. When `T_{p+1}(Y) h^{p+1}` is wide,
 /// `x(xi)` is taken in the enclosures of SLICES sub-intervals of `[0, h]` (narrower boxes
-/// than Y: less dependency in the high-order coefficients). In strict mode (5.8) a
-/// remainder wider than the tolerance rejects the step.
+/// than Y: less dependency in the high-order coefficients), unless `tol` is
+/// [`Tolerance::Unsliced`]. Unless `tol` is [`Tolerance::Loose`], a remainder wider than
+/// the tolerance rejects the step (5.8).
 pub(super) fn remainder(
     sys: &System,
     b: &[Vec<Interval>],
     h: Interval,
     p: usize,
     scale: f64,
-    strict: bool,
+    tol: Tolerance,
 ) -> Result<(Vec<Interval>, Vec<Interval>, f64), StepFail> {
+    let strict = tol != Tolerance::Loose;
     let d = b[0].len();
     let (y, ty) = a_priori(&sys.field, b, h, p, 0.0)?;
     let hp = (0..=p).fold(point(1.0), |a, _| a * h);
@@ -326,6 +340,9 @@ pub(super) fn remainder(
         r.is_nan() || r > 1.0
     };
     let wide = too_wide(&ty[p + 1]);
+    if wide && tol == Tolerance::Unsliced {
+        return Err(StepFail::TooWide(ratio_of(&ty[p + 1])));
+    }
     let mut t_rem = ty[p + 1].clone();
     if wide {
         for j in 0..SLICES {
