@@ -93,13 +93,9 @@ pub(super) fn flow_set_general(
             round_step_fine(rule.min(predicted).min(cap))
         }
         .min(rem.inf());
-        // (5.8) (d) A rest of the span that takes at most PLANNED steps of this size is
-        // covered in equal steps, each held to the tolerance without slices (5.5).
-        let rest = (rem.sup() / h).ceil();
-        let planned = !fixed && rest <= PLANNED;
-        if planned && rest >= 2.0 {
-            h = round_step_fine(rem.sup() / rest);
-        }
+        // (5.8) (d) In a rest of the span that takes at most SHORT_REST steps of this size,
+        // the remainder is held to the tolerance without slices (5.5).
+        let short_rest = !fixed && (rem.sup() / h).ceil() <= SHORT_REST;
         let mut last = h >= rem.inf();
         // (5.8') A last step that a lower order also reaches in one step takes that order
         // (the work of a Taylor series grows like the square of its order): a short flow,
@@ -118,7 +114,7 @@ pub(super) fn flow_set_general(
                 opts.check_budget().map_err(|e| e.reached(done.inf()))?;
             }
             let hi = if last { rem } else { point(h) };
-            let tol = match (fixed || tries >= 12, planned) {
+            let tol = match (fixed || tries >= 12, short_rest) {
                 (true, _) => Tolerance::Loose,
                 (false, true) => Tolerance::Unsliced,
                 (false, false) => Tolerance::Strict,
@@ -235,9 +231,9 @@ pub(super) fn flow_set_general(
     Ok((set, jac, stats))
 }
 
-/// (5.8) (d): a rest of the span that takes at most this many steps is taken in equal,
-/// unsliced steps.
-pub(super) const PLANNED: f64 = 3.0;
+/// (5.8) (d): in a rest of the span that takes at most this many steps, the steps are not
+/// sliced.
+pub(super) const SHORT_REST: f64 = 3.0;
 
 /// The lower orders a last step may take instead of the flow's order (spec (5.8')).
 pub(super) const LOW_ORDERS: [usize; 5] = [6, 8, 10, 12, 15];

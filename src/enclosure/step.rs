@@ -30,7 +30,7 @@ pub(super) enum Tolerance {
     /// Rejected when wider than the tolerance, after slicing (5.5) if that is needed.
     Strict,
     /// Rejected when wider than the tolerance before slicing: the steps of a short rest
-    /// (5.8) (d), where a shorter step costs less than the slices.
+    /// (5.8) (d), where a shorter try costs less than the slices.
     Unsliced,
 }
 
