@@ -1,5 +1,6 @@
-//! Step and order control (spec eqs. (5.7), (5.8) (a)-(d), (5.8'), (5.8'')): the loop that carries a
-//! set over a span of time, choosing each step before trying it and the last step's order.
+//! Step and order control (spec eqs. (5.7), (5.8) (a)-(d), (5.8'), (5.8'')): the loop that
+//! carries a set over a span of time, choosing each step before trying it and the last
+//! step's order.
 
 use super::linalg::{self, IMat};
 use super::set::*;
