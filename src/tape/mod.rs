@@ -143,6 +143,7 @@ fn push(op: Op) -> Tracer {
     })
 }
 
+
 fn constant_of(x: Tracer) -> Option<f64> {
     RECORDING.with(|t| match t.borrow().ops[x.0 as usize] {
         Op::Const(c) => Some(c),
@@ -313,15 +314,29 @@ impl Tape {
         if !simplify::ENABLED.with(|e| e.get()) {
             return self;
         }
-        RECORDING.with(|t| *t.borrow_mut() = Recording::default());
-        let new = simplify::rerecord(&self.ops);
-        let rec = RECORDING.with(|t| std::mem::take(&mut *t.borrow_mut()));
-        Tape {
-            ops: rec.ops,
-            n_inputs: self.n_inputs,
-            outputs: self.outputs.iter().map(|o| new[*o as usize].0).collect(),
+        let record = |fold_zeros: bool| {
+            RECORDING.with(|t| *t.borrow_mut() = Recording::default());
+            let (new, divisors) = simplify::rerecord(&self.ops, fold_zeros);
+            let rec = RECORDING.with(|t| std::mem::take(&mut *t.borrow_mut()));
+            let tape = Tape {
+                ops: rec.ops,
+                n_inputs: self.n_inputs,
+                outputs: self.outputs.iter().map(|o| new[*o as usize].0).collect(),
+            };
+            (tape, divisors)
+        };
+        // With the nodes that are 0 folded, kept if every folded quotient's domain check is
+        // still made by a quotient by the same divisor that the outputs depend on (an
+        // evaluation fails as a whole when any check fails, (2.8)); otherwise without.
+        let (tape, divisors) = record(true);
+        let live = tape.live();
+        let checked = |d: &u32| {
+            (tape.ops.iter().zip(&live)).any(|(op, l)| *l && matches!(op, Op::Div(_, b) if b == d))
+        };
+        if divisors.iter().all(checked) {
+            return tape.without_dead_code();
         }
-        .without_dead_code()
+        record(false).0.without_dead_code()
     }
 
     /// Record `f` and its Jacobian by forward-mode duals: the outputs are `f` and then
@@ -344,7 +359,8 @@ impl Tape {
     }
 
     /// Drop the operations no output depends on (inputs are kept, in order).
-    fn without_dead_code(self) -> Tape {
+    /// Which nodes the outputs depend on (and the inputs).
+    fn live(&self) -> Vec<bool> {
         let n = self.ops.len();
         let mut live = vec![false; n];
         for o in &self.outputs {
@@ -359,6 +375,12 @@ impl Tape {
                 live[a as usize] = true;
             }
         }
+        live
+    }
+
+    fn without_dead_code(self) -> Tape {
+        let n = self.ops.len();
+        let live = self.live();
         let mut new_index = vec![0u32; n];
         let mut ops = Vec::new();
         for i in 0..n {

@@ -241,10 +241,16 @@ fn emit(p: &Poly) -> Tracer {
 
 /// Re-record `ops` (a recorded tape's operations) into the current recording with the
 /// cancelling sums replaced by their normal forms; returns the new node of every old one.
-pub(super) fn rerecord(ops: &[Op]) -> Vec<Tracer> {
+/// With `fold_zeros`, a product, negation, scaling or quotient whose normal form is 0 and
+/// whose operands (a quotient's numerator) carry no partial atom is recorded as the
+/// constant 0; the divisors of the quotients so folded are returned, and the caller keeps
+/// the result only if each is the divisor of a quotient still in the tape (whose check is
+/// the folded one's).
+pub(super) fn rerecord(ops: &[Op], fold_zeros: bool) -> (Vec<Tracer>, Vec<u32>) {
     let mut atoms = Atoms::default();
     let mut new: Vec<Tracer> = Vec::with_capacity(ops.len());
     let mut forms: Vec<Option<Poly>> = Vec::with_capacity(ops.len());
+    let mut folded_divisors = Vec::new();
     for op in ops {
         let t = |a: u32| new[a as usize];
         let f = |a: u32| forms[a as usize].as_ref();
@@ -279,7 +285,17 @@ pub(super) fn rerecord(ops: &[Op]) -> Vec<Tracer> {
             }
             Op::Mul(a, b) => {
                 let form = f(a).zip(f(b)).and_then(|(x, y)| x.mul(y, &mut atoms));
-                (t(a) * t(b), form)
+                // a factor cancelled to 0 keeps a partial factor (as `0 * y` scaled, not
+                // the constant 0 that recording makes of it): (iii)
+                let zero_times_partial = |x: Tracer, y: Tracer| {
+                    super::constant_of(x) == Some(0.0) && atoms.partial(y.index())
+                };
+                let node = if zero_times_partial(t(a), t(b)) || zero_times_partial(t(b), t(a)) {
+                    push(Op::Mul(t(a).index(), t(b).index()))
+                } else {
+                    t(a) * t(b)
+                };
+                (node, form)
             }
             Op::Div(a, b) => {
                 // a quotient by a nonzero constant is a scaling of the numerator's form
@@ -304,13 +320,32 @@ pub(super) fn rerecord(ops: &[Op]) -> Vec<Tracer> {
                 (node, None)
             }
         };
+        // a node that is 0 as a function, built on nodes defined everywhere: the constant 0
+        let zero = |x: Option<&Poly>| x.is_some_and(|x| x.0.is_empty());
+        let total = |a: u32| !atoms.partial(new[a as usize].index());
+        let folded = fold_zeros
+            && match *op {
+                Op::Div(a, _) => zero(f(a)) && total(a),
+                Op::Mul(a, b) => zero(form.as_ref()) && total(a) && total(b),
+                Op::Neg(a) | Op::Scale(a, _) => zero(form.as_ref()) && total(a),
+                _ => false,
+            };
+        let (node, form) = if folded {
+            if let Op::Div(_, b) = *op {
+                folded_divisors.push(new[b as usize].index());
+            }
+            (Tracer::cst(0.0), Some(Poly::constant(0.0)))
+        } else {
+            (node, form)
+        };
         // an atom: partial if it is a quotient, root or logarithm or built on a partial node
+        // (a folded quotient is the constant 0: its check is the caller's to keep)
         let by_constant = matches!(*op, Op::Div(_, b) if matches!(ops[b as usize], Op::Const(c) if c != 0.0) || (matches!(forms[b as usize].as_ref().map(|y| y.0.len()), Some(1)) && forms[b as usize].as_ref().is_some_and(|y| y.0.contains_key(&Vec::new()))));
         let partial_op = matches!(op, Op::Sqrt(_) | Op::Ln(_)) || (matches!(op, Op::Div(..)) && !by_constant);
         let on_partial = super::args(op)
             .iter()
             .any(|a| atoms.partial(new[*a as usize].index()));
-        atoms.note(node, partial_op || on_partial);
+        atoms.note(node, (partial_op || on_partial) && !folded);
         if let Op::Sin(x) = *op {
             atoms.sin_of.insert(node.index(), new[x as usize].index());
         }
@@ -318,7 +353,7 @@ pub(super) fn rerecord(ops: &[Op]) -> Vec<Tracer> {
         new.push(node);
         forms.push(Some(form));
     }
-    new
+    (new, folded_divisors)
 }
 
 fn indices(new: &[Tracer]) -> Vec<u32> {
@@ -420,6 +455,47 @@ mod tests {
             vec![x[0] * Tracer::cst(0.1) * Tracer::cst(0.1) - x[0] * Tracer::cst(0.01)]
         });
         assert!(tape.ops.iter().any(|o| matches!(o, Op::Sub(..))), "{:?}", tape.ops);
+    }
+
+    /// Nodes that are 0 as functions (spec (2.13)): in the particle's pattern
+    /// `(-(0 / d) * x, y / d)`, `d = 1 + y^2`, the first output is the constant 0 and one
+    /// quotient is left, whose check still refuses a box where `d` may vanish. A zero
+    /// quotient whose divisor no other quotient checks keeps its division, and a zero
+    /// product keeps a factor that is not defined everywhere (before, `(x - x) * (1 / y)` was
+    /// simplified to the constant 0: defined at y = 0, where the recorded tape is not).
+    #[test]
+    fn nodes_that_are_zero_fold_only_where_their_domain_checks_stay() {
+        let divisions = |t: &Tape| t.ops.iter().filter(|o| matches!(o, Op::Div(..))).count();
+        let d = |y: Tracer| Tracer::cst(1.0) + y * y;
+        let tape = Tape::record_simplified(2, |x| {
+            vec![-(Tracer::cst(0.0) / d(x[1])) * x[0], x[1] / d(x[1])]
+        });
+        assert_eq!(divisions(&tape), 1, "{:?}", tape.ops);
+        assert!(matches!(tape.ops[tape.outputs[0] as usize], Op::Const(c) if c == 0.0));
+        let at = tape.eval_checked(&[point(3.0), point(2.0)]).unwrap();
+        assert!(at[0].is_singleton() && at[0].contains(0.0) && at[1].contains(0.4));
+        // 1 + y^2 over a box that reaches -1 in y^2 (a degenerate field): refused
+        let wide = [iv(-1.0, 1.0), iv(-2.0, 2.0)];
+        let neg = Tape::record_simplified(2, |x| {
+            let d = Tracer::cst(1.0) - x[1] * x[1];
+            vec![-(Tracer::cst(0.0) / d) * x[0], x[1] / d]
+        });
+        assert_eq!(divisions(&neg), 1, "{:?}", neg.ops);
+        assert!(neg.eval_checked(&wide).is_none());
+        // the only quotient by 1 - y^2 has numerator 0: it stays, and so does its check
+        let alone = Tape::record_simplified(2, |x| {
+            let d = Tracer::cst(1.0) - x[1] * x[1];
+            vec![(Tracer::cst(0.0) / d) * x[0], x[0] + x[1]]
+        });
+        assert_eq!(divisions(&alone), 1, "{:?}", alone.ops);
+        assert!(alone.eval_checked(&wide).is_none());
+        assert!(alone.eval_checked(&[point(3.0), point(0.5)]).is_some());
+        // (x - x) / ... is 0, but (x - x) * (1 / y) keeps 1 / y and its check
+        let product = Tape::record_simplified(2, |x| {
+            vec![(x[0] - x[0]) * (Tracer::cst(1.0) / x[1])]
+        });
+        assert_eq!(divisions(&product), 1, "{:?}", product.ops);
+        assert!(product.eval_checked(&[point(1.0), point(0.0)]).is_none());
     }
 
     /// A small inexact constant is an atom (spec (2.13)): `(cos x - e)^2 + sin(x)^2` with
