@@ -331,8 +331,12 @@ pub(super) fn rerecord(ops: &[Op], fold_zeros: bool) -> (Vec<Tracer>, Vec<u32>) 
                 _ => false,
             };
         let (node, form) = if folded {
+            // (a nonzero constant divisor has no check to keep)
             if let Op::Div(_, b) = *op {
-                folded_divisors.push(new[b as usize].index());
+                let d = new[b as usize];
+                if super::constant_of(d).is_none_or(|c| c == 0.0) {
+                    folded_divisors.push(d.index());
+                }
             }
             (Tracer::cst(0.0), Some(Poly::constant(0.0)))
         } else {
@@ -472,6 +476,12 @@ mod tests {
         });
         assert_eq!(divisions(&tape), 1, "{:?}", tape.ops);
         assert!(matches!(tape.ops[tape.outputs[0] as usize], Op::Const(c) if c == 0.0));
+        // beside a zero quotient by a constant (no check to keep), the same
+        let with_constant = Tape::record_simplified(2, |x| {
+            let zero_by_three = (x[0] - x[0]) / Tracer::cst(3.0);
+            vec![zero_by_three - (Tracer::cst(0.0) / d(x[1])) * x[0], x[1] / d(x[1])]
+        });
+        assert_eq!(divisions(&with_constant), 1, "{:?}", with_constant.ops);
         let at = tape.eval_checked(&[point(3.0), point(2.0)]).unwrap();
         assert!(at[0].is_singleton() && at[0].contains(0.0) && at[1].contains(0.4));
         // 1 + y^2 over a box that reaches -1 in y^2 (a degenerate field): refused
