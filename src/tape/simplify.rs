@@ -508,6 +508,50 @@ mod tests {
         assert!(product.eval_checked(&[point(1.0), point(0.0)]).is_none());
     }
 
+    /// The domain never grows (spec (2.13), claim): tapes mixing zero quotients, zero
+    /// products and cancelling sums with quotients by `d = y^2 - c`, recorded and
+    /// simplified, at random boxes, many of which reach `d = 0`: where the recorded tape
+    /// refuses, so does the simplified one, and where both answer they intersect.
+    #[test]
+    fn the_simplified_domain_is_never_larger() {
+        fn shapes(x: &[Tracer], k: usize) -> Vec<Tracer> {
+            let (a, y) = (x[0], x[1]);
+            let d = y * y - Tracer::cst(0.25);
+            let zero_q = Tracer::cst(0.0) / d;
+            let cancel = a - a;
+            match k {
+                0 => vec![-zero_q * a, y / d],
+                1 => vec![-zero_q * a, a + y],
+                2 => vec![cancel * (Tracer::cst(1.0) / d), a],
+                3 => vec![zero_q * zero_q, (cancel / d) * a, y],
+                4 => vec![(a / d - a / d) * y, zero_q + a],
+                _ => vec![-(cancel * zero_q), (Tracer::cst(2.0) / d) * Tracer::cst(0.0)],
+            }
+        }
+        let mut seed = 0xd0_u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for k in 0..6 {
+            let recorded = Tape::record(2, |x| shapes(x, k));
+            let simplified = Tape::record_simplified(2, |x| shapes(x, k));
+            for _ in 0..100 {
+                let (a, y, r) = (4.0 * next() - 2.0, 2.0 * next() - 1.0, 0.3 * next());
+                let b = [iv(a - r, a + r), iv(y - r, y + r)];
+                match (recorded.eval_checked(&b), simplified.eval_checked(&b)) {
+                    (None, Some(s)) => panic!("shape {k} at {b:?}: recorded refuses, got {s:?}"),
+                    (Some(r), Some(s)) => {
+                        for (u, v) in r.iter().zip(&s) {
+                            assert!(!u.intersection(*v).is_empty(), "{k} {b:?}: {r:?} {s:?}");
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+
     /// A small inexact constant is an atom (spec (2.13)): `(cos x - e)^2 + sin(x)^2` with
     /// e = +-0.1 becomes `1 - 2 e cos x + e e`, whose width over a box of width `w` is
     /// `2 |e| |sin x| w` to first order (derived by hand), where the recorded form's is about
