@@ -430,19 +430,21 @@ pub(super) fn step_jacobian(
             }
             return None;
         }
+        let higher;
         let (w, tw) = if q == q0 {
-            (w0.clone(), Some(t0.clone()))
+            (&w0, Some(&t0))
         } else {
-            (
+            higher = (
                 sys.field_var.ode_taylor(&seed, q)?,
                 sys.field_var.ode_taylor(&y_ext, q + 1),
-            )
+            );
+            (&higher.0, higher.1.as_ref())
         };
         if let Some(tw) = tw {
             let hq = (0..=q).fold(point(1.0), |a, _| a * h);
             let rem: Vec<Interval> = (0..d * d).map(|k| tw[q + 1][d + k] * hq).collect();
             let widest = rem.iter().fold(0.0f64, |a, x| a.max(x.wid()));
-            let mut jac = variational_polynomial(&w, d, h);
+            let mut jac = variational_polynomial(w, d, h);
             let size = jac.iter().flatten().fold(1.0f64, |a, x| a.max(x.mag()));
             // (NaN fails the tests too)
             let share = widest * extent * d as f64 / (scale * f64::EPSILON);

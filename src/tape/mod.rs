@@ -485,7 +485,8 @@ impl Tape {
         let d = self.n_inputs;
         charge(self.ops.len(), order);
         let mut s = Series::new(self.ops.len(), order + 1);
-        let mut xs: Vec<Vec<T>> = vec![x0.to_vec()];
+        let mut xs: Vec<Vec<T>> = Vec::with_capacity(order + 1);
+        xs.push(x0.to_vec());
         for k in 0..=order {
             // Coefficient `order` of the nodes is not needed (only x_0 .. x_order are
             // returned); step 0 always runs, since it carries the domain checks (2.8).
