@@ -143,7 +143,6 @@ fn push(op: Op) -> Tracer {
     })
 }
 
-
 fn constant_of(x: Tracer) -> Option<f64> {
     RECORDING.with(|t| match t.borrow().ops[x.0 as usize] {
         Op::Const(c) => Some(c),
@@ -358,7 +357,6 @@ impl Tape {
         })
     }
 
-    /// Drop the operations no output depends on (inputs are kept, in order).
     /// Which nodes the outputs depend on (and the inputs).
     fn live(&self) -> Vec<bool> {
         let n = self.ops.len();
@@ -378,6 +376,7 @@ impl Tape {
         live
     }
 
+    /// Drop the operations no output depends on (inputs are kept, in order).
     fn without_dead_code(self) -> Tape {
         let n = self.ops.len();
         let live = self.live();
