@@ -57,6 +57,7 @@ internal! {
     tape;
 }
 
+mod dot;
 mod error;
 mod readable;
 

@@ -196,7 +196,7 @@ fn rolling_disk_flow_encloses_the_closed_form() {
             g.uniform(-3.0, 3.0),
             g.uniform(-3.0, 3.0),
         ];
-        let w2 = if g.next_u64() % 3 == 0 {
+        let w2 = if g.next_u64().is_multiple_of(3) {
             0.0
         } else {
             g.uniform(-2.0, 2.0)
@@ -398,7 +398,7 @@ fn sleigh_flow_encloses_the_closed_form_and_the_energy() {
     for _ in 0..8 {
         // half of the cases with I = 3 m a^2 exactly (dyadic m and a), where eq. (3.13)
         // gives the contact point too
-        let beta2 = g.next_u64() % 2 == 0;
+        let beta2 = g.next_u64().is_multiple_of(2);
         let (m, a, i) = if beta2 {
             let m = (4 + g.next_u64() % 13) as f64 / 8.0;
             let a = (3 + g.next_u64() % 14) as f64 / 16.0;

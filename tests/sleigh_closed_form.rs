@@ -222,7 +222,7 @@ fn flow_encloses_the_closed_form_for_negative_a() {
     for _ in 0..10 {
         // half of the cases with I = 3 m a^2 exactly (dyadic m and a < 0), where eq. (3.13)
         // gives the contact point too
-        let (m, a, i) = if g.next_u64() % 2 == 0 {
+        let (m, a, i) = if g.next_u64().is_multiple_of(2) {
             let m = (4 + g.next_u64() % 13) as f64 / 8.0;
             let a = -((3 + g.next_u64() % 14) as f64) / 16.0;
             (m, a, 3.0 * m * a * a)

@@ -610,18 +610,12 @@ impl<T: Coef> Series<T> {
                 Op::Scale(a, c) => (self.get(a, k) * T::cst(c), zero),
                 Op::Mul(a, b) => {
                     // (2.3) w_k = sum_{j=0..k} a_j b_{k-j}
-                    let mut acc = zero;
-                    for j in self.terms(a, b, k, 0, k) {
-                        acc = acc.mul_acc(self.get(a, j), self.get(b, k - j));
-                    }
-                    (acc, zero)
+                    (self.conv(zero, false, a, b, self.terms(a, b, k, 0, k), k), zero)
                 }
                 Op::Div(a, b) => {
                     // (2.4) w_k = (a_k - sum_{j=1..k} b_j w_{k-j}) / b_0
-                    let mut acc = self.get(a, k);
-                    for j in self.terms(b, idx as u32, k, 1, k) {
-                        acc = acc.mul_acc(-self.get(b, j), self.get(idx as u32, k - j));
-                    }
+                    let me = idx as u32;
+                    let acc = self.conv(self.get(a, k), true, b, me, self.terms(b, me, k, 1, k), k);
                     let b0 = self.get(b, 0);
                     if !b0.safe_divisor() {
                         self.ok = false;
@@ -638,10 +632,8 @@ impl<T: Coef> Series<T> {
                         (a0.sqrt(), zero)
                     } else {
                         let me = idx as u32;
-                        let mut acc = self.get(a, k);
-                        for j in self.terms(me, me, k, 1, k - 1) {
-                            acc = acc.mul_acc(-self.get(me, j), self.get(me, k - j));
-                        }
+                        let terms = self.terms(me, me, k, 1, k - 1);
+                        let acc = self.conv(self.get(a, k), true, me, me, terms, k);
                         let w0 = self.get(me, 0);
                         (acc / (w0 + w0), zero)
                     }
@@ -767,6 +759,24 @@ impl<T: Coef> Series<T> {
         }
     }
 
+    /// `acc + sum_{j in terms} a_j b_{k-j}` (`acc - ...` when `neg`).
+    fn conv(
+        &self,
+        acc: T,
+        neg: bool,
+        a: u32,
+        b: u32,
+        terms: std::ops::RangeInclusive<usize>,
+        k: usize,
+    ) -> T {
+        if terms.is_empty() {
+            return acc;
+        }
+        let (lo, hi) = (*terms.start(), *terms.end());
+        let (a, b) = (a as usize * self.n, b as usize * self.n);
+        T::conv(acc, neg, &self.c[a + lo..=a + hi], &self.c[b + k - hi..=b + k - lo])
+    }
+
     /// The indices j in [from, to] for which both a_j and b_{k-j} may be non-zero: terms
     /// with an exactly zero factor are zero and are skipped (spec eq. (2.3)).
     fn terms(
@@ -835,6 +845,9 @@ pub trait Coef: Scalar + Copy + 'static {
     /// `self + a b`; for intervals fused (one outward rounding, inari's `mul_add`), which
     /// encloses the exact value as the unfused form does, and is tighter and faster.
     fn mul_acc(self, a: Self, b: Self) -> Self;
+    /// `acc + sum_j x_j y_{n-1-j}` (`acc - ...` when `neg`), `n = x.len() = y.len()`: the
+    /// convolutions of (2.3)-(2.5). Intervals: spec (1.4); f64: `mul_acc` term by term.
+    fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self;
 }
 
 impl Coef for Interval {
@@ -856,6 +869,9 @@ impl Coef for Interval {
     fn mul_acc(self, a: Self, b: Self) -> Self {
         a.mul_add(b, self)
     }
+    fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self {
+        crate::dot::dot(acc, neg, x, y, true)
+    }
 }
 
 impl Coef for f64 {
@@ -876,6 +892,13 @@ impl Coef for f64 {
     }
     fn mul_acc(self, a: Self, b: Self) -> Self {
         self + a * b
+    }
+    fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self {
+        let n = x.len();
+        (0..n).fold(acc, |s, j| {
+            let xj = if neg { -x[j] } else { x[j] };
+            s.mul_acc(xj, y[n - 1 - j])
+        })
     }
 }
 

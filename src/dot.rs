@@ -1,0 +1,343 @@
+//! Interval dot products, the inner loop of the Taylor recurrences and of interval matrix
+//! products (spec (1.4)). The crate's one module with `unsafe` (spec/design.md).
+//!
+//! [`dot`] encloses `acc ± sum_j x_j y_j` (or `y` read backwards, the convolution of the
+//! recurrences (2.3)-(2.5)). The portable path is a chain of inari's fused multiply-adds,
+//! each rounded outward. With AVX-512 (`-Ctarget-cpu=native` on such a CPU) eight terms go
+//! through one vector at a time: every term's four end products are formed with the upper
+//! bound of the sum so far, rounded upward, and the largest kept; the same for the negated
+//! lower bound; the eight lanes are summed rounded upward, then added to `acc` by inari.
+//! Any input not finite sends the whole product down the portable path.
+
+use inari::Interval;
+
+/// `acc + sum_j x_j y_j` when `!neg`, `acc - sum_j x_j y_j` when `neg`; `y_j` is
+/// `y[y.len() - 1 - j]` when `rev`. `x` and `y` have the same length.
+///
+/// # Containment
+/// Spec (1.4): the result contains the real value for every choice of reals in the
+/// intervals `acc`, `x_j`, `y_j`.
+pub(crate) fn dot(acc: Interval, neg: bool, x: &[Interval], y: &[Interval], rev: bool) -> Interval {
+    debug_assert_eq!(x.len(), y.len());
+    #[cfg(all(
+        target_arch = "x86_64",
+        target_feature = "avx512f",
+        target_feature = "avx512dq"
+    ))]
+    if let Some(s) = wide::sum(acc, neg, x, y, rev) {
+        return s;
+    }
+    chain(acc, neg, x, y, rev)
+}
+
+/// The portable path: one inari fused multiply-add per term, each outward rounded.
+pub(crate) fn chain(
+    acc: Interval,
+    neg: bool,
+    x: &[Interval],
+    y: &[Interval],
+    rev: bool,
+) -> Interval {
+    let n = x.len().min(y.len());
+    (0..n).fold(acc, |s, j| {
+        let yj = if rev { y[n - 1 - j] } else { y[j] };
+        let xj = if neg { -x[j] } else { x[j] };
+        xj.mul_add(yj, s)
+    })
+}
+
+#[cfg(all(
+    target_arch = "x86_64",
+    target_feature = "avx512f",
+    target_feature = "avx512dq"
+))]
+mod wide {
+    use inari::Interval;
+    use std::arch::x86_64::*;
+    use std::sync::OnceLock;
+
+    const UP: i32 = _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC;
+
+    // inari stores an interval [a, b] as the two doubles (-a, b), `#[repr(C)]` (inari 2.0,
+    // `src/interval.rs`). Reading its bytes as two f64 is defined whatever they hold (16 bytes,
+    // any bit pattern is a double); what they mean is checked once, by `layout_known`.
+    const _: () = assert!(std::mem::size_of::<Interval>() == 16);
+    const _: () = assert!(std::mem::align_of::<Interval>() >= 8);
+
+    fn raw(x: &[Interval]) -> &[f64] {
+        // SAFETY: `Interval` is 16 bytes, aligned to at least 8 (asserted above), with no
+        // padding (it holds one 128-bit vector); `2 x.len()` doubles cover exactly the
+        // borrowed memory, and every bit pattern is a valid f64.
+        unsafe { std::slice::from_raw_parts(x.as_ptr().cast::<f64>(), 2 * x.len()) }
+    }
+
+    /// True when the bytes of an interval are (-inf, sup), as inari 2.0 stores them.
+    pub(super) fn layout_known() -> bool {
+        static KNOWN: OnceLock<bool> = OnceLock::new();
+        *KNOWN.get_or_init(|| {
+            [(-1.5, 2.25), (3.0, 5.0), (-7.0, -0.125), (0.0, 0.0)]
+                .into_iter()
+                .all(|(a, b)| match Interval::try_from((a, b)) {
+                    Ok(x) => raw(&[x]) == [-a, b],
+                    Err(_) => false,
+                })
+        })
+    }
+
+    /// `acc ± sum_j x_j y_j` (`y` backwards when `rev`), or `None` when an input is not
+    /// finite or the sum overflows.
+    pub(super) fn sum(
+        acc: Interval,
+        neg: bool,
+        x: &[Interval],
+        y: &[Interval],
+        rev: bool,
+    ) -> Option<Interval> {
+        if x.len() != y.len() || !layout_known() {
+            return None;
+        }
+        // SAFETY: this module is compiled only when the target has avx512f and avx512dq.
+        let (hi, nlo) = unsafe { lanes(raw(&[acc]), neg, raw(x), raw(y), rev) }?;
+        Interval::try_from((-nlo, hi)).ok()
+    }
+
+    /// Index vectors that read up to eight (-inf, sup) pairs backwards: for a block of `m`
+    /// pairs, lane `i < m` takes pair `m - 1 - i` (its -inf end in `REV[m].0`, its sup end in
+    /// `REV[m].1`); lanes `i >= m` take lane 15, which the masked load left 0 when `m < 8`.
+    const fn rev_index(m: usize, odd: usize) -> [i64; 8] {
+        let mut r = [15i64; 8];
+        let mut i = 0;
+        while i < m {
+            r[i] = (2 * (m - 1 - i) + odd) as i64;
+            i += 1;
+        }
+        r
+    }
+    const REV: [([i64; 8], [i64; 8]); 9] = {
+        let mut t = [([0i64; 8], [0i64; 8]); 9];
+        let mut m = 0;
+        while m <= 8 {
+            t[m] = (rev_index(m, 0), rev_index(m, 1));
+            m += 1;
+        }
+        t
+    };
+
+    /// Eight doubles from `s[from..]`, 0 in the lanes past its end.
+    #[target_feature(enable = "avx512f")]
+    fn load(s: &[f64], from: usize) -> __m512d {
+        let m = s.len().saturating_sub(from).min(8);
+        let mask = ((1u16 << m) - 1) as u8;
+        // SAFETY: the lanes read are `s[from..from + m]`, in bounds; the masked-off lanes are
+        // not accessed (the instruction suppresses them; LLVM's masked load does not touch
+        // them).
+        unsafe { _mm512_maskz_loadu_pd(mask, s.as_ptr().wrapping_add(from)) }
+    }
+
+    #[target_feature(enable = "avx512f")]
+    fn vector(v: [i64; 8]) -> __m512i {
+        _mm512_set_epi64(v[7], v[6], v[5], v[4], v[3], v[2], v[1], v[0])
+    }
+
+    /// Upper bounds of `acc ± sum x_j y_j` and of its negation, from the (-inf, sup) pairs.
+    #[target_feature(enable = "avx512f,avx512dq")]
+    fn lanes(acc: &[f64], neg: bool, x: &[f64], y: &[f64], rev: bool) -> Option<(f64, f64)> {
+        let n = x.len() / 2;
+        let zero = _mm512_setzero_pd();
+        let even = _mm512_set_epi64(14, 12, 10, 8, 6, 4, 2, 0);
+        let odd = _mm512_set_epi64(15, 13, 11, 9, 7, 5, 3, 1);
+        // lane 0 starts from `acc`: its sup end in `up`, minus its inf end in `down`
+        let (mut up, mut down) = (
+            _mm512_mask_mov_pd(zero, 1, _mm512_set1_pd(acc[1])),
+            _mm512_mask_mov_pd(zero, 1, _mm512_set1_pd(acc[0])),
+        );
+        let mut bad = 0u8;
+        let mut j = 0;
+        while j < n {
+            let m = (n - j).min(8);
+            let (x0, x1) = (load(x, 2 * j), load(x, 2 * j + 8));
+            // y's terms j .. j + m: backwards, the pairs n - j - m .. n - j read in reverse
+            let (y0, y1, ye, yo) = if rev {
+                let from = 2 * (n - j - m);
+                let (e, o) = REV[m];
+                (
+                    load(&y[..from + 2 * m], from),
+                    load(&y[..from + 2 * m], from + 8),
+                    vector(e),
+                    vector(o),
+                )
+            } else {
+                (load(y, 2 * j), load(y, 2 * j + 8), even, odd)
+            };
+            bad |= _mm512_fpclass_pd_mask::<0x99>(x0)
+                | _mm512_fpclass_pd_mask::<0x99>(x1)
+                | _mm512_fpclass_pd_mask::<0x99>(y0)
+                | _mm512_fpclass_pd_mask::<0x99>(y1);
+            // x = [xl, xh] (negated when `neg`: [-xh, -xl]), y = [yl, yh]
+            let (mut nxl, mut xh) = (
+                _mm512_permutex2var_pd(x0, even, x1),
+                _mm512_permutex2var_pd(x0, odd, x1),
+            );
+            if neg {
+                std::mem::swap(&mut nxl, &mut xh);
+            }
+            let nyl = _mm512_permutex2var_pd(y0, ye, y1);
+            let yh = _mm512_permutex2var_pd(y0, yo, y1);
+            let xl = _mm512_sub_pd(zero, nxl);
+            let yl = _mm512_sub_pd(zero, nyl);
+            let nxh = _mm512_sub_pd(zero, xh);
+            // the upper bound: the largest end product, added to the sum so far, rounded up
+            let u1 = _mm512_fmadd_round_pd::<UP>(xl, yl, up);
+            let u2 = _mm512_fmadd_round_pd::<UP>(xl, yh, up);
+            let u3 = _mm512_fmadd_round_pd::<UP>(xh, yl, up);
+            let u4 = _mm512_fmadd_round_pd::<UP>(xh, yh, up);
+            up = _mm512_max_pd(_mm512_max_pd(u1, u2), _mm512_max_pd(u3, u4));
+            // minus the lower bound: the largest negated end product, the same way
+            let d1 = _mm512_fmadd_round_pd::<UP>(nxl, yl, down);
+            let d2 = _mm512_fmadd_round_pd::<UP>(nxl, yh, down);
+            let d3 = _mm512_fmadd_round_pd::<UP>(nxh, yl, down);
+            let d4 = _mm512_fmadd_round_pd::<UP>(nxh, yh, down);
+            down = _mm512_max_pd(_mm512_max_pd(d1, d2), _mm512_max_pd(d3, d4));
+            j += m;
+        }
+        // the eight lanes of each summed, every addition rounded up: halves, quarters, pairs
+        let a = _mm512_add_round_pd::<UP>(
+            _mm512_shuffle_f64x2::<0b01_00_01_00>(up, down),
+            _mm512_shuffle_f64x2::<0b11_10_11_10>(up, down),
+        );
+        let b = _mm512_add_round_pd::<UP>(a, _mm512_shuffle_f64x2::<0b10_11_00_01>(a, a));
+        let c = _mm512_add_round_pd::<UP>(b, _mm512_permute_pd::<0b0101_0101>(b));
+        let hi = _mm512_cvtsd_f64(c);
+        let nlo = _mm512_cvtsd_f64(_mm512_castpd256_pd512(_mm512_extractf64x4_pd::<1>(c)));
+        (bad == 0 && hi.is_finite() && nlo.is_finite()).then_some((hi, nlo))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fixed-seed xorshift generator.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0
+        }
+        fn int(&mut self, lo: i64, hi: i64) -> i64 {
+            lo + (self.next() % (hi - lo + 1) as u64) as i64
+        }
+    }
+
+    /// `k 2^e` with `|k| < 2^30`, `e` in `[e0, e1]`, `e0 >= -SCALE`: exact in f64 and, times
+    /// `2^SCALE`, an integer. With `e1 <= 12` for the factors, the scaled products are below
+    /// 2^108 and every sum the tests form stays in i128.
+    fn dyadic(r: &mut Rng, e0: i64, e1: i64) -> f64 {
+        let k = match r.int(0, 9) {
+            0 => 0,
+            1 => r.int(-3, 3),
+            _ => r.int(-(1 << 30) + 1, (1 << 30) - 1),
+        };
+        k as f64 * 2f64.powi(r.int(e0, e1) as i32)
+    }
+    const SCALE: i32 = 12;
+
+    fn exact(v: f64) -> i128 {
+        let s = v * 2f64.powi(SCALE);
+        assert_eq!(s, s.trunc(), "{v} is not a multiple of 2^-{SCALE}");
+        s as i128
+    }
+
+    fn interval(r: &mut Rng, e0: i64, e1: i64) -> (Interval, i128, i128) {
+        let (a, b) = (dyadic(r, e0, e1), dyadic(r, e0, e1));
+        let (a, b) = if r.int(0, 3) == 0 {
+            (a, a)
+        } else {
+            (a.min(b), a.max(b))
+        };
+        (Interval::try_from((a, b)).unwrap(), exact(a), exact(b))
+    }
+
+    /// Spec (1.4) against exact integer arithmetic: the result contains the real range
+    /// `acc ± sum_j x_j y_j` (each term's range is the hull of its end products, the terms
+    /// are independent), and each end is within `(n + 2)` roundings of it.
+    #[test]
+    fn dot_products_contain_the_exact_range_and_are_tight() {
+        let mut r = Rng(0x9e37_79b9_7f4a_7c15);
+        for case in 0..20_000 {
+            let n = (case % 21) as usize;
+            let (neg, rev) = (r.int(0, 1) == 1, r.int(0, 1) == 1);
+            let (acc, mut lo, mut hi) = interval(&mut r, -12, 30);
+            let mut size = acc.mag();
+            let (mut x, mut y) = (vec![], vec![]);
+            let mut ends = vec![];
+            for _ in 0..n {
+                let (a, al, ah) = interval(&mut r, -12, 12);
+                let (b, bl, bh) = interval(&mut r, -12, 12);
+                x.push(a);
+                y.push(b);
+                ends.push((al, ah, bl, bh));
+            }
+            for j in 0..n {
+                let (al, ah, _, _) = ends[j];
+                let (_, _, bl, bh) = ends[if rev { n - 1 - j } else { j }];
+                let sign = if neg { -1 } else { 1 };
+                let p = [al * bl, al * bh, ah * bl, ah * bh].map(|v| sign * v);
+                // products scaled by 2^(2 SCALE): back to 2^SCALE, exactly (floor and ceil)
+                let s = 1i128 << SCALE;
+                lo += p.iter().min().unwrap().div_euclid(s);
+                hi += -(-p.iter().max().unwrap()).div_euclid(s);
+                let yj = y[if rev { n - 1 - j } else { j }];
+                size += x[j].mag() * yj.mag();
+            }
+            let got = dot(acc, neg, &x, &y, rev);
+            let scale = 2f64.powi(SCALE);
+            let (gl, gh) = ((got.inf() * scale).floor(), (got.sup() * scale).ceil());
+            assert!(
+                (gl as i128) <= lo && hi <= (gh as i128),
+                "case {case}: {got:?} misses the exact range (n {n}, neg {neg}, rev {rev})"
+            );
+            let slack = (n as f64 + 2.0) * f64::EPSILON * size * scale + 2.0;
+            assert!(
+                (lo as f64 - gl) <= slack && (gh - hi as f64) <= slack,
+                "case {case}: {got:?} is loose (n {n})"
+            );
+        }
+    }
+
+    /// Inputs that are not all finite take the portable path, whose answer is inari's.
+    #[test]
+    fn unbounded_and_empty_inputs_give_the_chain_answer() {
+        let i = |a: f64, b: f64| Interval::try_from((a, b)).unwrap();
+        let x = [i(1.0, 2.0), i(-3.0, f64::INFINITY), i(0.5, 0.5)];
+        let y = [i(-1.0, 1.0), i(2.0, 3.0), i(0.0, 4.0)];
+        for (neg, rev) in [(false, false), (true, true)] {
+            let (a, b) = (
+                dot(i(0.0, 1.0), neg, &x, &y, rev),
+                chain(i(0.0, 1.0), neg, &x, &y, rev),
+            );
+            assert_eq!((a.inf(), a.sup()), (b.inf(), b.sup()));
+        }
+        let e = [Interval::EMPTY, i(1.0, 1.0)];
+        assert!(dot(i(0.0, 1.0), false, &e, &e, false).is_empty());
+        // a sum that overflows: the portable path's infinite end, not a wrong finite one
+        let big = [i(f64::MAX, f64::MAX); 3];
+        let s = dot(i(0.0, 0.0), false, &big, &[i(1.0, 1.0); 3], false);
+        assert_eq!(s.sup(), f64::INFINITY);
+        assert!(s.inf() >= f64::MAX);
+    }
+
+    /// The vector path reads inari's bytes as (-inf, sup): on a CPU where it is compiled,
+    /// that layout must be the one found (else every product would take the portable path).
+    #[cfg(all(
+        target_arch = "x86_64",
+        target_feature = "avx512f",
+        target_feature = "avx512dq"
+    ))]
+    #[test]
+    fn the_vector_path_knows_inaris_layout() {
+        assert!(wide::layout_known());
+    }
+}
