@@ -30,6 +30,50 @@ pub(crate) fn dot(acc: Interval, neg: bool, x: &[Interval], y: &[Interval], rev:
     chain(acc, neg, x, y, rev)
 }
 
+/// Horner's scheme for many polynomials at once: entry `i` encloses
+/// `sum_k rows[k][i] t^k` for every `t` in `h` and every choice of reals in the
+/// coefficients (`rows[k]` all of one length). Each step `s <- s h + c` is inari's fused
+/// multiply-add, or with AVX-512 the same tightest interval computed eight entries at a
+/// time (spec (1.4)): the answers are the same.
+pub(crate) fn horner(rows: &[&[Interval]], h: Interval) -> Vec<Interval> {
+    #[cfg(all(
+        target_arch = "x86_64",
+        target_feature = "avx512f",
+        target_feature = "avx512dq"
+    ))]
+    if let Some(v) = wide::lanewise(rows, wide::Scheme::Horner(h)) {
+        return v;
+    }
+    let d = rows.first().map_or(0, |r| r.len());
+    (0..d)
+        .map(|i| rows.iter().rev().fold(ZERO, |s, r| s.mul_add(h, r[i])))
+        .collect()
+}
+
+/// One row of a matrix product: entry `j` encloses `sum_l a_l rows[l][j]` (`rows[l]` all of
+/// one length), each term added by inari's fused multiply-add in the order of `l`, or with
+/// AVX-512 the same tightest intervals computed eight entries at a time (spec (1.4)).
+pub(crate) fn row_times(a: &[Interval], rows: &[&[Interval]]) -> Vec<Interval> {
+    #[cfg(all(
+        target_arch = "x86_64",
+        target_feature = "avx512f",
+        target_feature = "avx512dq"
+    ))]
+    if let Some(v) = wide::lanewise(rows, wide::Scheme::Row(a)) {
+        return v;
+    }
+    let m = rows.first().map_or(0, |r| r.len());
+    (0..m)
+        .map(|j| {
+            a.iter()
+                .zip(rows)
+                .fold(ZERO, |s, (x, r)| x.mul_add(r[j], s))
+        })
+        .collect()
+}
+
+const ZERO: Interval = inari::const_interval!(0.0, 0.0);
+
 /// The portable path: one inari fused multiply-add per term, each outward rounded.
 pub(crate) fn chain(
     acc: Interval,
@@ -210,6 +254,137 @@ mod wide {
         let hi = _mm512_cvtsd_f64(c);
         let nlo = _mm512_cvtsd_f64(_mm512_castpd256_pd512(_mm512_extractf64x4_pd::<1>(c)));
         (bad == 0 && hi.is_finite() && nlo.is_finite()).then_some((hi, nlo))
+    }
+
+    /// What [`lanewise`] computes: Horner's scheme at `h`, or a row times a matrix.
+    pub(super) enum Scheme<'a> {
+        Horner(Interval),
+        Row(&'a [Interval]),
+    }
+
+    /// Eight intervals in lanes: their sup ends, and minus their inf ends.
+    #[derive(Clone, Copy)]
+    struct Lanes {
+        up: __m512d,
+        down: __m512d,
+    }
+
+    /// `x y + z` lane by lane, each the tightest interval (the hull of the four end
+    /// products, plus `z`, rounded outward), as inari's `mul_add`.
+    #[target_feature(enable = "avx512f")]
+    fn fma(x: Lanes, y: Lanes, z: Lanes) -> Lanes {
+        let zero = _mm512_setzero_pd();
+        let (xl, xh, nxh) = (_mm512_sub_pd(zero, x.down), x.up, _mm512_sub_pd(zero, x.up));
+        let (yl, yh) = (_mm512_sub_pd(zero, y.down), y.up);
+        let u1 = _mm512_fmadd_round_pd::<UP>(xl, yl, z.up);
+        let u2 = _mm512_fmadd_round_pd::<UP>(xl, yh, z.up);
+        let u3 = _mm512_fmadd_round_pd::<UP>(xh, yl, z.up);
+        let u4 = _mm512_fmadd_round_pd::<UP>(xh, yh, z.up);
+        let d1 = _mm512_fmadd_round_pd::<UP>(x.down, yl, z.down);
+        let d2 = _mm512_fmadd_round_pd::<UP>(x.down, yh, z.down);
+        let d3 = _mm512_fmadd_round_pd::<UP>(nxh, yl, z.down);
+        let d4 = _mm512_fmadd_round_pd::<UP>(nxh, yh, z.down);
+        Lanes {
+            up: _mm512_max_pd(_mm512_max_pd(u1, u2), _mm512_max_pd(u3, u4)),
+            down: _mm512_max_pd(_mm512_max_pd(d1, d2), _mm512_max_pd(d3, d4)),
+        }
+    }
+
+    /// One interval in every lane.
+    #[target_feature(enable = "avx512f")]
+    fn splat(x: Interval) -> Lanes {
+        let r = raw(std::slice::from_ref(&x));
+        Lanes {
+            up: _mm512_set1_pd(r[1]),
+            down: _mm512_set1_pd(r[0]),
+        }
+    }
+
+    /// Up to eight intervals `s[from..]` (as (-inf, sup) pairs), 0 past the end; with the
+    /// lanes that are infinite or NaN.
+    #[target_feature(enable = "avx512f,avx512dq")]
+    fn gather(s: &[f64], from: usize) -> (Lanes, u8) {
+        let (a, b) = (load(s, 2 * from), load(s, 2 * from + 8));
+        let even = _mm512_set_epi64(14, 12, 10, 8, 6, 4, 2, 0);
+        let odd = _mm512_set_epi64(15, 13, 11, 9, 7, 5, 3, 1);
+        let bad = _mm512_fpclass_pd_mask::<0x99>(a) | _mm512_fpclass_pd_mask::<0x99>(b);
+        let lanes = Lanes {
+            up: _mm512_permutex2var_pd(a, odd, b),
+            down: _mm512_permutex2var_pd(a, even, b),
+        };
+        (lanes, bad)
+    }
+
+    /// The scheme for every entry, blocks of eight at a time; `None` when an input is not
+    /// finite or a result overflows.
+    pub(super) fn lanewise(rows: &[&[Interval]], scheme: Scheme) -> Option<Vec<Interval>> {
+        let width = rows.first().map_or(0, |r| r.len());
+        if !layout_known() || rows.iter().any(|r| r.len() != width) {
+            return None;
+        }
+        if let Scheme::Row(a) = scheme {
+            if a.len() != rows.len() || !a.iter().all(|x| crate::tape::finite(*x)) {
+                return None;
+            }
+        }
+        let raws: Vec<&[f64]> = rows.iter().map(|r| raw(r)).collect();
+        let mut out = Vec::with_capacity(width);
+        let mut from = 0;
+        while from < width {
+            // SAFETY: this module is compiled only when the target has avx512f and avx512dq.
+            let block = unsafe { block(&raws, &scheme, from) }?;
+            let m = (width - from).min(8);
+            for i in 0..m {
+                out.push(Interval::try_from((-block[2 * i], block[2 * i + 1])).ok()?);
+            }
+            from += m;
+        }
+        Some(out)
+    }
+
+    /// Entries `from .. from + 8` of the scheme, as (-inf, sup) pairs.
+    #[target_feature(enable = "avx512f,avx512dq")]
+    fn block(raws: &[&[f64]], scheme: &Scheme, from: usize) -> Option<[f64; 16]> {
+        let zero = _mm512_setzero_pd();
+        let mut acc = Lanes {
+            up: zero,
+            down: zero,
+        };
+        let mut bad = 0u8;
+        match scheme {
+            Scheme::Horner(h) => {
+                if !crate::tape::finite(*h) {
+                    return None;
+                }
+                let h = splat(*h);
+                for r in raws.iter().rev() {
+                    let (c, b) = gather(r, from);
+                    bad |= b;
+                    acc = fma(acc, h, c);
+                }
+            }
+            Scheme::Row(a) => {
+                for (x, r) in a.iter().zip(raws) {
+                    let (c, b) = gather(r, from);
+                    bad |= b;
+                    acc = fma(splat(*x), c, acc);
+                }
+            }
+        }
+        let even = _mm512_set_epi64(11, 3, 10, 2, 9, 1, 8, 0);
+        let odd = _mm512_set_epi64(15, 7, 14, 6, 13, 5, 12, 4);
+        let (lo, hi) = (
+            _mm512_permutex2var_pd(acc.down, even, acc.up),
+            _mm512_permutex2var_pd(acc.down, odd, acc.up),
+        );
+        let mut out = [0.0f64; 16];
+        // SAFETY: `out` holds the 16 doubles stored.
+        unsafe {
+            _mm512_storeu_pd(out.as_mut_ptr(), lo);
+            _mm512_storeu_pd(out.as_mut_ptr().add(8), hi);
+        }
+        let finite = _mm512_fpclass_pd_mask::<0x99>(lo) | _mm512_fpclass_pd_mask::<0x99>(hi);
+        (bad == 0 && finite == 0).then_some(out)
     }
 }
 

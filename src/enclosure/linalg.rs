@@ -28,21 +28,12 @@ pub fn identity(n: usize) -> IMat {
         .collect()
 }
 
-/// `a b` in interval arithmetic (sums by fused multiply-add, outward rounded).
+/// `a b` in interval arithmetic (sums by fused multiply-add, outward rounded; a row at a
+/// time, spec (1.4)).
 pub fn mul(a: &IMat, b: &IMat) -> IMat {
-    let (n, k, m) = (a.len(), b.len(), b.first().map_or(0, |r| r.len()));
-    (0..n)
-        .map(|i| {
-            (0..m)
-                .map(|j| {
-                    let mut s = point(0.0);
-                    for (l, bl) in b.iter().enumerate().take(k) {
-                        s = a[i][l].mul_add(bl[j], s);
-                    }
-                    s
-                })
-                .collect()
-        })
+    let rows: Vec<&[Interval]> = b.iter().map(|r| &r[..]).collect();
+    a.iter()
+        .map(|ai| crate::dot::row_times(&ai[..rows.len()], &rows))
         .collect()
 }
 

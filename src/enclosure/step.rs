@@ -37,13 +37,23 @@ pub(super) enum Tolerance {
 /// Largest accepted width of the Lagrange remainder, relative to the state's size.
 pub(super) const REMAINDER_TOL: f64 = f64::EPSILON;
 
-/// Horner's scheme in intervals: encloses `sum_{i<n} c_i t^i` for every `t` in `h` and every
-/// choice of coefficients in the enclosures `c_i = coef(i)` (fused multiply-adds, each
-/// outward rounded by inari).
-pub(super) fn horner(n: usize, coef: impl Fn(usize) -> Interval, h: Interval) -> Interval {
-    (0..n)
-        .rev()
-        .fold(point(0.0), |acc, i| acc.mul_add(h, coef(i)))
+/// Horner's scheme in intervals, for the components `cols` of every row at once: entry `i`
+/// encloses `sum_k c_k[cols.start + i] t^k` for every `t` in `h` and every choice of
+/// coefficients in the enclosures, with `c_k` the rows and then `top` if given (fused
+/// multiply-adds, each outward rounded: spec (1.4)).
+pub(super) fn horner(
+    rows: &[Vec<Interval>],
+    cols: std::ops::Range<usize>,
+    top: Option<&[Interval]>,
+    h: Interval,
+) -> Vec<Interval> {
+    let rows: Vec<&[Interval]> = rows
+        .iter()
+        .map(|r| &r[..])
+        .chain(top)
+        .map(|r| &r[cols.clone()])
+        .collect();
+    crate::dot::horner(&rows, h)
 }
 
 /// What one step hands on.
@@ -79,7 +89,7 @@ pub(super) fn lohner_step(
     }
     let scale = set.m.iter().fold(1.0f64, |a, x| a.max(x.abs()));
     // (5.3) the Taylor polynomial at the centre (coefficients `c`)
-    let phi: Vec<Interval> = (0..d).map(|i| horner(c.len(), |k| c[k][i], h)).collect();
+    let phi = horner(c, 0..d, None, h);
     if tol != Tolerance::Loose && phi.iter().any(|x| x.wid() > scale * (16.0 * f64::EPSILON)) {
         return Err(StepFail::Shrink);
     }
@@ -281,11 +291,11 @@ pub(super) fn a_priori(
 ) -> Result<(Vec<Interval>, Vec<Vec<Interval>>), StepFail> {
     let h0 = iv(0.0, h.sup());
     let dim = b[0].len();
-    let series = |i: usize, top: Interval| horner(q + 1, |k| if k < q { b[k][i] } else { top }, h0);
-    let mut y = inflate(&(0..dim).map(|i| series(i, b[q][i])).collect::<Vec<_>>());
+    let series = |top: &[Interval]| horner(&b[..q], 0..dim, Some(top), h0);
+    let mut y = inflate(&series(&b[q]));
     for _ in 0..4 {
         let ty = tape.ode_taylor(&y, q + 1).ok_or(StepFail::Shrink)?;
-        let z: Vec<Interval> = (0..dim).map(|i| series(i, ty[q][i])).collect();
+        let z = series(&ty[q]);
         if z.iter().zip(&y).all(|(a, b)| a.subset(*b)) {
             return Ok((y, ty));
         }
@@ -353,10 +363,10 @@ pub(super) fn remainder(
                 h.sup() * (j + 1) as f64 / SLICES as f64
             };
             let tj = iv(lo, hi);
-            let yj: Vec<Interval> = (0..d)
-                .map(|i| {
-                    horner(p + 1, |k| if k < p { b[k][i] } else { ty[p][i] }, tj).intersection(y[i])
-                })
+            let yj: Vec<Interval> = horner(&b[..p], 0..d, Some(&ty[p]), tj)
+                .iter()
+                .zip(&y)
+                .map(|(a, b)| a.intersection(*b))
                 .collect();
             let tj = sys.field.ode_taylor(&yj, p + 1).ok_or(StepFail::Shrink)?;
             let part = &tj[p + 1];
@@ -488,12 +498,9 @@ pub(super) fn with_identity(x: &[Interval]) -> Vec<Interval> {
 /// `sum_k [V_k] h^k`: the Taylor polynomial of the variational part (components `d..`,
 /// row-major) of the coefficients `w` of the extended system.
 pub(super) fn variational_polynomial(w: &[Vec<Interval>], d: usize, h: Interval) -> IMat {
-    (0..d)
-        .map(|i| {
-            (0..d)
-                .map(|j| horner(w.len(), |k| w[k][d + i * d + j], h))
-                .collect()
-        })
+    horner(w, d..d + d * d, None, h)
+        .chunks(d)
+        .map(|r| r.to_vec())
         .collect()
 }
 
@@ -510,31 +517,15 @@ pub(super) fn variational_remainder(
 ) -> Result<IMat, StepFail> {
     let d = y.len();
     let h0 = iv(0.0, h.sup());
-    let series = |k_max: usize, i: usize, top: Option<Interval>| {
-        let n = k_max + usize::from(top.is_some());
-        horner(
-            n,
-            |k| match top {
-                Some(t) if k == k_max => t,
-                _ => cv[k][d + i],
-            },
-            h0,
-        )
-    };
-    let mut yv = inflate(
-        &(0..d * d)
-            .map(|i| series(p + 1, i, None))
-            .collect::<Vec<_>>(),
-    );
+    let cols = d..d + d * d;
+    let mut yv = inflate(&horner(&cv[..=p], cols.clone(), None, h0));
     for _ in 0..4 {
         let ext: Vec<Interval> = y.iter().chain(&yv).copied().collect();
         let tv = sys
             .field_var
             .ode_taylor(&ext, p + 1)
             .ok_or(StepFail::Shrink)?;
-        let zv: Vec<Interval> = (0..d * d)
-            .map(|i| series(p, i, Some(tv[p][d + i])))
-            .collect();
+        let zv = horner(&cv[..p], cols.clone(), Some(&tv[p]), h0);
         if zv.iter().zip(&yv).all(|(a, b)| a.subset(*b)) {
             let hp = (0..=p).fold(point(1.0), |a, _| a * h);
             return Ok((0..d)
