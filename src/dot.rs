@@ -1,13 +1,12 @@
-//! Interval dot products, the inner loop of the Taylor recurrences and of interval matrix
-//! products (spec (1.4)). The crate's one module with `unsafe` (spec/design.md).
+//! Interval kernels: dot products, Horner's scheme and rows of matrix products, the loops
+//! where the Taylor method spends its arithmetic (spec (1.4)). The crate's one module with
+//! `unsafe` (spec/design.md).
 //!
-//! [`dot`] encloses `acc ± sum_j x_j y_j` (or `y` read backwards, the convolution of the
-//! recurrences (2.3)-(2.5)). The portable path is a chain of inari's fused multiply-adds,
-//! each rounded outward. With AVX-512 (`-Ctarget-cpu=native` on such a CPU) eight terms go
-//! through one vector at a time: every term's four end products are formed with the upper
-//! bound of the sum so far, rounded upward, and the largest kept; the same for the negated
-//! lower bound; the eight lanes are summed rounded upward, then added to `acc` by inari.
-//! Any input not finite sends the whole product down the portable path.
+//! Each kernel has one claim and two paths that give the same doubles: the portable chain of
+//! inari's fused multiply-adds, each rounded outward, and, where the target has AVX-512,
+//! a vector path computing that chain's tightest ends with the fused multiply-add rounded
+//! upward by the instruction (eight entries, or eight sign choices, at a time). Any input
+//! not finite sends the call down the portable path.
 
 use inari::Interval;
 
@@ -183,18 +182,40 @@ mod wide {
         _mm512_set_epi64(v[7], v[6], v[5], v[4], v[3], v[2], v[1], v[0])
     }
 
-    /// Upper bounds of `acc ± sum x_j y_j` and of its negation, from the (-inf, sup) pairs.
+    /// `RU(a b + c)`: the fused multiply-add rounded upward.
+    #[target_feature(enable = "avx512f")]
+    fn fma_up(a: f64, b: f64, c: f64) -> f64 {
+        _mm_cvtsd_f64(_mm_fmadd_round_sd::<UP>(
+            _mm_set_sd(a),
+            _mm_set_sd(b),
+            _mm_set_sd(c),
+        ))
+    }
+
+    /// The eight lanes of `v`.
+    #[target_feature(enable = "avx512f")]
+    fn store(v: __m512d) -> [f64; 8] {
+        let mut out = [0.0f64; 8];
+        // SAFETY: `out` holds the 8 doubles stored.
+        unsafe { _mm512_storeu_pd(out.as_mut_ptr(), v) };
+        out
+    }
+
+    /// `sup` and `-inf` of `acc ± sum x_j y_j`, from the (-inf, sup) pairs: inari's chain of
+    /// fused multiply-adds, term by term in the same order, so the same doubles.
+    ///
+    /// The end product that bounds a term's range above (below) is chosen from the signs of
+    /// the ends, eight terms at a time, as in the case table of interval multiplication:
+    /// for `[a, b] [c, d]` the upper bound is `b d` when `a >= 0` and `c >= 0`, `a d` when
+    /// `a >= 0 >= d`, ..., and `max(a c, b d)` when both straddle 0 (then both are formed).
+    /// The two chains `U <- RU(e_up + U)` and `D <- RU(-e_down + D)` then run side by side.
     #[target_feature(enable = "avx512f,avx512dq")]
     fn lanes(acc: &[f64], neg: bool, x: &[f64], y: &[f64], rev: bool) -> Option<(f64, f64)> {
         let n = x.len() / 2;
         let zero = _mm512_setzero_pd();
         let even = _mm512_set_epi64(14, 12, 10, 8, 6, 4, 2, 0);
         let odd = _mm512_set_epi64(15, 13, 11, 9, 7, 5, 3, 1);
-        // lane 0 starts from `acc`: its sup end in `up`, minus its inf end in `down`
-        let (mut up, mut down) = (
-            _mm512_mask_mov_pd(zero, 1, _mm512_set1_pd(acc[1])),
-            _mm512_mask_mov_pd(zero, 1, _mm512_set1_pd(acc[0])),
-        );
+        let (mut up, mut down) = (acc[1], acc[0]);
         let mut bad = 0u8;
         let mut j = 0;
         while j < n {
@@ -229,31 +250,35 @@ mod wide {
             let yh = _mm512_permutex2var_pd(y0, yo, y1);
             let xl = _mm512_sub_pd(zero, nxl);
             let yl = _mm512_sub_pd(zero, nyl);
-            let nxh = _mm512_sub_pd(zero, xh);
-            // the upper bound: the largest end product, added to the sum so far, rounded up
-            let u1 = _mm512_fmadd_round_pd::<UP>(xl, yl, up);
-            let u2 = _mm512_fmadd_round_pd::<UP>(xl, yh, up);
-            let u3 = _mm512_fmadd_round_pd::<UP>(xh, yl, up);
-            let u4 = _mm512_fmadd_round_pd::<UP>(xh, yh, up);
-            up = _mm512_max_pd(_mm512_max_pd(u1, u2), _mm512_max_pd(u3, u4));
-            // minus the lower bound: the largest negated end product, the same way
-            let d1 = _mm512_fmadd_round_pd::<UP>(nxl, yl, down);
-            let d2 = _mm512_fmadd_round_pd::<UP>(nxl, yh, down);
-            let d3 = _mm512_fmadd_round_pd::<UP>(nxh, yl, down);
-            let d4 = _mm512_fmadd_round_pd::<UP>(nxh, yh, down);
-            down = _mm512_max_pd(_mm512_max_pd(d1, d2), _mm512_max_pd(d3, d4));
+            // signs: x >= 0, x <= 0 (and not >= 0), straddling; the same for y
+            let xp = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(xl, zero);
+            let xn = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(xh, zero) & !xp;
+            let xm = !xp & !xn;
+            let yp = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(yl, zero);
+            let yn = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(yh, zero) & !yp;
+            let ym = !yp & !yn;
+            // the upper bound's factors (b d, a d, b c or a c; for both straddling b d, and
+            // a c beside it), and the lower bound's (a c, b c, a d or b d; a d and b c)
+            let up_x = _mm512_mask_blend_pd((!xn & !yn) | (xn & yp), xl, xh);
+            let up_y = _mm512_mask_blend_pd(xp | (xm & !yn), yl, yh);
+            let down_x = _mm512_mask_blend_pd((xp & !yp) | (xn & yn) | (xm & yn), xl, xh);
+            let down_y = _mm512_mask_blend_pd(xn | (xm & !yn), yl, yh);
+            let both = xm & ym;
+            let (ux, uy) = (store(up_x), store(up_y));
+            let (dx, dy) = (store(_mm512_sub_pd(zero, down_x)), store(down_y));
+            let (al, ah, bl) = (store(xl), store(xh), store(yl));
+            for i in 0..m {
+                let (u, d) = (up, down);
+                up = fma_up(ux[i], uy[i], u);
+                down = fma_up(dx[i], dy[i], d);
+                if both & (1 << i) != 0 {
+                    up = up.max(fma_up(al[i], bl[i], u));
+                    down = down.max(fma_up(-ah[i], bl[i], d));
+                }
+            }
             j += m;
         }
-        // the eight lanes of each summed, every addition rounded up: halves, quarters, pairs
-        let a = _mm512_add_round_pd::<UP>(
-            _mm512_shuffle_f64x2::<0b01_00_01_00>(up, down),
-            _mm512_shuffle_f64x2::<0b11_10_11_10>(up, down),
-        );
-        let b = _mm512_add_round_pd::<UP>(a, _mm512_shuffle_f64x2::<0b10_11_00_01>(a, a));
-        let c = _mm512_add_round_pd::<UP>(b, _mm512_permute_pd::<0b0101_0101>(b));
-        let hi = _mm512_cvtsd_f64(c);
-        let nlo = _mm512_cvtsd_f64(_mm512_castpd256_pd512(_mm512_extractf64x4_pd::<1>(c)));
-        (bad == 0 && hi.is_finite() && nlo.is_finite()).then_some((hi, nlo))
+        (bad == 0 && up.is_finite() && down.is_finite()).then_some((up, down))
     }
 
     /// What [`lanewise`] computes: Horner's scheme at `h`, or a row times a matrix.
@@ -444,7 +469,8 @@ mod tests {
         for case in 0..20_000 {
             let n = (case % 21) as usize;
             let (neg, rev) = (r.int(0, 1) == 1, r.int(0, 1) == 1);
-            let (acc, mut lo, mut hi) = interval(&mut r, -12, 30);
+            let (acc, lo, hi) = interval(&mut r, -12, 30);
+            let (mut lo, mut hi) = (lo << SCALE, hi << SCALE);
             let mut size = acc.mag();
             let (mut x, mut y) = (vec![], vec![]);
             let mut ends = vec![];
@@ -460,15 +486,14 @@ mod tests {
                 let (_, _, bl, bh) = ends[if rev { n - 1 - j } else { j }];
                 let sign = if neg { -1 } else { 1 };
                 let p = [al * bl, al * bh, ah * bl, ah * bh].map(|v| sign * v);
-                // products scaled by 2^(2 SCALE): back to 2^SCALE, exactly (floor and ceil)
-                let s = 1i128 << SCALE;
-                lo += p.iter().min().unwrap().div_euclid(s);
-                hi += -(-p.iter().max().unwrap()).div_euclid(s);
+                // products scaled by 2^(2 SCALE), as the sums `lo`, `hi`: exact
+                lo += p.iter().min().unwrap();
+                hi += p.iter().max().unwrap();
                 let yj = y[if rev { n - 1 - j } else { j }];
                 size += x[j].mag() * yj.mag();
             }
             let got = dot(acc, neg, &x, &y, rev);
-            let scale = 2f64.powi(SCALE);
+            let scale = 2f64.powi(2 * SCALE);
             let (gl, gh) = ((got.inf() * scale).floor(), (got.sup() * scale).ceil());
             assert!(
                 (gl as i128) <= lo && hi <= (gh as i128),
@@ -479,6 +504,60 @@ mod tests {
                 (lo as f64 - gl) <= slack && (gh - hi as f64) <= slack,
                 "case {case}: {got:?} is loose (n {n})"
             );
+        }
+    }
+
+    /// Spec (1.4): with finite inputs the vector paths give inari's chain bit for bit
+    /// (dot products and convolutions, Horner's scheme, rows times matrices), on random
+    /// intervals of every sign pattern, thin and wide, with zero ends.
+    #[test]
+    fn the_vector_paths_give_the_chains_doubles() {
+        let mut r = Rng(0x2545_f491_4f6c_dd1d);
+        let any = |r: &mut Rng| {
+            let e = |r: &mut Rng| match r.int(0, 7) {
+                0 => 0.0,
+                _ => (r.int(-(1 << 52), 1 << 52) as f64) * 2f64.powi(r.int(-80, 20) as i32),
+            };
+            let (a, b) = (e(r), e(r));
+            let (a, b) = if r.int(0, 2) == 0 {
+                (a, a)
+            } else {
+                (a.min(b), a.max(b))
+            };
+            Interval::try_from((a, b)).unwrap()
+        };
+        let same = |a: Interval, b: Interval| a.inf() == b.inf() && a.sup() == b.sup();
+        for case in 0..5_000 {
+            let n = case % 19;
+            let x: Vec<Interval> = (0..n).map(|_| any(&mut r)).collect();
+            let y: Vec<Interval> = (0..n).map(|_| any(&mut r)).collect();
+            let acc = any(&mut r);
+            let (neg, rev) = (r.int(0, 1) == 1, r.int(0, 1) == 1);
+            let (a, b) = (dot(acc, neg, &x, &y, rev), chain(acc, neg, &x, &y, rev));
+            assert!(
+                same(a, b),
+                "case {case}: dot {a:?} against the chain's {b:?}"
+            );
+            let h = any(&mut r);
+            let rows: Vec<&[Interval]> = vec![&x, &y, &x];
+            let v = horner(&rows, h);
+            for i in 0..n {
+                let c = rows.iter().rev().fold(ZERO, |s, row| s.mul_add(h, row[i]));
+                assert!(
+                    same(v[i], c),
+                    "case {case}: Horner {:?} against {c:?}",
+                    v[i]
+                );
+            }
+            let coef = [h, acc, x.first().copied().unwrap_or(h)];
+            let w = row_times(&coef, &rows);
+            for j in 0..n {
+                let c = coef
+                    .iter()
+                    .zip(&rows)
+                    .fold(ZERO, |s, (a, row)| a.mul_add(row[j], s));
+                assert!(same(w[j], c), "case {case}: row {:?} against {c:?}", w[j]);
+            }
         }
     }
 
