@@ -156,6 +156,9 @@ mod wide {
         }
         r
     }
+    /// Index vectors that read eight (-inf, sup) pairs in order: the -inf ends, the sup ends.
+    const FORWARD: ([i64; 8], [i64; 8]) =
+        ([0, 2, 4, 6, 8, 10, 12, 14], [1, 3, 5, 7, 9, 11, 13, 15]);
     const REV: [([i64; 8], [i64; 8]); 9] = {
         let mut t = [([0i64; 8], [0i64; 8]); 9];
         let mut m = 0;
@@ -213,41 +216,26 @@ mod wide {
     fn lanes(acc: &[f64], neg: bool, x: &[f64], y: &[f64], rev: bool) -> Option<(f64, f64)> {
         let n = x.len() / 2;
         let zero = _mm512_setzero_pd();
-        let even = _mm512_set_epi64(14, 12, 10, 8, 6, 4, 2, 0);
-        let odd = _mm512_set_epi64(15, 13, 11, 9, 7, 5, 3, 1);
         let (mut up, mut down) = (acc[1], acc[0]);
         let mut bad = 0u8;
         let mut j = 0;
         while j < n {
             let m = (n - j).min(8);
-            let (x0, x1) = (load(x, 2 * j), load(x, 2 * j + 8));
-            // y's terms j .. j + m: backwards, the pairs n - j - m .. n - j read in reverse
-            let (y0, y1, ye, yo) = if rev {
-                let from = 2 * (n - j - m);
-                let (e, o) = REV[m];
-                (
-                    load(&y[..from + 2 * m], from),
-                    load(&y[..from + 2 * m], from + 8),
-                    vector(e),
-                    vector(o),
-                )
+            // x's terms j .. j + m; y's the same, or backwards the pairs n - j - m .. n - j
+            let (xs, bx) = gather(x, j, None);
+            let (ys, by) = if rev {
+                gather(y, n - j - m, Some(m))
             } else {
-                (load(y, 2 * j), load(y, 2 * j + 8), even, odd)
+                gather(y, j, None)
             };
-            bad |= _mm512_fpclass_pd_mask::<0x99>(x0)
-                | _mm512_fpclass_pd_mask::<0x99>(x1)
-                | _mm512_fpclass_pd_mask::<0x99>(y0)
-                | _mm512_fpclass_pd_mask::<0x99>(y1);
+            bad |= bx | by;
             // x = [xl, xh] (negated when `neg`: [-xh, -xl]), y = [yl, yh]
-            let (mut nxl, mut xh) = (
-                _mm512_permutex2var_pd(x0, even, x1),
-                _mm512_permutex2var_pd(x0, odd, x1),
-            );
-            if neg {
-                std::mem::swap(&mut nxl, &mut xh);
-            }
-            let nyl = _mm512_permutex2var_pd(y0, ye, y1);
-            let yh = _mm512_permutex2var_pd(y0, yo, y1);
+            let (nxl, xh) = if neg {
+                (xs.up, xs.down)
+            } else {
+                (xs.down, xs.up)
+            };
+            let (nyl, yh) = (ys.down, ys.up);
             let xl = _mm512_sub_pd(zero, nxl);
             let yl = _mm512_sub_pd(zero, nyl);
             // signs: x >= 0, x <= 0 (and not >= 0), straddling; the same for y
@@ -266,7 +254,12 @@ mod wide {
             let both = xm & ym;
             let (ux, uy) = (store(up_x), store(up_y));
             let (dx, dy) = (store(_mm512_sub_pd(zero, down_x)), store(down_y));
-            let (al, ah, bl) = (store(xl), store(xh), store(yl));
+            // the second candidates, needed only where both factors straddle 0
+            let (al, ah, bl) = if both == 0 {
+                ([0.0; 8], [0.0; 8], [0.0; 8])
+            } else {
+                (store(xl), store(xh), store(yl))
+            };
             for i in 0..m {
                 let (u, d) = (up, down);
                 up = fma_up(ux[i], uy[i], u);
@@ -325,17 +318,20 @@ mod wide {
         }
     }
 
-    /// Up to eight intervals `s[from..]` (as (-inf, sup) pairs), 0 past the end; with the
-    /// lanes that are infinite or NaN.
+    /// Up to eight intervals from the (-inf, sup) pairs `s`: the pairs `from ..` (0 past the
+    /// end), or with `backwards = Some(m)` the pairs `from + m - 1` down to `from` (0 in the
+    /// lanes from `m` on); with the lanes that are infinite or NaN.
     #[target_feature(enable = "avx512f,avx512dq")]
-    fn gather(s: &[f64], from: usize) -> (Lanes, u8) {
+    fn gather(s: &[f64], from: usize, backwards: Option<usize>) -> (Lanes, u8) {
+        let (s, (even, odd)) = match backwards {
+            None => (s, FORWARD),
+            Some(m) => (&s[..2 * (from + m)], REV[m]),
+        };
         let (a, b) = (load(s, 2 * from), load(s, 2 * from + 8));
-        let even = _mm512_set_epi64(14, 12, 10, 8, 6, 4, 2, 0);
-        let odd = _mm512_set_epi64(15, 13, 11, 9, 7, 5, 3, 1);
         let bad = _mm512_fpclass_pd_mask::<0x99>(a) | _mm512_fpclass_pd_mask::<0x99>(b);
         let lanes = Lanes {
-            up: _mm512_permutex2var_pd(a, odd, b),
-            down: _mm512_permutex2var_pd(a, even, b),
+            up: _mm512_permutex2var_pd(a, vector(odd), b),
+            down: _mm512_permutex2var_pd(a, vector(even), b),
         };
         (lanes, bad)
     }
@@ -383,14 +379,14 @@ mod wide {
                 }
                 let h = splat(*h);
                 for r in raws.iter().rev() {
-                    let (c, b) = gather(r, from);
+                    let (c, b) = gather(r, from, None);
                     bad |= b;
                     acc = fma(acc, h, c);
                 }
             }
             Scheme::Row(a) => {
                 for (x, r) in a.iter().zip(raws) {
-                    let (c, b) = gather(r, from);
+                    let (c, b) = gather(r, from, None);
                     bad |= b;
                     acc = fma(splat(*x), c, acc);
                 }
