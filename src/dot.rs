@@ -1,4 +1,4 @@
-//! Interval kernels: dot products, Horner's scheme and rows of matrix products, the loops
+//! Interval kernels: dot products, Horner's scheme, rows of matrix products and quotients,
 //! where the Taylor method spends its arithmetic (spec (1.4)). The crate's one module with
 //! `unsafe` (spec/design.md).
 //!
@@ -27,6 +27,21 @@ pub(crate) fn dot(acc: Interval, neg: bool, x: &[Interval], y: &[Interval], rev:
         return s;
     }
     chain(acc, neg, x, y, rev)
+}
+
+/// `a / b` for an interval `b` without 0: inari's quotient (the tightest interval), with
+/// AVX-512 computed from the signs of the ends without inari's case dispatch (spec (1.4)).
+/// Any other `b` (containing 0, empty, unbounded) or an unbounded `a` is inari's `a / b`.
+pub(crate) fn quotient(a: Interval, b: Interval) -> Interval {
+    #[cfg(all(
+        target_arch = "x86_64",
+        target_feature = "avx512f",
+        target_feature = "avx512dq"
+    ))]
+    if let Some(q) = wide::quotient(a, b) {
+        return q;
+    }
+    a / b
 }
 
 /// Horner's scheme for many polynomials at once: entry `i` encloses
@@ -140,8 +155,52 @@ mod wide {
             return None;
         }
         // SAFETY: this module is compiled only when the target has avx512f and avx512dq.
-        let (hi, nlo) = unsafe { lanes(raw(&[acc]), neg, raw(x), raw(y), rev) }?;
+        let (hi, nlo) = if x.len() <= SHORT {
+            unsafe { terms(raw(&[acc]), neg, raw(x), raw(y), rev) }?
+        } else {
+            unsafe { lanes(raw(&[acc]), neg, raw(x), raw(y), rev) }?
+        };
         Interval::try_from((-nlo, hi)).ok()
+    }
+
+    const SHORT: usize = 3;
+
+    /// [`lanes`] for a few terms, one at a time in scalars: the same choices, the same chains.
+    #[target_feature(enable = "avx512f")]
+    fn terms(acc: &[f64], neg: bool, x: &[f64], y: &[f64], rev: bool) -> Option<(f64, f64)> {
+        let n = x.len() / 2;
+        let (mut up, mut down) = (acc[1], acc[0]);
+        for j in 0..n {
+            let k = if rev { n - 1 - j } else { j };
+            let (a, b) = if neg {
+                (-x[2 * j + 1], x[2 * j])
+            } else {
+                (-x[2 * j], x[2 * j + 1])
+            };
+            let (c, d) = (-y[2 * k], y[2 * k + 1]);
+            if !(a.is_finite() && b.is_finite() && c.is_finite() && d.is_finite()) {
+                return None;
+            }
+            let (xp, yp) = (a >= 0.0, c >= 0.0);
+            let (xn, yn) = (b <= 0.0 && !xp, d <= 0.0 && !yp);
+            let (xm, ym) = (!xp && !xn, !yp && !yn);
+            let ux = if (!xn && !yn) || (xn && yp) { b } else { a };
+            let uy = if xp || (xm && !yn) { d } else { c };
+            let dx = if (xp && !yp) || (xn && yn) || (xm && yn) {
+                b
+            } else {
+                a
+            };
+            let dy = if xn || (xm && !yn) { d } else { c };
+            let (u, w) = (up, down);
+            up = fma_up(ux, uy, u);
+            down = fma_up(-dx, dy, w);
+            if xm && ym {
+                up = up.max(fma_up(a, c, u));
+                down = down.max(fma_up(-b, c, w));
+            }
+        }
+        (up.is_finite() && down.is_finite()).then_some((up, down))
     }
 
     /// Index vectors that read up to eight (-inf, sup) pairs backwards: for a block of `m`
@@ -407,6 +466,49 @@ mod wide {
         let finite = _mm512_fpclass_pd_mask::<0x99>(lo) | _mm512_fpclass_pd_mask::<0x99>(hi);
         (bad == 0 && finite == 0).then_some(out)
     }
+
+    /// `a / b` when both are finite and `0` is not in `b`: over such a box `a / b` is
+    /// monotone in each argument, so its range is the hull of the corner quotients, and
+    /// the sign of `b` and of the relevant end of `a` say which corner bounds it. Each end is
+    /// one division rounded outward by the instruction (`RD(n / d) = -RU(-n / d)`).
+    pub(super) fn quotient(a: Interval, b: Interval) -> Option<Interval> {
+        if !layout_known() {
+            return None;
+        }
+        let (ra, rb) = (raw(std::slice::from_ref(&a)), raw(std::slice::from_ref(&b)));
+        let (al, ah, bl, bh) = (-ra[0], ra[1], -rb[0], rb[1]);
+        if !(al.is_finite() && ah.is_finite() && bl.is_finite() && bh.is_finite())
+            || (bl <= 0.0 && bh >= 0.0)
+        {
+            return None;
+        }
+        // b > 0: the upper end ah / (bl if ah >= 0, else bh), the lower al / (bh if al >= 0,
+        // else bl); b < 0: the upper al / (bl if al >= 0, else bh), the lower
+        // ah / (bh if ah >= 0, else bl)
+        let ((un, ud), (dn, dd)) = if bl > 0.0 {
+            (
+                (ah, if ah >= 0.0 { bl } else { bh }),
+                (al, if al >= 0.0 { bh } else { bl }),
+            )
+        } else {
+            (
+                (al, if al >= 0.0 { bl } else { bh }),
+                (ah, if ah >= 0.0 { bh } else { bl }),
+            )
+        };
+        // SAFETY: this module is compiled only when the target has avx512f.
+        let (hi, nlo) = unsafe { (div_up(un, ud), div_up(-dn, dd)) };
+        if !(hi.is_finite() && nlo.is_finite()) {
+            return None;
+        }
+        Interval::try_from((-nlo, hi)).ok()
+    }
+
+    /// `RU(n / d)`: the division rounded upward.
+    #[target_feature(enable = "avx512f")]
+    fn div_up(n: f64, d: f64) -> f64 {
+        _mm_cvtsd_f64(_mm_div_round_sd::<UP>(_mm_set_sd(n), _mm_set_sd(d)))
+    }
 }
 
 #[cfg(test)]
@@ -504,7 +606,8 @@ mod tests {
     }
 
     /// Spec (1.4): with finite inputs the vector paths give inari's chain bit for bit
-    /// (dot products and convolutions, Horner's scheme, rows times matrices), on random
+    /// (dot products and convolutions, short and long, Horner's scheme, rows times
+    /// matrices, quotients by intervals with or without 0), on random
     /// intervals of every sign pattern, thin and wide, with zero ends.
     #[test]
     fn the_vector_paths_give_the_chains_doubles() {
@@ -545,6 +648,13 @@ mod tests {
                     v[i]
                 );
             }
+            let q = quotient(acc, h);
+            let inari_q = acc / h;
+            let same_q = same(q, inari_q) || (q.is_empty() && inari_q.is_empty());
+            assert!(
+                same_q,
+                "case {case}: {acc:?} / {h:?} = {q:?} against {inari_q:?}"
+            );
             let coef = [h, acc, x.first().copied().unwrap_or(h)];
             let w = row_times(&coef, &rows);
             for j in 0..n {

@@ -500,7 +500,7 @@ impl Tape {
                 break;
             }
             let kk = T::cst((k + 1) as f64);
-            let next: Vec<T> = (0..d).map(|i| s.get(self.outputs[i], k) / kk).collect();
+            let next: Vec<T> = (0..d).map(|i| s.get(self.outputs[i], k).quot(kk)).collect();
             if !next.iter().all(|x| x.is_finite_coef()) {
                 return None;
             }
@@ -620,7 +620,7 @@ impl<T: Coef> Series<T> {
                     if !b0.safe_divisor() {
                         self.ok = false;
                     }
-                    (acc / b0, zero)
+                    (acc.quot(b0), zero)
                 }
                 Op::Sqrt(a) => {
                     // (2.5) w_0 = sqrt(a_0); w_k = (a_k - sum_{j=1..k-1} w_j w_{k-j}) / (2 w_0)
@@ -635,7 +635,7 @@ impl<T: Coef> Series<T> {
                         let terms = self.terms(me, me, k, 1, k - 1);
                         let acc = self.conv(self.get(a, k), true, me, me, terms, k);
                         let w0 = self.get(me, 0);
-                        (acc / (w0 + w0), zero)
+                        (acc.quot(w0 + w0), zero)
                     }
                 }
                 Op::Sin(a) | Op::Cos(a) => {
@@ -658,7 +658,7 @@ impl<T: Coef> Series<T> {
                             s = s.mul_acc(ju, cp);
                             c = c.mul_acc(-ju, sp);
                         }
-                        (s / kf, c / kf)
+                        (s.quot(kf), c.quot(kf))
                     };
                     if is_sin {
                         (s, c)
@@ -679,7 +679,7 @@ impl<T: Coef> Series<T> {
                             acc =
                                 acc.mul_acc(T::cst(j as f64) * self.get(a, j), self.get(me, k - j));
                         }
-                        (acc / kf, zero)
+                        (acc.quot(kf), zero)
                     }
                 }
                 Op::Ln(a) => {
@@ -698,7 +698,7 @@ impl<T: Coef> Series<T> {
                             acc =
                                 acc.mul_acc(T::cst(j as f64) * self.get(me, j), self.get(a, k - j));
                         }
-                        ((self.get(a, k) - acc / kf) / a0, zero)
+                        ((self.get(a, k) - acc.quot(kf)).quot(a0), zero)
                     }
                 }
                 Op::Atan(a) => {
@@ -717,7 +717,7 @@ impl<T: Coef> Series<T> {
                             acc = acc
                                 .mul_acc(T::cst(j as f64) * self.get(me, j), self.aux(me, k - j));
                         }
-                        ((self.get(a, k) - acc / kf) / self.aux(me, 0), g)
+                        ((self.get(a, k) - acc.quot(kf)).quot(self.aux(me, 0)), g)
                     }
                 }
                 Op::Sinh(a) | Op::Cosh(a) => {
@@ -740,7 +740,7 @@ impl<T: Coef> Series<T> {
                             s = s.mul_acc(ju, cp);
                             c = c.mul_acc(ju, sp);
                         }
-                        (s / kf, c / kf)
+                        (s.quot(kf), c.quot(kf))
                     };
                     if is_sinh {
                         (s, c)
@@ -848,6 +848,9 @@ pub trait Coef: Scalar + Copy + 'static {
     /// `acc + sum_j x_j y_{n-1-j}` (`acc - ...` when `neg`), `n = x.len() = y.len()`: the
     /// convolutions of (2.3)-(2.5). Intervals: spec (1.4); f64: `mul_acc` term by term.
     fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self;
+    /// `self / b`, with `b` proved non-zero where the recurrences divide (intervals: spec
+    /// (1.4), inari's quotient).
+    fn quot(self, b: Self) -> Self;
 }
 
 impl Coef for Interval {
@@ -871,6 +874,9 @@ impl Coef for Interval {
     }
     fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self {
         crate::dot::dot(acc, neg, x, y, true)
+    }
+    fn quot(self, b: Self) -> Self {
+        crate::dot::quotient(self, b)
     }
 }
 
@@ -899,6 +905,9 @@ impl Coef for f64 {
             let xj = if neg { -x[j] } else { x[j] };
             s.mul_acc(xj, y[n - 1 - j])
         })
+    }
+    fn quot(self, b: Self) -> Self {
+        self / b
     }
 }
 
