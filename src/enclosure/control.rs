@@ -298,16 +298,39 @@ pub(super) fn step_size(c: &[Vec<f64>], p: usize, x: &[f64]) -> f64 {
     let scale = x.iter().fold(1.0f64, |a, v| a.max(v.abs()));
     let tol = scale * f64::EPSILON * 0.25;
     let mut h = f64::INFINITY;
-    for (i, ci) in c.iter().enumerate().skip(1) {
+    // `min(h, bound^(1/i))`, the root taken only when it can lower h. The minimum does not
+    // depend on the order of the terms: the highest coefficients, whose bounds are the
+    // smallest when the series converges, come first, and most roots are then skipped.
+    let lower = |h: f64, bound: f64, i: usize| {
+        if root_at_least(bound, i, h) {
+            h
+        } else {
+            h.min(bound.powf(1.0 / i as f64))
+        }
+    };
+    for (i, ci) in c.iter().enumerate().skip(1).rev() {
         let norm = ci.iter().map(|v| v.abs()).fold(0.0, f64::max);
         if norm > 0.0 {
-            // no term larger than the state (no cancellation in the sum) ...
-            h = h.min((scale / norm).powf(1.0 / i as f64));
-            // ... and the last two terms below the rounding level
+            // the last two terms below the rounding level ...
             if i + 1 >= p {
-                h = h.min((tol / norm).powf(1.0 / i as f64));
+                h = lower(h, tol / norm, i);
             }
+            // ... and no term larger than the state (no cancellation in the sum)
+            h = lower(h, scale / norm, i);
         }
     }
     round_step(h.min(f64::MAX))
+}
+
+/// Whether `bound.powf(1 / i)` is sure to be at least `h`, so that `h.min(..)` is `h`:
+/// `bound >= h^i (1 + 2^-40)` with `h^i` from `powi` a normal number. The margin, about
+/// `2^-40 / i` after the root, exceeds what the roundings of `h^i` (at most `i` of an ulp),
+/// of `1 / i` (an ulp, times `|ln bound| / i <= 710 / i`) and of `powf` (an ulp) can take
+/// off. Only saves work: `false` leaves the decision to `powf`.
+fn root_at_least(bound: f64, i: usize, h: f64) -> bool {
+    if !h.is_finite() || i > 64 {
+        return false;
+    }
+    let hi = h.powi(i as i32);
+    hi.is_normal() && bound >= hi * (1.0 + f64::powi(2.0, -40))
 }

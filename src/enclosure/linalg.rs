@@ -45,13 +45,13 @@ pub fn add(a: &IMat, b: &IMat) -> IMat {
         .collect()
 }
 
-/// `a x` in interval arithmetic (sums by fused multiply-add, outward rounded).
+/// `a x` in interval arithmetic (sums by fused multiply-add, outward rounded; a dot product
+/// per row, spec (1.4)).
 pub fn mul_vec(a: &IMat, x: &[Interval]) -> Vec<Interval> {
     a.iter()
         .map(|r| {
-            r.iter()
-                .zip(x)
-                .fold(point(0.0), |s, (a, b)| a.mul_add(*b, s))
+            let n = r.len().min(x.len());
+            crate::dot::dot(point(0.0), false, &r[..n], &x[..n], false)
         })
         .collect()
 }
