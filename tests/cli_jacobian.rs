@@ -62,6 +62,26 @@ fn the_particle_jacobian_has_its_exact_rows() {
             );
         }
     }
+    // the field (x' = u1, y' = u2, z' = y u1, u1' = -y u1 u2 / (1 + y^2), u2' = 0) does not
+    // read x or z: the columns of x and z are (1, 0, 0, 0, 0) and (0, 0, 1, 0, 0), and are
+    // points (spec (5.6'))
+    for (r, row) in j.iter().enumerate() {
+        for c in [0, 2] {
+            let e = if r == c { 1.0 } else { 0.0 };
+            assert_eq!(
+                row[c][0].as_f64(),
+                Some(e),
+                "row {r}, column {c}: {}",
+                row[c]
+            );
+            assert_eq!(
+                row[c][1].as_f64(),
+                Some(e),
+                "row {r}, column {c}: {}",
+                row[c]
+            );
+        }
+    }
     // without the flag, no jacobian key; the state is the same
     let w = flow_jacobian(&[]);
     assert!(w.get("jacobian").is_none());

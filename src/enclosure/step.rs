@@ -259,7 +259,7 @@ pub(super) fn box_enclosure(
     let d = xbox.len();
     let cv = sys
         .field_var
-        .ode_taylor(&with_identity(xbox), p)
+        .ode_taylor(&with_seed(xbox, &sys.var_cols), p)
         .ok_or(StepFail::Shrink)?;
     let b: Vec<Vec<Interval>> = cv.iter().map(|ck| ck[..d].to_vec()).collect();
     let (rem, y, ratio) = remainder(sys, &b, h, p, scale, tol)?;
@@ -273,7 +273,7 @@ pub(super) fn box_enclosure(
             }
         }
     }
-    Ok((z, jac, ratio))
+    Ok((z, full_jacobian(&jac, &sys.var_cols), ratio))
 }
 
 /// The Picard-Lindelof test in the high-order form of Corliss and Rihm (spec eq. (5.4)):
@@ -422,7 +422,8 @@ pub(super) fn step_jacobian(
             return None;
         }
     }
-    let seed = with_identity(xbox);
+    let seed = with_seed(xbox, &sys.var_cols);
+    let c = sys.var_cols.len();
     // The a priori box of the extended system, found at the lowest order (where the Picard
     // test over boxes suffers least from the dependency in the coefficients); it holds
     // every trajectory on [0, h], so the Lagrange remainder of any order may use it. At a
@@ -452,7 +453,7 @@ pub(super) fn step_jacobian(
         };
         if let Some(tw) = tw {
             let hq = (0..=q).fold(point(1.0), |a, _| a * h);
-            let rem: Vec<Interval> = (0..d * d).map(|k| tw[q + 1][d + k] * hq).collect();
+            let rem: Vec<Interval> = (0..d * c).map(|k| tw[q + 1][d + k] * hq).collect();
             let widest = rem.iter().fold(0.0f64, |a, x| a.max(x.wid()));
             let mut jac = variational_polynomial(w, d, h);
             let size = jac.iter().flatten().fold(1.0f64, |a, x| a.max(x.mag()));
@@ -467,12 +468,12 @@ pub(super) fn step_jacobian(
             if ratio <= 1.0 {
                 // next step: the same order, or one lower when this one had a wide margin
                 *order = if ratio < 1e-4 { k.saturating_sub(1) } else { k };
-                for (row, r) in jac.iter_mut().zip(rem.chunks(d)) {
+                for (row, r) in jac.iter_mut().zip(rem.chunks(c.max(1))) {
                     for (x, r) in row.iter_mut().zip(r) {
                         *x += *r;
                     }
                 }
-                return Some(jac);
+                return Some(full_jacobian(&jac, &sys.var_cols));
             }
         }
         k += 1;
@@ -485,21 +486,39 @@ pub(super) fn step_jacobian(
     }
 }
 
-/// `(x, I)`: a box with the identity seed of the variational equation (spec eq. (4.11)).
-pub(super) fn with_identity(x: &[Interval]) -> Vec<Interval> {
-    let d = x.len();
+/// `(x, W0)`: a box with the seed of the variational equation (spec eq. (4.11)) for the
+/// columns `cols` of `D x(t) / D x(0)`: `W0` is `d x cols.len()`, row-major, with
+/// `W0[cols[k]][k] = 1` and 0 elsewhere.
+pub(super) fn with_seed(x: &[Interval], cols: &[usize]) -> Vec<Interval> {
     let mut xv = x.to_vec();
-    for i in 0..d {
-        xv.extend((0..d).map(|j| point(if i == j { 1.0 } else { 0.0 })));
+    for i in 0..x.len() {
+        xv.extend(cols.iter().map(|&j| point(if i == j { 1.0 } else { 0.0 })));
     }
     xv
 }
 
+/// `D x(h) / D x(0)` from its columns `cols` (`w`, d x cols.len()): every other column `j`
+/// is `e_j`, exactly, since the field does not read component `j` (spec eq. (5.6')).
+pub(super) fn full_jacobian(w: &IMat, cols: &[usize]) -> IMat {
+    let d = w.len();
+    let mut jac = linalg::identity(d);
+    for (row, wr) in jac.iter_mut().zip(w) {
+        for (&j, x) in cols.iter().zip(wr) {
+            row[j] = *x;
+        }
+    }
+    jac
+}
+
 /// `sum_k [V_k] h^k`: the Taylor polynomial of the variational part (components `d..`,
-/// row-major) of the coefficients `w` of the extended system.
+/// d rows, row-major) of the coefficients `w` of the extended system.
 pub(super) fn variational_polynomial(w: &[Vec<Interval>], d: usize, h: Interval) -> IMat {
-    horner(w, d..d + d * d, None, h)
-        .chunks(d)
+    let c = (w[0].len() - d) / d.max(1);
+    if c == 0 {
+        return vec![Vec::new(); d];
+    }
+    horner(w, d..d + d * c, None, h)
+        .chunks(c)
         .map(|r| r.to_vec())
         .collect()
 }
@@ -515,9 +534,9 @@ pub(super) fn variational_remainder(
     h: Interval,
     p: usize,
 ) -> Result<IMat, StepFail> {
-    let d = y.len();
+    let (d, c) = (y.len(), sys.var_cols.len());
     let h0 = iv(0.0, h.sup());
-    let cols = d..d + d * d;
+    let cols = d..d + d * c;
     let mut yv = inflate(&horner(&cv[..=p], cols.clone(), None, h0));
     for _ in 0..4 {
         let ext: Vec<Interval> = y.iter().chain(&yv).copied().collect();
@@ -529,7 +548,7 @@ pub(super) fn variational_remainder(
         if zv.iter().zip(&yv).all(|(a, b)| a.subset(*b)) {
             let hp = (0..=p).fold(point(1.0), |a, _| a * h);
             return Ok((0..d)
-                .map(|i| (0..d).map(|j| tv[p + 1][d + i * d + j] * hp).collect())
+                .map(|i| (0..c).map(|j| tv[p + 1][d + i * c + j] * hp).collect())
                 .collect());
         }
         yv = inflate(

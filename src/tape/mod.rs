@@ -376,6 +376,29 @@ impl Tape {
         live
     }
 
+    /// For each input, whether an output depends on it through the tape's operations. An
+    /// input not marked is not read: the outputs are functions of the other inputs alone.
+    pub fn inputs_read(&self) -> Vec<bool> {
+        let mut needed = vec![false; self.ops.len()];
+        for o in &self.outputs {
+            needed[*o as usize] = true;
+        }
+        for i in (0..self.ops.len()).rev() {
+            if needed[i] {
+                for a in args(&self.ops[i]) {
+                    needed[a as usize] = true;
+                }
+            }
+        }
+        let mut read = vec![false; self.n_inputs];
+        for (op, needed) in self.ops.iter().zip(needed) {
+            if let (Op::Input(j), true) = (op, needed) {
+                read[*j] = true;
+            }
+        }
+        read
+    }
+
     /// Drop the operations no output depends on (inputs are kept, in order).
     fn without_dead_code(self) -> Tape {
         let n = self.ops.len();
