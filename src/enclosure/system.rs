@@ -84,7 +84,7 @@ mod tests {
 
     #[test]
     fn components_the_field_does_not_read_have_unit_columns_exactly() {
-        let sys = System::record(3, 1, |x| field(x), |x| field(x));
+        let sys = System::record(3, 1, field, field);
         assert_eq!(sys.var_cols, vec![1]);
         // V is 3 x 1: the variational tape has 3 + 3 inputs
         assert_eq!(sys.field_var.n_inputs(), 6);
