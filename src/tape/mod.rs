@@ -625,15 +625,15 @@ impl<T: Coef> Series<T> {
         let kf = T::cst(k as f64);
         for (idx, op) in ops.iter().enumerate() {
             let (val, aux) = match *op {
-                Op::Input(i) => (input_k[i], zero),
-                Op::Const(c) => (if k == 0 { T::cst(c) } else { zero }, zero),
-                Op::Add(a, b) => (self.get(a, k) + self.get(b, k), zero),
-                Op::Sub(a, b) => (self.get(a, k) - self.get(b, k), zero),
-                Op::Neg(a) => (-self.get(a, k), zero),
-                Op::Scale(a, c) => (self.get(a, k) * T::cst(c), zero),
+                Op::Input(i) => (input_k[i], None),
+                Op::Const(c) => (if k == 0 { T::cst(c) } else { zero }, None),
+                Op::Add(a, b) => (self.get(a, k) + self.get(b, k), None),
+                Op::Sub(a, b) => (self.get(a, k) - self.get(b, k), None),
+                Op::Neg(a) => (-self.get(a, k), None),
+                Op::Scale(a, c) => (self.get(a, k) * T::cst(c), None),
                 Op::Mul(a, b) => {
                     // (2.3) w_k = sum_{j=0..k} a_j b_{k-j}
-                    (self.conv(zero, false, a, b, self.terms(a, b, k, 0, k), k), zero)
+                    (self.conv(zero, false, a, b, self.terms(a, b, k, 0, k), k), None)
                 }
                 Op::Div(a, b) => {
                     // (2.4) w_k = (a_k - sum_{j=1..k} b_j w_{k-j}) / b_0
@@ -643,7 +643,7 @@ impl<T: Coef> Series<T> {
                     if !b0.safe_divisor() {
                         self.ok = false;
                     }
-                    (acc.quot(b0), zero)
+                    (acc.quot(b0), None)
                 }
                 Op::Sqrt(a) => {
                     // (2.5) w_0 = sqrt(a_0); w_k = (a_k - sum_{j=1..k-1} w_j w_{k-j}) / (2 w_0)
@@ -652,13 +652,13 @@ impl<T: Coef> Series<T> {
                         if !a0.safe_sqrt_arg() {
                             self.ok = false;
                         }
-                        (a0.sqrt(), zero)
+                        (a0.sqrt(), None)
                     } else {
                         let me = idx as u32;
                         let terms = self.terms(me, me, k, 1, k - 1);
                         let acc = self.conv(self.get(a, k), true, me, me, terms, k);
                         let w0 = self.get(me, 0);
-                        (acc.quot(w0 + w0), zero)
+                        (acc.quot(w0 + w0), None)
                     }
                 }
                 Op::Sin(a) | Op::Cos(a) => {
@@ -684,17 +684,17 @@ impl<T: Coef> Series<T> {
                         (s.quot(kf), c.quot(kf))
                     };
                     if is_sin {
-                        (s, c)
+                        (s, Some(c))
                     } else {
-                        (c, s)
+                        (c, Some(s))
                     }
                 }
-                Op::Pi => (if k == 0 { T::pi() } else { zero }, zero),
+                Op::Pi => (if k == 0 { T::pi() } else { zero }, None),
                 Op::Exp(a) => {
                     // (2.9) w_0 = exp(a_0); w_k = (1/k) sum_{j=1..k} j a_j w_{k-j}
                     let me = idx as u32;
                     if k == 0 {
-                        (self.get(a, 0).exp(), zero)
+                        (self.get(a, 0).exp(), None)
                     } else {
                         let mut acc = zero;
                         let (lo, hi) = self.nz[a as usize];
@@ -702,7 +702,7 @@ impl<T: Coef> Series<T> {
                             acc =
                                 acc.mul_acc(T::cst(j as f64) * self.get(a, j), self.get(me, k - j));
                         }
-                        (acc.quot(kf), zero)
+                        (acc.quot(kf), None)
                     }
                 }
                 Op::Ln(a) => {
@@ -714,14 +714,14 @@ impl<T: Coef> Series<T> {
                         if !a0.safe_sqrt_arg() {
                             self.ok = false;
                         }
-                        (a0.ln(), zero)
+                        (a0.ln(), None)
                     } else {
                         let mut acc = zero;
                         for j in 1..k {
                             acc =
                                 acc.mul_acc(T::cst(j as f64) * self.get(me, j), self.get(a, k - j));
                         }
-                        ((self.get(a, k) - acc.quot(kf)).quot(a0), zero)
+                        ((self.get(a, k) - acc.quot(kf)).quot(a0), None)
                     }
                 }
                 Op::Atan(a) => {
@@ -733,14 +733,14 @@ impl<T: Coef> Series<T> {
                         g = g.mul_acc(self.get(a, j), self.get(a, k - j));
                     }
                     if k == 0 {
-                        (self.get(a, 0).atan(), g)
+                        (self.get(a, 0).atan(), Some(g))
                     } else {
                         let mut acc = zero;
                         for j in 1..k {
                             acc = acc
                                 .mul_acc(T::cst(j as f64) * self.get(me, j), self.aux(me, k - j));
                         }
-                        ((self.get(a, k) - acc.quot(kf)).quot(self.aux(me, 0)), g)
+                        ((self.get(a, k) - acc.quot(kf)).quot(self.aux(me, 0)), Some(g))
                     }
                 }
                 Op::Sinh(a) | Op::Cosh(a) => {
@@ -766,15 +766,21 @@ impl<T: Coef> Series<T> {
                         (s.quot(kf), c.quot(kf))
                     };
                     if is_sinh {
-                        (s, c)
+                        (s, Some(c))
                     } else {
-                        (c, s)
+                        (c, Some(s))
                     }
                 }
             };
+            // companions are stored for the operations that have one; the others' stay 0
+            // from `new`
             self.c[idx * self.n + k] = val;
-            self.c[self.aux_at + idx * self.n + k] = aux;
-            if !(val.is_exact_zero() && aux.is_exact_zero()) {
+            let mut nonzero = !val.is_exact_zero();
+            if let Some(aux) = aux {
+                self.c[self.aux_at + idx * self.n + k] = aux;
+                nonzero |= !aux.is_exact_zero();
+            }
+            if nonzero {
                 let e = &mut self.nz[idx];
                 e.0 = e.0.min(k);
                 e.1 = k;
