@@ -37,6 +37,52 @@ pub fn mul(a: &IMat, b: &IMat) -> IMat {
         .collect()
 }
 
+/// The entries of a float matrix as point intervals (exact), row-major.
+fn points(m: &DMatrix<f64>) -> Vec<Interval> {
+    let mut flat = Vec::with_capacity(m.nrows() * m.ncols());
+    for i in 0..m.nrows() {
+        flat.extend(m.row(i).iter().map(|x| point(*x)));
+    }
+    flat
+}
+
+/// The rows of a row-major matrix with `cols` columns.
+fn rows_of(flat: &[Interval], rows: usize, cols: usize) -> Vec<&[Interval]> {
+    (0..rows).map(|i| &flat[i * cols..(i + 1) * cols]).collect()
+}
+
+/// `a b` for a float matrix `b`: the same doubles as `mul(a, &imat(b))` (its entries are
+/// exact as points), without forming the matrix of points row by row.
+pub fn mul_points(a: &IMat, b: &DMatrix<f64>) -> IMat {
+    let flat = points(b);
+    let rows = rows_of(&flat, b.nrows(), b.ncols());
+    a.iter()
+        .map(|ai| crate::dot::row_times(&ai[..rows.len()], &rows))
+        .collect()
+}
+
+/// `a b` for a float matrix `a`: the same doubles as `mul(&imat(a), b)`.
+pub fn points_mul(a: &DMatrix<f64>, b: &IMat) -> IMat {
+    let flat = points(a);
+    let rows: Vec<&[Interval]> = b.iter().map(|r| &r[..]).collect();
+    rows_of(&flat, a.nrows(), a.ncols())
+        .into_iter()
+        .map(|ai| crate::dot::row_times(&ai[..rows.len()], &rows))
+        .collect()
+}
+
+/// `a x` for a float matrix `a`: the same doubles as `mul_vec(&imat(a), x)`.
+pub fn points_mul_vec(a: &DMatrix<f64>, x: &[Interval]) -> Vec<Interval> {
+    let flat = points(a);
+    rows_of(&flat, a.nrows(), a.ncols())
+        .into_iter()
+        .map(|r| {
+            let n = r.len().min(x.len());
+            crate::dot::dot(point(0.0), false, &r[..n], &x[..n], false)
+        })
+        .collect()
+}
+
 /// `a + b`, entrywise.
 pub fn add(a: &IMat, b: &IMat) -> IMat {
     a.iter()
@@ -97,8 +143,7 @@ pub fn all_finite(a: &IMat) -> bool {
 /// `None` when `d >= 1/2` (the approximate inverse is too poor to prove anything useful).
 pub fn enclose_inverse(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IMat> {
     let n = b.nrows();
-    let (bi, xi) = (imat(b), imat(x));
-    let xb = mul(&xi, &bi);
+    let xb = mul_points(&imat(x), b);
     let e: IMat = (0..n)
         .map(|i| {
             (0..n)
@@ -122,7 +167,7 @@ pub fn enclose_inverse(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IMat> {
             *x = *x + tail + point(if i == j { 1.0 } else { 0.0 });
         }
     }
-    let r = mul(&s, &xi);
+    let r = mul_points(&s, x);
     all_finite(&r).then_some(r)
 }
 
