@@ -115,4 +115,27 @@ mod tests {
             .sum();
         assert!((jac[2][1].mid() - g).abs() < 1e-6, "{:?} against {g}", jac[2][1]);
     }
+
+    /// A field that reads nothing: no variational columns at all, `D x(t) / D x(0) = I`.
+    #[test]
+    fn a_constant_field_has_the_identity_as_its_jacobian() {
+        fn constant<S: Scalar>(_: &[S]) -> Vec<S> {
+            vec![S::cst(1.0), S::cst(-0.5)]
+        }
+        let sys = System::record(2, 0, constant, constant);
+        assert!(sys.var_cols.is_empty());
+        let x0 = [iv(1.0, 1.0 + 1e-9), iv(2.0, 2.0)];
+        let (set, jac, _) =
+            flow_set_c1(&sys, LohnerSet::from_box(&x0), 3.0, &FlowOptions::default())
+                .expect("certified");
+        for (i, row) in jac.iter().enumerate() {
+            for (j, x) in row.iter().enumerate() {
+                let e = if i == j { 1.0 } else { 0.0 };
+                assert!(x.inf() == e && x.sup() == e, "J[{i}][{j}] = {x:?}");
+            }
+        }
+        let hull = set.hull();
+        assert!(hull[0].contains(4.0) && hull[0].contains(4.0 + 1e-9), "{:?}", hull[0]);
+        assert!(hull[1].contains(0.5) && hull[1].wid() < 1e-14, "{:?}", hull[1]);
+    }
 }
