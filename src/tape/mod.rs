@@ -357,28 +357,8 @@ impl Tape {
         })
     }
 
-    /// Which nodes the outputs depend on (and the inputs).
-    fn live(&self) -> Vec<bool> {
-        let n = self.ops.len();
-        let mut live = vec![false; n];
-        for o in &self.outputs {
-            live[*o as usize] = true;
-        }
-        for i in (0..n).rev() {
-            if !live[i] && !matches!(self.ops[i], Op::Input(_)) {
-                continue;
-            }
-            live[i] = true;
-            for a in args(&self.ops[i]) {
-                live[a as usize] = true;
-            }
-        }
-        live
-    }
-
-    /// For each input, whether an output depends on it through the tape's operations. An
-    /// input not marked is not read: the outputs are functions of the other inputs alone.
-    pub fn inputs_read(&self) -> Vec<bool> {
+    /// Which nodes the outputs depend on.
+    fn needed(&self) -> Vec<bool> {
         let mut needed = vec![false; self.ops.len()];
         for o in &self.outputs {
             needed[*o as usize] = true;
@@ -390,8 +370,23 @@ impl Tape {
                 }
             }
         }
+        needed
+    }
+
+    /// Which nodes the outputs depend on, and the inputs.
+    fn live(&self) -> Vec<bool> {
+        let mut live = self.needed();
+        for (l, op) in live.iter_mut().zip(&self.ops) {
+            *l |= matches!(op, Op::Input(_));
+        }
+        live
+    }
+
+    /// For each input, whether an output depends on it through the tape's operations. An
+    /// input not marked is not read: the outputs are functions of the other inputs alone.
+    pub fn inputs_read(&self) -> Vec<bool> {
         let mut read = vec![false; self.n_inputs];
-        for (op, needed) in self.ops.iter().zip(needed) {
+        for (op, needed) in self.ops.iter().zip(self.needed()) {
             if let (Op::Input(j), true) = (op, needed) {
                 read[*j] = true;
             }
@@ -959,6 +954,19 @@ mod tests {
         let direct = 0.7 * -1.3 + 0.7f64.sin() / (1.0 + 1.69);
         assert_eq!(v[0], direct);
         assert_eq!(v[1], 0.7);
+    }
+
+    #[test]
+    fn inputs_read_are_those_an_output_depends_on() {
+        // x3 feeds a node no output uses; x1 - x1 reads x1 (structurally, unsimplified)
+        let tape = Tape::record(4, |x| {
+            let _unused = x[3] * x[3];
+            vec![x[2], x[1] - x[1], Tracer::cst(2.0)]
+        });
+        assert_eq!(tape.inputs_read(), vec![false, true, true, false]);
+        // simplified, x1 - x1 is 0 and x1 is no longer read
+        let tape = Tape::record_simplified(4, |x| vec![x[2], x[1] - x[1], x[0] * x[2]]);
+        assert_eq!(tape.inputs_read(), vec![true, false, true, false]);
     }
 
     #[test]
