@@ -7,7 +7,7 @@ use super::set::*;
 use super::step::*;
 use super::*;
 use crate::scalar::{iv, point};
-use crate::tape::finite;
+use crate::tape::{finite, Coeffs, Rows};
 use crate::{Error, Reason};
 use inari::Interval;
 
@@ -76,17 +76,15 @@ pub(super) fn flow_set_general(
         // A fixed step (spec eq. (5.13)) or the rule of (5.8).
         let fixed = opts.step > 0.0;
         // the coefficients' midpoints, for the rules (5.8) and (5.8') (choices only)
-        let mid: Vec<Vec<f64>> = if fixed {
-            Vec::new()
+        let mid: Coeffs<f64> = if fixed {
+            Coeffs::from_rows(0, [])
         } else {
-            c.iter()
-                .map(|ck| ck.iter().map(|x| x.mid()).collect())
-                .collect()
+            c.map(|x| x.mid())
         };
         let mut h = if fixed {
             round_step(opts.step)
         } else {
-            let rule = step_size(&mid, p, &set.m);
+            let rule = step_size(mid.rows(), p, &set.m);
             let predicted = memo.map_or(rule, |(h0, ratio)| h0 * rescale(ratio, p, 1.5));
             let cap = ceiling.map_or(f64::INFINITY, |(hc, k)| {
                 hc * 0.97 * (1.0 + CEILING_GROWTH).powi(k)
@@ -106,7 +104,7 @@ pub(super) fn flow_set_general(
         if last && !fixed && opts.order == 0 {
             p_step = LOW_ORDERS
                 .into_iter()
-                .find(|&q| q < p && step_size(&mid[..=q], q, &set.m) >= rem.sup())
+                .find(|&q| q < p && step_size(mid.rows().first(q + 1), q, &set.m) >= rem.sup())
                 .unwrap_or(p);
         }
         let mut tries = 0;
@@ -123,7 +121,7 @@ pub(super) fn flow_set_general(
             let step = lohner_step(
                 sys,
                 &set,
-                &c[..=p_step],
+                c.rows().first(p_step + 1),
                 hi,
                 p_step,
                 tol,
@@ -294,12 +292,12 @@ pub(super) fn rescale(ratio: f64, p: usize, max: f64) -> f64 {
 }
 
 /// The step-size rule of spec eq. (5.8) from float Taylor coefficients at the state `x`.
-pub(super) fn step_size(c: &[Vec<f64>], p: usize, x: &[f64]) -> f64 {
+pub(super) fn step_size(c: Rows<'_, f64>, p: usize, x: &[f64]) -> f64 {
     round_step(step_bound(c, p, x).min(f64::MAX))
 }
 
 /// The bound of the rule (5.8) before rounding.
-fn step_bound(c: &[Vec<f64>], p: usize, x: &[f64]) -> f64 {
+fn step_bound(c: Rows<'_, f64>, p: usize, x: &[f64]) -> f64 {
     let scale = x.iter().fold(1.0f64, |a, v| a.max(v.abs()));
     let tol = scale * f64::EPSILON * 0.25;
     let mut h = f64::INFINITY;
@@ -409,9 +407,11 @@ mod tests {
                         .collect()
                 })
                 .collect();
-            let (fast, slow) = (step_bound(&c, p, &x), bound_by_definition(&c, p, &x));
+            let flat = Coeffs::from_rows(d, c.iter().map(|r| &r[..]));
+            let fast = step_bound(flat.rows(), p, &x);
+            let slow = bound_by_definition(&c, p, &x);
             assert_eq!(fast.to_bits(), slow.to_bits(), "case {case}: {fast} != {slow}");
-            assert_eq!(step_size(&c, p, &x), round_step(slow.min(f64::MAX)));
+            assert_eq!(step_size(flat.rows(), p, &x), round_step(slow.min(f64::MAX)));
             finite += usize::from(fast.is_finite());
         }
         assert!(finite > 10_000);

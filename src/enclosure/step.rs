@@ -5,7 +5,7 @@ use super::linalg::{self, IMat};
 use super::set::*;
 use super::*;
 use crate::scalar::{iv, point};
-use crate::tape::{finite, Coef};
+use crate::tape::{finite, Coef, Coeffs, Rows};
 use inari::Interval;
 use nalgebra::DMatrix;
 
@@ -42,14 +42,13 @@ pub(super) const REMAINDER_TOL: f64 = f64::EPSILON;
 /// coefficients in the enclosures, with `c_k` the rows and then `top` if given (fused
 /// multiply-adds, each outward rounded: spec (1.4)).
 pub(super) fn horner(
-    rows: &[Vec<Interval>],
+    rows: Rows<'_, Interval>,
     cols: std::ops::Range<usize>,
     top: Option<&[Interval]>,
     h: Interval,
 ) -> Vec<Interval> {
     let rows: Vec<&[Interval]> = rows
         .iter()
-        .map(|r| &r[..])
         .chain(top)
         .map(|r| &r[cols.clone()])
         .collect();
@@ -73,7 +72,7 @@ pub(super) struct StepOut {
 pub(super) fn lohner_step(
     sys: &System,
     set: &LohnerSet,
-    c: &[Vec<Interval>],
+    c: Rows<'_, Interval>,
     h: Interval,
     p: usize,
     tol: Tolerance,
@@ -261,12 +260,12 @@ pub(super) fn box_enclosure(
         .field_var
         .ode_taylor(&with_seed(xbox, &sys.var_cols), p)
         .ok_or(StepFail::Shrink)?;
-    let b: Vec<Vec<Interval>> = cv.iter().map(|ck| ck[..d].to_vec()).collect();
-    let (rem, y, ratio) = remainder(sys, &b, h, p, scale, tol)?;
+    let b = Coeffs::from_rows(d, cv.iter());
+    let (rem, y, ratio) = remainder(sys, b.rows(), h, p, scale, tol)?;
     let z = phi.iter().zip(&rem).map(|(a, b)| *a + *b).collect();
-    let mut jac = variational_polynomial(&cv, d, h);
+    let mut jac = variational_polynomial(cv.rows(), d, h);
     if c1 {
-        let vrem = variational_remainder(sys, &y, &cv, h, p)?;
+        let vrem = variational_remainder(sys, &y, cv.rows(), h, p)?;
         for (row, vr) in jac.iter_mut().zip(&vrem) {
             for (x, r) in row.iter_mut().zip(vr) {
                 *x += *r;
@@ -284,14 +283,14 @@ pub(super) fn box_enclosure(
 /// and `Z` widened by 10% and by `widen` times the excess of `Z` over `Y` (up to three times).
 pub(super) fn a_priori(
     tape: &crate::tape::Tape,
-    b: &[Vec<Interval>],
+    b: Rows<'_, Interval>,
     h: Interval,
     q: usize,
     widen: f64,
-) -> Result<(Vec<Interval>, Vec<Vec<Interval>>), StepFail> {
+) -> Result<(Vec<Interval>, Coeffs<Interval>), StepFail> {
     let h0 = iv(0.0, h.sup());
-    let dim = b[0].len();
-    let series = |top: &[Interval]| horner(&b[..q], 0..dim, Some(top), h0);
+    let dim = b.width();
+    let series = |top: &[Interval]| horner(b.first(q), 0..dim, Some(top), h0);
     let mut y = inflate(&series(&b[q]));
     for _ in 0..4 {
         let ty = tape.ode_taylor(&y, q + 1).ok_or(StepFail::Shrink)?;
@@ -324,14 +323,14 @@ pub(super) fn a_priori(
 /// the tolerance rejects the step (5.8).
 pub(super) fn remainder(
     sys: &System,
-    b: &[Vec<Interval>],
+    b: Rows<'_, Interval>,
     h: Interval,
     p: usize,
     scale: f64,
     tol: Tolerance,
 ) -> Result<(Vec<Interval>, Vec<Interval>, f64), StepFail> {
     let strict = tol != Tolerance::Loose;
-    let d = b[0].len();
+    let d = b.width();
     let (y, ty) = a_priori(&sys.field, b, h, p, 0.0)?;
     let hp = (0..=p).fold(point(1.0), |a, _| a * h);
     // the widest component of T h^(p+1), relative to the tolerance (NaN if not finite)
@@ -353,7 +352,7 @@ pub(super) fn remainder(
     if wide && tol == Tolerance::Unsliced {
         return Err(StepFail::TooWide(ratio_of(&ty[p + 1])));
     }
-    let mut t_rem = ty[p + 1].clone();
+    let mut t_rem = ty[p + 1].to_vec();
     if wide {
         for j in 0..SLICES {
             let lo = h.sup() * j as f64 / SLICES as f64;
@@ -363,7 +362,7 @@ pub(super) fn remainder(
                 h.sup() * (j + 1) as f64 / SLICES as f64
             };
             let tj = iv(lo, hi);
-            let yj: Vec<Interval> = horner(&b[..p], 0..d, Some(&ty[p]), tj)
+            let yj: Vec<Interval> = horner(b.first(p), 0..d, Some(&ty[p]), tj)
                 .iter()
                 .zip(&y)
                 .map(|(a, b)| a.intersection(*b))
@@ -376,7 +375,7 @@ pub(super) fn remainder(
                 return Err(StepFail::TooWide(ratio_of(part)));
             }
             t_rem = if j == 0 {
-                part.clone()
+                part.to_vec()
             } else {
                 t_rem
                     .iter()
@@ -431,7 +430,7 @@ pub(super) fn step_jacobian(
     // (e.g. D u1 / D u1 = 1 for the knife): widen generously.
     let q0 = JAC_ORDERS[0];
     let w0 = sys.field_var.ode_taylor(&seed, q0)?;
-    let (y_ext, t0) = a_priori(&sys.field_var, &w0, h, q0, 4.0).ok()?;
+    let (y_ext, t0) = a_priori(&sys.field_var, w0.rows(), h, q0, 4.0).ok()?;
     let mut k = (*order).min(JAC_ORDERS.len() - 1);
     loop {
         let q = JAC_ORDERS[k];
@@ -455,7 +454,7 @@ pub(super) fn step_jacobian(
             let hq = (0..=q).fold(point(1.0), |a, _| a * h);
             let rem: Vec<Interval> = (0..d * c).map(|k| tw[q + 1][d + k] * hq).collect();
             let widest = rem.iter().fold(0.0f64, |a, x| a.max(x.wid()));
-            let mut jac = variational_polynomial(w, d, h);
+            let mut jac = variational_polynomial(w.rows(), d, h);
             let size = jac.iter().flatten().fold(1.0f64, |a, x| a.max(x.mag()));
             // (NaN fails the tests too)
             let share = widest * extent * d as f64 / (scale * f64::EPSILON);
@@ -512,8 +511,8 @@ pub(super) fn full_jacobian(w: &IMat, cols: &[usize]) -> IMat {
 
 /// `sum_k [V_k] h^k`: the Taylor polynomial of the variational part (components `d..`,
 /// d rows, row-major) of the coefficients `w` of the extended system.
-pub(super) fn variational_polynomial(w: &[Vec<Interval>], d: usize, h: Interval) -> IMat {
-    let c = (w[0].len() - d) / d.max(1);
+pub(super) fn variational_polynomial(w: Rows<'_, Interval>, d: usize, h: Interval) -> IMat {
+    let c = (w.width() - d) / d.max(1);
     if c == 0 {
         return vec![Vec::new(); d];
     }
@@ -530,21 +529,21 @@ pub(super) fn variational_polynomial(w: &[Vec<Interval>], d: usize, h: Interval)
 pub(super) fn variational_remainder(
     sys: &System,
     y: &[Interval],
-    cv: &[Vec<Interval>],
+    cv: Rows<'_, Interval>,
     h: Interval,
     p: usize,
 ) -> Result<IMat, StepFail> {
     let (d, c) = (y.len(), sys.var_cols.len());
     let h0 = iv(0.0, h.sup());
     let cols = d..d + d * c;
-    let mut yv = inflate(&horner(&cv[..=p], cols.clone(), None, h0));
+    let mut yv = inflate(&horner(cv.first(p + 1), cols.clone(), None, h0));
     for _ in 0..4 {
         let ext: Vec<Interval> = y.iter().chain(&yv).copied().collect();
         let tv = sys
             .field_var
             .ode_taylor(&ext, p + 1)
             .ok_or(StepFail::Shrink)?;
-        let zv = horner(&cv[..p], cols.clone(), Some(&tv[p]), h0);
+        let zv = horner(cv.first(p), cols.clone(), Some(&tv[p]), h0);
         if zv.iter().zip(&yv).all(|(a, b)| a.subset(*b)) {
             let hp = (0..=p).fold(point(1.0), |a, _| a * h);
             return Ok((0..d)

@@ -498,19 +498,19 @@ impl Tape {
     /// Returns `None` when the tape is not proved smooth on the box: a divisor enclosure
     /// containing 0, a square root of an enclosure not in (0, inf), or a non-finite
     /// coefficient (spec eq. (2.8)).
-    pub fn ode_taylor<T: Coef>(&self, x0: &[T], order: usize) -> Option<Vec<Vec<T>>> {
+    pub fn ode_taylor<T: Coef>(&self, x0: &[T], order: usize) -> Option<Coeffs<T>> {
         let d = self.n_inputs;
         charge(self.ops.len(), order);
         let mut s = Series::new(self.ops.len(), order + 1);
-        let mut xs: Vec<Vec<T>> = Vec::with_capacity(order + 1);
-        xs.push(x0.to_vec());
+        let mut flat: Vec<T> = Vec::with_capacity((order + 1) * d);
+        flat.extend_from_slice(x0);
         for k in 0..=order {
             // Coefficient `order` of the nodes is not needed (only x_0 .. x_order are
             // returned); step 0 always runs, since it carries the domain checks (2.8).
             if k == order && k > 0 {
                 break;
             }
-            s.step(&self.ops, k, &xs[k]);
+            s.step(&self.ops, k, &flat[k * d..(k + 1) * d]);
             if !s.ok {
                 return None;
             }
@@ -518,13 +518,19 @@ impl Tape {
                 break;
             }
             let kk = T::cst((k + 1) as f64);
-            let next: Vec<T> = (0..d).map(|i| s.get(self.outputs[i], k).quot(kk)).collect();
-            if !next.iter().all(|x| x.is_finite_coef()) {
-                return None;
+            for i in 0..d {
+                let next = s.get(self.outputs[i], k).quot(kk);
+                if !next.is_finite_coef() {
+                    return None;
+                }
+                flat.push(next);
             }
-            xs.push(next);
         }
-        Some(xs)
+        Some(Coeffs {
+            width: d,
+            len: order + 1,
+            flat,
+        })
     }
 
     /// Rigorous evaluation over intervals, with the same smoothness checks as
@@ -535,6 +541,121 @@ impl Tape {
         s.step(&self.ops, 0, x);
         let out: Vec<T> = self.outputs.iter().map(|o| s.get(*o, 0)).collect();
         (s.ok && out.iter().all(|x| x.is_finite_coef())).then_some(out)
+    }
+}
+
+/// Taylor coefficients `x_0 .. x_{len-1}`, each of `width` components, in one buffer: row
+/// `k` is `x_k` (spec eq. (2.2)). [`Tape::ode_taylor`]'s result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coeffs<T> {
+    width: usize,
+    len: usize,
+    flat: Vec<T>,
+}
+
+/// Rows `0 .. len` of a [`Coeffs`], borrowed.
+#[derive(Debug)]
+pub struct Rows<'a, T> {
+    width: usize,
+    len: usize,
+    flat: &'a [T],
+}
+
+impl<T> Clone for Rows<'_, T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T> Copy for Rows<'_, T> {}
+
+impl<T: Copy> Coeffs<T> {
+    /// Coefficients from rows of `width` entries each.
+    pub fn from_rows<'a>(width: usize, rows: impl IntoIterator<Item = &'a [T]>) -> Self
+    where
+        T: 'a,
+    {
+        let mut flat = Vec::new();
+        let mut len = 0;
+        for r in rows {
+            flat.extend_from_slice(&r[..width]);
+            len += 1;
+        }
+        Coeffs { width, len, flat }
+    }
+    /// Every row.
+    pub fn rows(&self) -> Rows<'_, T> {
+        Rows {
+            width: self.width,
+            len: self.len,
+            flat: &self.flat,
+        }
+    }
+    /// The same coefficients through `f`, entry by entry.
+    pub fn map<U>(&self, f: impl Fn(&T) -> U) -> Coeffs<U> {
+        Coeffs {
+            width: self.width,
+            len: self.len,
+            flat: self.flat.iter().map(f).collect(),
+        }
+    }
+    /// The number of rows (the order plus one).
+    pub fn len(&self) -> usize {
+        self.len
+    }
+    /// No rows.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+    /// The rows, in order.
+    pub fn iter(&self) -> impl DoubleEndedIterator<Item = &[T]> + ExactSizeIterator + '_ {
+        self.rows().iter()
+    }
+}
+
+impl<'a, T> Rows<'a, T> {
+    /// The number of rows.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+    /// No rows.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+    /// The entries of a row.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+    /// The first `n` rows (all of them if there are fewer).
+    pub fn first(self, n: usize) -> Rows<'a, T> {
+        Rows {
+            len: n.min(self.len),
+            ..self
+        }
+    }
+    /// Row `k`.
+    pub fn row(self, k: usize) -> &'a [T] {
+        assert!(k < self.len, "row {k} of {}", self.len);
+        &self.flat[k * self.width..(k + 1) * self.width]
+    }
+    /// The rows, in order.
+    pub fn iter(self) -> impl DoubleEndedIterator<Item = &'a [T]> + ExactSizeIterator {
+        (0..self.len).map(move |k| self.row(k))
+    }
+}
+
+impl<T: Copy> std::ops::Index<usize> for Coeffs<T> {
+    type Output = [T];
+    fn index(&self, k: usize) -> &[T] {
+        self.rows().row(k)
+    }
+}
+
+impl<T> std::ops::Index<usize> for Rows<'_, T> {
+    type Output = [T];
+    fn index(&self, k: usize) -> &[T] {
+        assert!(k < self.len, "row {k} of {}", self.len);
+        &self.flat[k * self.width..(k + 1) * self.width]
     }
 }
 
