@@ -53,38 +53,43 @@ pub(crate) fn quotient(a: Interval, b: Interval) -> Interval {
 /// multiply-add, or with AVX-512 the same tightest interval computed eight entries at a
 /// time (spec (1.4)): the answers are the same.
 pub(crate) fn horner(rows: &[&[Interval]], h: Interval) -> Vec<Interval> {
-    #[cfg(all(
-        target_arch = "x86_64",
-        target_feature = "avx512f",
-        target_feature = "avx512dq"
-    ))]
-    if let Some(v) = wide::lanewise(rows, wide::Scheme::Horner(h)) {
-        return v;
-    }
-    let d = rows.first().map_or(0, |r| r.len());
-    (0..d)
-        .map(|i| rows.iter().rev().fold(ZERO, |s, r| s.mul_add(h, r[i])))
-        .collect()
+    lanewise(rows, Scheme::Horner(h))
 }
 
 /// One row of a matrix product: entry `j` encloses `sum_l a_l rows[l][j]` (`rows[l]` all of
 /// one length), each term added by inari's fused multiply-add in the order of `l`, or with
 /// AVX-512 the same tightest intervals computed eight entries at a time (spec (1.4)).
 pub(crate) fn row_times(a: &[Interval], rows: &[&[Interval]]) -> Vec<Interval> {
+    lanewise(rows, Scheme::Row(a))
+}
+
+/// What [`lanewise`] computes for each entry: Horner's scheme at `h`, or a row times a
+/// matrix.
+#[derive(Clone, Copy)]
+enum Scheme<'a> {
+    Horner(Interval),
+    Row(&'a [Interval]),
+}
+
+/// The scheme for every entry of the rows: with AVX-512 eight entries at a time, otherwise
+/// (or when an input is not finite) inari's chain of fused multiply-adds, entry by entry.
+fn lanewise(rows: &[&[Interval]], scheme: Scheme) -> Vec<Interval> {
     #[cfg(all(
         target_arch = "x86_64",
         target_feature = "avx512f",
         target_feature = "avx512dq"
     ))]
-    if let Some(v) = wide::lanewise(rows, wide::Scheme::Row(a)) {
+    if let Some(v) = wide::lanewise(rows, scheme) {
         return v;
     }
-    let m = rows.first().map_or(0, |r| r.len());
-    (0..m)
-        .map(|j| {
-            a.iter()
+    let len = rows.first().map_or(0, |r| r.len());
+    (0..len)
+        .map(|i| match scheme {
+            Scheme::Horner(h) => rows.iter().rev().fold(ZERO, |s, r| s.mul_add(h, r[i])),
+            Scheme::Row(a) => a
+                .iter()
                 .zip(rows)
-                .fold(ZERO, |s, (x, r)| x.mul_add(r[j], s))
+                .fold(ZERO, |s, (x, r)| x.mul_add(r[i], s)),
         })
         .collect()
 }
@@ -113,6 +118,7 @@ pub(crate) fn chain(
     target_feature = "avx512dq"
 ))]
 mod wide {
+    use super::Scheme;
     use inari::Interval;
     use std::arch::x86_64::*;
     use std::sync::OnceLock;
@@ -334,12 +340,6 @@ mod wide {
             j += m;
         }
         (bad == 0 && up.is_finite() && down.is_finite()).then_some((up, down))
-    }
-
-    /// What [`lanewise`] computes: Horner's scheme at `h`, or a row times a matrix.
-    pub(super) enum Scheme<'a> {
-        Horner(Interval),
-        Row(&'a [Interval]),
     }
 
     /// Eight intervals in lanes: their sup ends, and minus their inf ends.
