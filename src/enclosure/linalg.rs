@@ -31,56 +31,58 @@ pub fn identity(n: usize) -> IMat {
 /// `a b` in interval arithmetic (sums by fused multiply-add, outward rounded; a row at a
 /// time, spec (1.4)).
 pub fn mul(a: &IMat, b: &IMat) -> IMat {
-    let rows: Vec<&[Interval]> = b.iter().map(|r| &r[..]).collect();
-    a.iter()
-        .map(|ai| crate::dot::row_times(&ai[..rows.len()], &rows))
+    times(a.iter().map(|r| &r[..]), &b.iter().map(|r| &r[..]).collect::<Vec<_>>())
+}
+
+/// The rows `left` times the matrix with rows `rows`, each product row by the kernel.
+fn times<'a>(left: impl Iterator<Item = &'a [Interval]>, rows: &[&[Interval]]) -> IMat {
+    left.map(|ai| crate::dot::row_times(&ai[..rows.len()], rows))
         .collect()
 }
 
-/// The entries of a float matrix as point intervals (exact), row-major.
-fn points(m: &DMatrix<f64>) -> Vec<Interval> {
-    let mut flat = Vec::with_capacity(m.nrows() * m.ncols());
-    for i in 0..m.nrows() {
-        flat.extend(m.row(i).iter().map(|x| point(*x)));
-    }
-    flat
+/// A float matrix with its entries as point intervals (exact), in one buffer:
+/// `Points::of(m).rows()` are the rows of `imat(m)`.
+struct Points {
+    flat: Vec<Interval>,
+    rows: usize,
+    cols: usize,
 }
 
-/// The rows of a row-major matrix with `cols` columns.
-fn rows_of(flat: &[Interval], rows: usize, cols: usize) -> Vec<&[Interval]> {
-    (0..rows).map(|i| &flat[i * cols..(i + 1) * cols]).collect()
+impl Points {
+    fn of(m: &DMatrix<f64>) -> Self {
+        let mut flat = Vec::with_capacity(m.nrows() * m.ncols());
+        for i in 0..m.nrows() {
+            flat.extend(m.row(i).iter().map(|x| point(*x)));
+        }
+        Points {
+            flat,
+            rows: m.nrows(),
+            cols: m.ncols(),
+        }
+    }
+    fn rows(&self) -> impl Iterator<Item = &[Interval]> {
+        (0..self.rows).map(move |i| &self.flat[i * self.cols..(i + 1) * self.cols])
+    }
 }
 
 /// `a b` for a float matrix `b`: the same doubles as `mul(a, &imat(b))` (its entries are
 /// exact as points), without forming the matrix of points row by row.
 pub fn mul_points(a: &IMat, b: &DMatrix<f64>) -> IMat {
-    let flat = points(b);
-    let rows = rows_of(&flat, b.nrows(), b.ncols());
-    a.iter()
-        .map(|ai| crate::dot::row_times(&ai[..rows.len()], &rows))
-        .collect()
+    let b = Points::of(b);
+    times(a.iter().map(|r| &r[..]), &b.rows().collect::<Vec<_>>())
 }
 
 /// `a b` for a float matrix `a`: the same doubles as `mul(&imat(a), b)`.
 pub fn points_mul(a: &DMatrix<f64>, b: &IMat) -> IMat {
-    let flat = points(a);
-    let rows: Vec<&[Interval]> = b.iter().map(|r| &r[..]).collect();
-    rows_of(&flat, a.nrows(), a.ncols())
-        .into_iter()
-        .map(|ai| crate::dot::row_times(&ai[..rows.len()], &rows))
-        .collect()
+    times(
+        Points::of(a).rows(),
+        &b.iter().map(|r| &r[..]).collect::<Vec<_>>(),
+    )
 }
 
 /// `a x` for a float matrix `a`: the same doubles as `mul_vec(&imat(a), x)`.
 pub fn points_mul_vec(a: &DMatrix<f64>, x: &[Interval]) -> Vec<Interval> {
-    let flat = points(a);
-    rows_of(&flat, a.nrows(), a.ncols())
-        .into_iter()
-        .map(|r| {
-            let n = r.len().min(x.len());
-            crate::dot::dot(point(0.0), false, &r[..n], &x[..n], false)
-        })
-        .collect()
+    Points::of(a).rows().map(|r| row_dot(r, x)).collect()
 }
 
 /// `a + b`, entrywise.
@@ -94,12 +96,13 @@ pub fn add(a: &IMat, b: &IMat) -> IMat {
 /// `a x` in interval arithmetic (sums by fused multiply-add, outward rounded; a dot product
 /// per row, spec (1.4)).
 pub fn mul_vec(a: &IMat, x: &[Interval]) -> Vec<Interval> {
-    a.iter()
-        .map(|r| {
-            let n = r.len().min(x.len());
-            crate::dot::dot(point(0.0), false, &r[..n], &x[..n], false)
-        })
-        .collect()
+    a.iter().map(|r| row_dot(r, x)).collect()
+}
+
+/// `sum_j r_j x_j` over the common length, by the dot kernel (spec (1.4)).
+fn row_dot(r: &[Interval], x: &[Interval]) -> Interval {
+    let n = r.len().min(x.len());
+    crate::dot::dot(point(0.0), false, &r[..n], &x[..n], false)
 }
 
 /// The midpoints of the entries, as a float matrix (a choice, spec 0.2).
