@@ -410,12 +410,11 @@ mod wide {
                 return None;
             }
         }
-        let raws: Vec<&[f64]> = rows.iter().map(|r| raw(r)).collect();
         let mut out = Vec::with_capacity(width);
         let mut from = 0;
         while from < width {
             // SAFETY: this module is compiled only when the target has avx512f and avx512dq.
-            let block = unsafe { block(&raws, &scheme, from) }?;
+            let block = unsafe { block(rows, &scheme, from) }?;
             let m = (width - from).min(8);
             for i in 0..m {
                 out.push(Interval::try_from((-block[2 * i], block[2 * i + 1])).ok()?);
@@ -427,7 +426,7 @@ mod wide {
 
     /// Entries `from .. from + 8` of the scheme, as (-inf, sup) pairs.
     #[target_feature(enable = "avx512f,avx512dq")]
-    fn block(raws: &[&[f64]], scheme: &Scheme, from: usize) -> Option<[f64; 16]> {
+    fn block(rows: &[&[Interval]], scheme: &Scheme, from: usize) -> Option<[f64; 16]> {
         let zero = _mm512_setzero_pd();
         let mut acc = Lanes {
             up: zero,
@@ -440,15 +439,15 @@ mod wide {
                     return None;
                 }
                 let h = splat(*h);
-                for r in raws.iter().rev() {
-                    let (c, b) = gather(r, from, None);
+                for r in rows.iter().rev() {
+                    let (c, b) = gather(raw(r), from, None);
                     bad |= b;
                     acc = fma(acc, h, c);
                 }
             }
             Scheme::Row(a) => {
-                for (x, r) in a.iter().zip(raws) {
-                    let (c, b) = gather(r, from, None);
+                for (x, r) in a.iter().zip(rows) {
+                    let (c, b) = gather(raw(r), from, None);
                     bad |= b;
                     acc = fma(splat(*x), c, acc);
                 }
