@@ -108,6 +108,8 @@ pub(super) fn flow_set_general(
                 .unwrap_or(p);
         }
         let mut tries = 0;
+        // the a priori box of a rejected try, for the next try of this step (5.4')
+        let mut prior = None;
         loop {
             if tries > 0 {
                 opts.check_budget().map_err(|e| e.reached(done.inf()))?;
@@ -129,6 +131,7 @@ pub(super) fn flow_set_general(
                 opts,
                 precise,
                 &mut jac_order,
+                &mut prior,
             );
             match step {
                 Ok(out) => {

@@ -67,7 +67,18 @@ pub(super) struct StepOut {
     pub(super) ratio: f64,
 }
 
-/// One step of the method (spec eqs. (5.3)-(5.6), (5.9)-(5.12)).
+/// The a priori enclosure (5.4) of the centre's trajectory proved by a rejected try of a
+/// step: the box `y` holds the trajectory over `[0, span]`, so over every shorter span too,
+/// and `ty` are the coefficients over it up to `order + 1` (spec (5.4')).
+pub(super) struct Prior {
+    span: f64,
+    order: usize,
+    y: Vec<Interval>,
+    ty: Coeffs<Interval>,
+}
+
+/// One step of the method (spec eqs. (5.3)-(5.6), (5.9)-(5.12)). `prior` carries the a
+/// priori box of a rejected try to the next try of the same step (5.4').
 #[allow(clippy::too_many_arguments)]
 pub(super) fn lohner_step(
     sys: &System,
@@ -80,6 +91,7 @@ pub(super) fn lohner_step(
     opts: &FlowOptions,
     precise: bool,
     jac_order: &mut usize,
+    prior: &mut Option<Prior>,
 ) -> Result<StepOut, StepFail> {
     let d = set.m.len();
     let fatal = |s: &str| StepFail::Fatal(s.to_string());
@@ -100,8 +112,24 @@ pub(super) fn lohner_step(
         .zip(&set.m)
         .fold(0.0f64, |a, (x, c)| a.max((*x - point(*c)).mag()));
     // z encloses x(h; m); x(h; x0) lies in z + J (x0 - m) for every x0 in the set.
-    // (5.4)-(5.5) for the trajectory from the centre alone
-    let (rem, _, ratio) = remainder(sys, c, h, p, scale, tol)?;
+    // (5.4)-(5.5) for the trajectory from the centre alone; the a priori box of an earlier
+    // try of this step over a longer span serves this one (5.4'), else a new one
+    let (y, ty) = match prior.take() {
+        Some(pr) if pr.order == p && h.sup() <= pr.span => (pr.y, pr.ty),
+        _ => a_priori(&sys.field, c, h, p, 0.0)?,
+    };
+    let (rem, ratio) = match remainder_over(sys, c, &y, &ty, h, p, scale, tol) {
+        Err(fail @ StepFail::TooWide(_)) => {
+            *prior = Some(Prior {
+                span: h.sup(),
+                order: p,
+                y,
+                ty,
+            });
+            return Err(fail);
+        }
+        other => other?,
+    };
     let z: Vec<Interval> = phi.iter().zip(&rem).map(|(a, b)| *a + *b).collect();
     if !z.iter().all(|x| finite(*x)) {
         return Err(StepFail::Shrink);
@@ -329,9 +357,27 @@ pub(super) fn remainder(
     scale: f64,
     tol: Tolerance,
 ) -> Result<(Vec<Interval>, Vec<Interval>, f64), StepFail> {
+    let (y, ty) = a_priori(&sys.field, b, h, p, 0.0)?;
+    let (rem, ratio) = remainder_over(sys, b, &y, &ty, h, p, scale, tol)?;
+    Ok((rem, y, ratio))
+}
+
+/// (5.5) from an a priori box `y` of every trajectory from the initial set over `[0, h]`
+/// (or over a longer span) and the coefficients `ty` over it up to `p + 1`: `[R]` and its
+/// width relative to the tolerance.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn remainder_over(
+    sys: &System,
+    b: Rows<'_, Interval>,
+    y: &[Interval],
+    ty: &Coeffs<Interval>,
+    h: Interval,
+    p: usize,
+    scale: f64,
+    tol: Tolerance,
+) -> Result<(Vec<Interval>, f64), StepFail> {
     let strict = tol != Tolerance::Loose;
     let d = b.width();
-    let (y, ty) = a_priori(&sys.field, b, h, p, 0.0)?;
     let hp = (0..=p).fold(point(1.0), |a, _| a * h);
     // the widest component of T h^(p+1), relative to the tolerance (NaN if not finite)
     let ratio_of = |t: &[Interval]| {
@@ -364,7 +410,7 @@ pub(super) fn remainder(
             let tj = iv(lo, hi);
             let yj: Vec<Interval> = horner(b.first(p), 0..d, Some(&ty[p]), tj)
                 .iter()
-                .zip(&y)
+                .zip(y)
                 .map(|(a, b)| a.intersection(*b))
                 .collect();
             let tj = sys.field.ode_taylor(&yj, p + 1).ok_or(StepFail::Shrink)?;
@@ -389,7 +435,7 @@ pub(super) fn remainder(
     if strict && too_wide(&t_rem) {
         return Err(StepFail::TooWide(ratio));
     }
-    Ok((t_rem.iter().map(|t| *t * hp).collect(), y, ratio))
+    Ok((t_rem.iter().map(|t| *t * hp).collect(), ratio))
 }
 
 /// (5.6) An interval matrix containing `D x(h; x0) / D x0` for every `x0` in the hull
