@@ -53,14 +53,17 @@ pub(crate) fn quotient(a: Interval, b: Interval) -> Interval {
 /// multiply-add, or with AVX-512 the same tightest interval computed eight entries at a
 /// time (spec (1.4)): the answers are the same.
 pub(crate) fn horner(rows: &[&[Interval]], h: Interval) -> Vec<Interval> {
-    lanewise(rows, Scheme::Horner(h))
+    let mut out = Vec::new();
+    lanewise(rows, Scheme::Horner(h), &mut out);
+    out
 }
 
-/// One row of a matrix product: entry `j` encloses `sum_l a_l rows[l][j]` (`rows[l]` all of
-/// one length), each term added by inari's fused multiply-add in the order of `l`, or with
-/// AVX-512 the same tightest intervals computed eight entries at a time (spec (1.4)).
-pub(crate) fn row_times(a: &[Interval], rows: &[&[Interval]]) -> Vec<Interval> {
-    lanewise(rows, Scheme::Row(a))
+/// One row of a matrix product, appended to `out`: entry `j` encloses
+/// `sum_l a_l rows[l][j]` (`rows[l]` all of one length), each term added by inari's fused
+/// multiply-add in the order of `l`, or with AVX-512 the same tightest intervals computed
+/// eight entries at a time (spec (1.4)).
+pub(crate) fn row_times(a: &[Interval], rows: &[&[Interval]], out: &mut Vec<Interval>) {
+    lanewise(rows, Scheme::Row(a), out)
 }
 
 /// What [`lanewise`] computes for each entry: Horner's scheme at `h`, or a row times a
@@ -73,25 +76,26 @@ enum Scheme<'a> {
 
 /// The scheme for every entry of the rows: with AVX-512 eight entries at a time, otherwise
 /// (or when an input is not finite) inari's chain of fused multiply-adds, entry by entry.
-fn lanewise(rows: &[&[Interval]], scheme: Scheme) -> Vec<Interval> {
+/// The entries are appended to `out`.
+fn lanewise(rows: &[&[Interval]], scheme: Scheme, out: &mut Vec<Interval>) {
     #[cfg(all(
         target_arch = "x86_64",
         target_feature = "avx512f",
         target_feature = "avx512dq"
     ))]
-    if let Some(v) = wide::lanewise(rows, scheme) {
-        return v;
+    if wide::lanewise(rows, scheme, out) {
+        return;
     }
     let len = rows.first().map_or(0, |r| r.len());
-    (0..len)
-        .map(|i| match scheme {
+    out.extend((0..len).map(|i| {
+        match scheme {
             Scheme::Horner(h) => rows.iter().rev().fold(ZERO, |s, r| s.mul_add(h, r[i])),
             Scheme::Row(a) => a
                 .iter()
                 .zip(rows)
                 .fold(ZERO, |s, (x, r)| x.mul_add(r[i], s)),
-        })
-        .collect()
+        }
+    }))
 }
 
 const ZERO: Interval = inari::const_interval!(0.0, 0.0);
@@ -398,9 +402,18 @@ mod wide {
         (lanes, bad)
     }
 
-    /// The scheme for every entry, blocks of eight at a time; `None` when an input is not
-    /// finite or a result overflows.
-    pub(super) fn lanewise(rows: &[&[Interval]], scheme: Scheme) -> Option<Vec<Interval>> {
+    /// The scheme for every entry, blocks of eight at a time, appended to `out`; `false`
+    /// (and `out` as it was) when an input is not finite or a result overflows.
+    pub(super) fn lanewise(rows: &[&[Interval]], scheme: Scheme, out: &mut Vec<Interval>) -> bool {
+        let start = out.len();
+        let done = append(rows, scheme, out).is_some();
+        if !done {
+            out.truncate(start);
+        }
+        done
+    }
+
+    fn append(rows: &[&[Interval]], scheme: Scheme, out: &mut Vec<Interval>) -> Option<()> {
         let width = rows.first().map_or(0, |r| r.len());
         if !layout_known() || rows.iter().any(|r| r.len() != width) {
             return None;
@@ -410,7 +423,7 @@ mod wide {
                 return None;
             }
         }
-        let mut out = Vec::with_capacity(width);
+        out.reserve(width);
         let mut from = 0;
         while from < width {
             // SAFETY: this module is compiled only when the target has avx512f and avx512dq.
@@ -421,7 +434,7 @@ mod wide {
             }
             from += m;
         }
-        Some(out)
+        Some(())
     }
 
     /// Entries `from .. from + 8` of the scheme, as (-inf, sup) pairs.
@@ -658,13 +671,19 @@ mod tests {
                 "case {case}: {acc:?} / {h:?} = {q:?} against {inari_q:?}"
             );
             let coef = [h, acc, x.first().copied().unwrap_or(h)];
-            let w = row_times(&coef, &rows);
+            // appended after what the buffer holds, which stays (also when the fast path
+            // gives up part way, on an input that is not finite)
+            let mut w = vec![h];
+            row_times(&coef, &rows, &mut w);
+            assert_eq!(w.len(), n + 1, "case {case}");
+            assert!(same(w[0], h), "case {case}");
             for j in 0..n {
                 let c = coef
                     .iter()
                     .zip(&rows)
                     .fold(ZERO, |s, (a, row)| a.mul_add(row[j], s));
-                assert!(same(w[j], c), "case {case}: row {:?} against {c:?}", w[j]);
+                let got = w[j + 1];
+                assert!(same(got, c), "case {case}: row {got:?} against {c:?}");
             }
         }
     }
@@ -689,6 +708,35 @@ mod tests {
         let s = dot(i(0.0, 0.0), false, &big, &[i(1.0, 1.0); 3], false);
         assert_eq!(s.sup(), f64::INFINITY);
         assert!(s.inf() >= f64::MAX);
+        // a row whose second block of eight holds an unbounded entry: the vector path has
+        // written the first block when it gives up; the buffer gets the chain's entries
+        // once, after what it held
+        let wide: Vec<Interval> = (0..12)
+            .map(|j| {
+                if j == 10 {
+                    i(-1.0, f64::INFINITY)
+                } else {
+                    i(j as f64, j as f64 + 0.5)
+                }
+            })
+            .collect();
+        let rows: Vec<&[Interval]> = vec![&wide, &wide];
+        let coef = [i(1.0, 2.0), i(-1.0, 0.5)];
+        let mut out = vec![i(7.0, 7.0)];
+        row_times(&coef, &rows, &mut out);
+        assert_eq!(out.len(), 13);
+        assert_eq!((out[0].inf(), out[0].sup()), (7.0, 7.0));
+        for j in 0..12 {
+            let c = coef
+                .iter()
+                .zip(&rows)
+                .fold(ZERO, |s, (a, row)| a.mul_add(row[j], s));
+            assert_eq!(
+                (out[j + 1].inf(), out[j + 1].sup()),
+                (c.inf(), c.sup()),
+                "entry {j}"
+            );
+        }
     }
 
     /// The vector path reads inari's bytes as (-inf, sup): on a CPU where it is compiled,

@@ -3,7 +3,6 @@
 //! the generic validated ODE layer (`enclosure`, spec chapter 5), from a state `(q, u)` given as exact f64, with the checks every
 //! query makes (dimensions, finite numbers, the scene at `q`, spec (3.17)).
 
-use crate::enclosure::linalg::IMat;
 use crate::enclosure::{
     flow_set_jacobian, flow_set_span_memo, too_many, FlowOptions, FlowStats, LohnerSet,
 };
@@ -221,10 +220,10 @@ pub fn flow_c1(
     u: &[f64],
     t: f64,
     opts: &FlowOptions,
-) -> Result<(FlowEnclosure, IMat), Error> {
+) -> Result<(FlowEnclosure, Vec<Vec<Interval>>), Error> {
     let x = flow_query(model, q, u, t)?;
     let (set, jac, stats) = flow_set_jacobian(&model.dynamics, LohnerSet::point(&x), t, opts)?;
-    Ok((finish(model, &set, stats)?, jac))
+    Ok((finish(model, &set, stats)?, jac.to_rows()))
 }
 
 #[cfg(test)]

@@ -7,37 +7,97 @@ use crate::tape::finite;
 use inari::Interval;
 use nalgebra::DMatrix;
 
-/// Interval matrix, rows.
-pub type IMat = Vec<Vec<Interval>>;
+/// Interval matrix: `nrows x ncols` entries, row after row in one buffer. `m[i]` is row
+/// `i`, `m[i][j]` an entry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IMat {
+    rows: usize,
+    cols: usize,
+    flat: Vec<Interval>,
+}
+
+impl IMat {
+    /// The matrix of entries `f(i, j)`.
+    pub fn from_fn(rows: usize, cols: usize, mut f: impl FnMut(usize, usize) -> Interval) -> Self {
+        let mut flat = Vec::with_capacity(rows * cols);
+        for i in 0..rows {
+            flat.extend((0..cols).map(|j| f(i, j)));
+        }
+        IMat { rows, cols, flat }
+    }
+    /// The `rows x cols` matrix whose rows are the consecutive `cols` entries of `flat`.
+    pub fn from_flat(rows: usize, cols: usize, flat: Vec<Interval>) -> Self {
+        assert_eq!(rows * cols, flat.len(), "the entries of a {rows} x {cols} matrix");
+        IMat { rows, cols, flat }
+    }
+    /// The matrix with these rows (all of the first one's length).
+    pub fn from_rows(rows: &[Vec<Interval>]) -> Self {
+        let cols = rows.first().map_or(0, |r| r.len());
+        IMat::from_fn(rows.len(), cols, |i, j| rows[i][j])
+    }
+    pub fn nrows(&self) -> usize {
+        self.rows
+    }
+    pub fn ncols(&self) -> usize {
+        self.cols
+    }
+    /// The rows, in order.
+    pub fn rows(&self) -> impl Iterator<Item = &[Interval]> {
+        (0..self.rows).map(move |i| &self[i])
+    }
+    /// Every entry, row after row.
+    pub fn entries(&self) -> &[Interval] {
+        &self.flat
+    }
+    /// Every entry, row after row, to change in place.
+    pub fn entries_mut(&mut self) -> &mut [Interval] {
+        &mut self.flat
+    }
+    /// The rows as vectors (the form of the public answers).
+    pub fn to_rows(&self) -> Vec<Vec<Interval>> {
+        self.rows().map(|r| r.to_vec()).collect()
+    }
+}
+
+impl std::ops::Index<usize> for IMat {
+    type Output = [Interval];
+    fn index(&self, i: usize) -> &[Interval] {
+        &self.flat[i * self.cols..(i + 1) * self.cols]
+    }
+}
+
+impl std::ops::IndexMut<usize> for IMat {
+    fn index_mut(&mut self, i: usize) -> &mut [Interval] {
+        &mut self.flat[i * self.cols..(i + 1) * self.cols]
+    }
+}
 
 /// A float matrix as an interval matrix of points (exact).
 pub fn imat(m: &DMatrix<f64>) -> IMat {
-    (0..m.nrows())
-        .map(|i| (0..m.ncols()).map(|j| point(m[(i, j)])).collect())
-        .collect()
+    IMat::from_fn(m.nrows(), m.ncols(), |i, j| point(m[(i, j)]))
 }
 
 /// The `n x n` identity.
 pub fn identity(n: usize) -> IMat {
-    (0..n)
-        .map(|i| {
-            (0..n)
-                .map(|j| point(if i == j { 1.0 } else { 0.0 }))
-                .collect()
-        })
-        .collect()
+    IMat::from_fn(n, n, |i, j| point(if i == j { 1.0 } else { 0.0 }))
 }
 
 /// `a b` in interval arithmetic (sums by fused multiply-add, outward rounded; a row at a
 /// time, spec (1.4)).
 pub fn mul(a: &IMat, b: &IMat) -> IMat {
-    times(a.iter().map(|r| &r[..]), &b.iter().map(|r| &r[..]).collect::<Vec<_>>())
+    times(a.rows(), &b.rows().collect::<Vec<_>>(), b.ncols())
 }
 
-/// The rows `left` times the matrix with rows `rows`, each product row by the kernel.
-fn times<'a>(left: impl Iterator<Item = &'a [Interval]>, rows: &[&[Interval]]) -> IMat {
-    left.map(|ai| crate::dot::row_times(&ai[..rows.len()], rows))
-        .collect()
+/// The rows `left` times the matrix with rows `rows` (`cols` entries each), each product
+/// row by the kernel.
+fn times<'a>(left: impl Iterator<Item = &'a [Interval]>, rows: &[&[Interval]], cols: usize) -> IMat {
+    let mut flat = Vec::new();
+    let mut n = 0;
+    for ai in left {
+        crate::dot::row_times(&ai[..rows.len()], rows, &mut flat);
+        n += 1;
+    }
+    IMat::from_flat(n, cols, flat)
 }
 
 /// A float matrix with its entries as point intervals (exact), in one buffer:
@@ -69,14 +129,15 @@ impl Points {
 /// exact as points), without forming the matrix of points row by row.
 pub fn mul_points(a: &IMat, b: &DMatrix<f64>) -> IMat {
     let b = Points::of(b);
-    times(a.iter().map(|r| &r[..]), &b.rows().collect::<Vec<_>>())
+    times(a.rows(), &b.rows().collect::<Vec<_>>(), b.cols)
 }
 
 /// `a b` for a float matrix `a`: the same doubles as `mul(&imat(a), b)`.
 pub fn points_mul(a: &DMatrix<f64>, b: &IMat) -> IMat {
     times(
         Points::of(a).rows(),
-        &b.iter().map(|r| &r[..]).collect::<Vec<_>>(),
+        &b.rows().collect::<Vec<_>>(),
+        b.ncols(),
     )
 }
 
@@ -87,16 +148,17 @@ pub fn points_mul_vec(a: &DMatrix<f64>, x: &[Interval]) -> Vec<Interval> {
 
 /// `a + b`, entrywise.
 pub fn add(a: &IMat, b: &IMat) -> IMat {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| x.iter().zip(y).map(|(u, v)| *u + *v).collect())
-        .collect()
+    IMat::from_flat(
+        a.rows,
+        a.cols,
+        a.flat.iter().zip(&b.flat).map(|(u, v)| *u + *v).collect(),
+    )
 }
 
 /// `a x` in interval arithmetic (sums by fused multiply-add, outward rounded; a dot product
 /// per row, spec (1.4)).
 pub fn mul_vec(a: &IMat, x: &[Interval]) -> Vec<Interval> {
-    a.iter().map(|r| row_dot(r, x)).collect()
+    a.rows().map(|r| row_dot(r, x)).collect()
 }
 
 /// `sum_j r_j x_j` over the common length, by the dot kernel (spec (1.4)).
@@ -107,37 +169,27 @@ fn row_dot(r: &[Interval], x: &[Interval]) -> Interval {
 
 /// The midpoints of the entries, as a float matrix (a choice, spec 0.2).
 pub fn mid(a: &IMat) -> DMatrix<f64> {
-    let (n, m) = (a.len(), a.first().map_or(0, |r| r.len()));
-    DMatrix::from_fn(n, m, |i, j| a[i][j].mid())
+    DMatrix::from_fn(a.rows, a.cols, |i, j| a[i][j].mid())
 }
 
 /// `(mid(A), A - mid(A))`: a float matrix and the interval matrix of what `A` exceeds it
 /// by, outward rounded (CAPD's `split`): `A ⊆ mid(A) + (A - mid(A))`.
 pub fn split(a: &IMat) -> (DMatrix<f64>, IMat) {
     let c = mid(a);
-    let off = a
-        .iter()
-        .enumerate()
-        .map(|(i, row)| {
-            row.iter()
-                .enumerate()
-                .map(|(j, x)| *x - point(c[(i, j)]))
-                .collect()
-        })
-        .collect();
+    let off = IMat::from_fn(a.rows, a.cols, |i, j| a[i][j] - point(c[(i, j)]));
     (c, off)
 }
 
 /// Upper bound of the infinity norm of an interval matrix.
 pub fn norm_inf_sup(a: &IMat) -> f64 {
-    a.iter()
+    a.rows()
         .map(|r| r.iter().fold(point(0.0), |s, x| s + point(x.mag())).sup())
         .fold(0.0, f64::max)
 }
 
 /// Whether every entry is non-empty with finite ends.
 pub fn all_finite(a: &IMat) -> bool {
-    a.iter().all(|r| r.iter().all(|x| finite(*x)))
+    a.flat.iter().all(|x| finite(*x))
 }
 
 /// An interval matrix containing `B^{-1}` for the float matrix `b`, given any float
@@ -147,13 +199,7 @@ pub fn all_finite(a: &IMat) -> bool {
 pub fn enclose_inverse(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IMat> {
     let n = b.nrows();
     let xb = mul_points(&imat(x), b);
-    let e: IMat = (0..n)
-        .map(|i| {
-            (0..n)
-                .map(|j| point(if i == j { 1.0 } else { 0.0 }) - xb[i][j])
-                .collect()
-        })
-        .collect();
+    let e = IMat::from_fn(n, n, |i, j| point(if i == j { 1.0 } else { 0.0 }) - xb[i][j]);
     if !all_finite(&e) {
         return None;
     }
@@ -165,8 +211,8 @@ pub fn enclose_inverse(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IMat> {
     let eps = (di * di / (point(1.0) - di)).sup();
     let tail = Interval::try_from((-eps, eps)).ok()?;
     let mut s = e;
-    for (i, row) in s.iter_mut().enumerate() {
-        for (j, x) in row.iter_mut().enumerate() {
+    for i in 0..n {
+        for (j, x) in s[i].iter_mut().enumerate() {
             *x = *x + tail + point(if i == j { 1.0 } else { 0.0 });
         }
     }

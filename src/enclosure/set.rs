@@ -178,9 +178,7 @@ impl LohnerSet {
         let k = g_jac.n_outputs() / (d + 1);
         let at_m = g_jac.eval_checked(&self.m.iter().map(|x| point(*x)).collect::<Vec<_>>())?;
         let over = g_jac.eval_checked(&self.hull())?;
-        let dg: IMat = (0..k)
-            .map(|i| over[k + i * d..k + (i + 1) * d].to_vec())
-            .collect();
+        let dg = IMat::from_flat(k, d, over[k..k + k * d].to_vec());
         let lin0 = linalg::mul_vec(&linalg::mul_points(&dg, &self.c), &self.r0);
         let lin1 = linalg::mul_vec(&linalg::mul_points(&dg, &self.b), &self.r);
         let lin: Vec<Interval> = lin0.iter().zip(&lin1).map(|(a, b)| *a + *b).collect();
@@ -210,7 +208,7 @@ impl JacobianSet {
     pub(super) fn identity(d: usize) -> Self {
         JacobianSet {
             c: DMatrix::identity(d, d),
-            r: vec![vec![point(0.0); d]; d],
+            r: IMat::from_fn(d, d, |_, _| point(0.0)),
         }
     }
     /// (5.15) One step: `[J]` the step's derivative factor, `ba = [B'^{-1}][J B]` and

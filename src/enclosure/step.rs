@@ -294,10 +294,8 @@ pub(super) fn box_enclosure(
     let mut jac = variational_polynomial(cv.rows(), d, h);
     if c1 {
         let vrem = variational_remainder(sys, &y, cv.rows(), h, p)?;
-        for (row, vr) in jac.iter_mut().zip(&vrem) {
-            for (x, r) in row.iter_mut().zip(vr) {
-                *x += *r;
-            }
+        for (x, r) in jac.entries_mut().iter_mut().zip(vrem.entries()) {
+            *x += *r;
         }
     }
     Ok((z, full_jacobian(&jac, &sys.var_cols), ratio))
@@ -501,7 +499,7 @@ pub(super) fn step_jacobian(
             let rem: Vec<Interval> = (0..d * c).map(|k| tw[q + 1][d + k] * hq).collect();
             let widest = rem.iter().fold(0.0f64, |a, x| a.max(x.wid()));
             let mut jac = variational_polynomial(w.rows(), d, h);
-            let size = jac.iter().flatten().fold(1.0f64, |a, x| a.max(x.mag()));
+            let size = jac.entries().iter().fold(1.0f64, |a, x| a.max(x.mag()));
             // (NaN fails the tests too)
             let share = widest * extent * d as f64 / (scale * f64::EPSILON);
             let own = if precise {
@@ -513,10 +511,8 @@ pub(super) fn step_jacobian(
             if ratio <= 1.0 {
                 // next step: the same order, or one lower when this one had a wide margin
                 *order = if ratio < 1e-4 { k.saturating_sub(1) } else { k };
-                for (row, r) in jac.iter_mut().zip(rem.chunks(c.max(1))) {
-                    for (x, r) in row.iter_mut().zip(r) {
-                        *x += *r;
-                    }
+                for (x, r) in jac.entries_mut().iter_mut().zip(&rem) {
+                    *x += *r;
                 }
                 return Some(full_jacobian(&jac, &sys.var_cols));
             }
@@ -545,11 +541,11 @@ pub(super) fn with_seed(x: &[Interval], cols: &[usize]) -> Vec<Interval> {
 /// `D x(h) / D x(0)` from its columns `cols` (`w`, d x cols.len()): every other column `j`
 /// is `e_j`, exactly, since the field does not read component `j` (spec eq. (5.6')).
 pub(super) fn full_jacobian(w: &IMat, cols: &[usize]) -> IMat {
-    let d = w.len();
+    let d = w.nrows();
     let mut jac = linalg::identity(d);
-    for (row, wr) in jac.iter_mut().zip(w) {
-        for (&j, x) in cols.iter().zip(wr) {
-            row[j] = *x;
+    for i in 0..d {
+        for (&j, x) in cols.iter().zip(&w[i]) {
+            jac[i][j] = *x;
         }
     }
     jac
@@ -560,12 +556,9 @@ pub(super) fn full_jacobian(w: &IMat, cols: &[usize]) -> IMat {
 pub(super) fn variational_polynomial(w: Rows<'_, Interval>, d: usize, h: Interval) -> IMat {
     let c = (w.width() - d) / d.max(1);
     if c == 0 {
-        return vec![Vec::new(); d];
+        return IMat::from_flat(d, 0, Vec::new());
     }
-    horner(w, d..d + d * c, None, h)
-        .chunks(c)
-        .map(|r| r.to_vec())
-        .collect()
+    IMat::from_flat(d, c, horner(w, d..d + d * c, None, h))
 }
 
 /// (5.11) Remainder of the variational equation over one step: with `Y` the proved a priori
@@ -592,9 +585,11 @@ pub(super) fn variational_remainder(
         let zv = horner(cv.first(p), cols.clone(), Some(&tv[p]), h0);
         if zv.iter().zip(&yv).all(|(a, b)| a.subset(*b)) {
             let hp = (0..=p).fold(point(1.0), |a, _| a * h);
-            return Ok((0..d)
-                .map(|i| (0..c).map(|j| tv[p + 1][d + i * c + j] * hp).collect())
-                .collect());
+            return Ok(IMat::from_flat(
+                d,
+                c,
+                tv[p + 1][d..d + d * c].iter().map(|t| *t * hp).collect(),
+            ));
         }
         yv = inflate(
             &zv.iter()

@@ -92,7 +92,7 @@ mod tests {
         let t = 0.75;
         let (_, jac, _) = flow_set_c1(&sys, LohnerSet::from_box(&x0), t, &FlowOptions::default())
             .expect("certified");
-        for (i, row) in jac.iter().enumerate() {
+        for (i, row) in jac.rows().enumerate() {
             for j in [0, 2] {
                 let e = if i == j { 1.0 } else { 0.0 };
                 assert!(row[j].inf() == e && row[j].sup() == e, "J[{i}][{j}] = {:?}", row[j]);
@@ -128,7 +128,7 @@ mod tests {
         let (set, jac, _) =
             flow_set_c1(&sys, LohnerSet::from_box(&x0), 3.0, &FlowOptions::default())
                 .expect("certified");
-        for (i, row) in jac.iter().enumerate() {
+        for (i, row) in jac.rows().enumerate() {
             for (j, x) in row.iter().enumerate() {
                 let e = if i == j { 1.0 } else { 0.0 };
                 assert!(x.inf() == e && x.sup() == e, "J[{i}][{j}] = {x:?}");

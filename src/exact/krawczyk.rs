@@ -26,7 +26,7 @@ pub fn krawczyk(
     c: &DMatrix<f64>,
     rad: &[f64],
     scale: f64,
-    gd: impl Fn(&[Interval]) -> Result<(Vec<Interval>, IMat), Error>,
+    gd: impl Fn(&[Interval]) -> Result<(Vec<Interval>, Vec<Vec<Interval>>), Error>,
 ) -> Result<Vec<Interval>, Error> {
     // A floor of a few ulps of what reaches each component (not of the component itself: a
     // component that is exactly 0 needs room too, since the coupling through I - C DG moves
@@ -88,7 +88,7 @@ fn inflate(
     c: &DMatrix<f64>,
     rad: &[f64],
     floor: &[f64],
-    gd: &impl Fn(&[Interval]) -> Result<(Vec<Interval>, IMat), Error>,
+    gd: &impl Fn(&[Interval]) -> Result<(Vec<Interval>, Vec<Vec<Interval>>), Error>,
 ) -> Result<Vec<Interval>, Failed> {
     let n = guess.len();
     let zt: Vec<Interval> = guess.iter().map(|x| point(*x)).collect();
@@ -108,14 +108,10 @@ fn inflate(
                 "shooting map not finite at the Newton point",
             )));
         }
-        let cd = linalg::mul(&ci, &d);
-        let i_minus_cd: IMat = (0..n)
-            .map(|i| {
-                (0..n)
-                    .map(|j| point(if i == j { 1.0 } else { 0.0 }) - cd[i][j])
-                    .collect()
-            })
-            .collect();
+        let cd = linalg::mul(&ci, &IMat::from_rows(&d));
+        let i_minus_cd = IMat::from_fn(n, n, |i, j| {
+            point(if i == j { 1.0 } else { 0.0 }) - cd[i][j]
+        });
         let dx: Vec<Interval> = (0..n).map(|i| x[i] - zt[i]).collect();
         let lin = linalg::mul_vec(&i_minus_cd, &dx);
         let k: Vec<Interval> = (0..n).map(|i| zt[i] - cg[i] + lin[i]).collect();

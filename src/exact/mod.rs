@@ -27,7 +27,7 @@ pub struct Exponential {
     /// `qd(h)`.
     pub v1: Vec<Interval>,
     /// `D q(h) / D u0`, n x (n - k), over the whole input box.
-    pub dq_du: IMat,
+    pub dq_du: Vec<Vec<Interval>>,
     /// The state set at time h (to carry a trajectory further).
     pub set: LohnerSet,
 }
@@ -50,7 +50,7 @@ pub fn exponential(
     let (set, jac, _) = flow_set_c1(&model.dynamics, LohnerSet::from_box(&x0), h, opts)?;
     let hull = set.hull();
     let v1 = set_velocity(model, &set)?;
-    let dq_du = jac[..n].iter().map(|row| row[n..].to_vec()).collect();
+    let dq_du = jac.rows().take(n).map(|row| row[n..].to_vec()).collect();
     Ok(Exponential {
         q1: hull[..n].to_vec(),
         v1,
@@ -73,7 +73,7 @@ fn set_velocity(model: &Model, set: &LohnerSet) -> Result<Vec<Interval>, Error> 
 }
 
 /// `N(q) = mu(q)^T`, n x k, enclosed over a box (spec eq. (6.2)).
-pub fn normal_matrix(model: &Model, q: &[Interval]) -> Result<IMat, Error> {
+pub fn normal_matrix(model: &Model, q: &[Interval]) -> Result<Vec<Vec<Interval>>, Error> {
     let (n, k) = (model.n, model.k);
     let mu = model
         .constraints
@@ -151,7 +151,7 @@ pub fn retract(
     check_pair(model, q0, q1, h)?;
     let (n, k) = (model.n, model.k);
     let m = n - k;
-    let nq1 = normal_matrix(model, q1)?;
+    let nq1 = IMat::from_rows(&normal_matrix(model, q1)?);
     let guess = newton_guess(model, q0, q1, h, opts);
     // past the deadline or the work limit the Newton guess stops early: say so rather
     // than why it stopped
@@ -178,7 +178,7 @@ pub fn retract(
     // that a hard pair costs a bounded amount of work whatever the inflations do.
     let work = std::cell::Cell::new(0usize);
     let work_budget = KRAWCZYK_WORK * opts.max_steps;
-    let gd = |z: &[Interval]| -> Result<(Vec<Interval>, IMat), Error> {
+    let gd = |z: &[Interval]| -> Result<(Vec<Interval>, Vec<Vec<Interval>>), Error> {
         let left = work_budget.saturating_sub(work.get());
         if left == 0 {
             return Err(Error::refused(
