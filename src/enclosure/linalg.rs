@@ -42,7 +42,7 @@ impl IMat {
         self.cols
     }
     /// The rows, in order.
-    pub fn rows(&self) -> impl Iterator<Item = &[Interval]> {
+    pub fn rows(&self) -> impl ExactSizeIterator<Item = &[Interval]> {
         (0..self.rows).map(move |i| &self[i])
     }
     /// Every entry, row after row.
@@ -90,12 +90,15 @@ pub fn mul(a: &IMat, b: &IMat) -> IMat {
 
 /// The rows `left` times the matrix with rows `rows` (`cols` entries each), each product
 /// row by the kernel.
-fn times<'a>(left: impl Iterator<Item = &'a [Interval]>, rows: &[&[Interval]], cols: usize) -> IMat {
-    let mut flat = Vec::new();
-    let mut n = 0;
+fn times<'a>(
+    left: impl ExactSizeIterator<Item = &'a [Interval]>,
+    rows: &[&[Interval]],
+    cols: usize,
+) -> IMat {
+    let n = left.len();
+    let mut flat = Vec::with_capacity(n * cols);
     for ai in left {
         crate::dot::row_times(&ai[..rows.len()], rows, &mut flat);
-        n += 1;
     }
     IMat::from_flat(n, cols, flat)
 }
@@ -120,7 +123,7 @@ impl Points {
             cols: m.ncols(),
         }
     }
-    fn rows(&self) -> impl Iterator<Item = &[Interval]> {
+    fn rows(&self) -> impl ExactSizeIterator<Item = &[Interval]> {
         (0..self.rows).map(move |i| &self.flat[i * self.cols..(i + 1) * self.cols])
     }
 }

@@ -698,8 +698,9 @@ fn remap(op: &Op, m: &[u32]) -> Op {
     }
 }
 
-/// Storage of the Taylor coefficients of every node, node-major. The storage is a per-thread
-/// scratch buffer, reused from one evaluation to the next (it is zeroed first).
+/// Storage of the Taylor coefficients of every node, node-major. The storage (and the
+/// record of non-zero coefficients) is per-thread scratch, reused from one evaluation to the
+/// next (it is reset first).
 struct Series<T: Coef> {
     n: usize,
     /// False once a singular operation (divisor or sqrt argument not proved safe) was met.
@@ -719,12 +720,15 @@ impl<T: Coef> Series<T> {
         let mut c = T::scratch().with(|s| s.take());
         c.clear();
         c.resize(2 * nodes * n, T::zero());
+        let mut nz = SCRATCH_NZ.with(|s| s.take());
+        nz.clear();
+        nz.resize(nodes, (usize::MAX, 0));
         Series {
             n,
             ok: true,
             c,
             aux_at: nodes * n,
-            nz: vec![(usize::MAX, 0); nodes],
+            nz,
         }
     }
     fn get(&self, node: u32, k: usize) -> T {
@@ -945,6 +949,8 @@ impl<T: Coef> Drop for Series<T> {
     fn drop(&mut self) {
         let c = std::mem::take(&mut self.c);
         T::scratch().with(|s| s.replace(c));
+        let nz = std::mem::take(&mut self.nz);
+        SCRATCH_NZ.with(|s| s.replace(nz));
     }
 }
 
@@ -971,6 +977,7 @@ fn charge(ops: usize, order: usize) {
 thread_local! {
     static SCRATCH_INTERVAL: RefCell<Vec<Interval>> = const { RefCell::new(Vec::new()) };
     static SCRATCH_F64: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
+    static SCRATCH_NZ: RefCell<Vec<(usize, usize)>> = const { RefCell::new(Vec::new()) };
 }
 
 /// A coefficient type for the Taylor recurrences: intervals (rigorous, with the domain
