@@ -37,11 +37,13 @@ pub(super) fn flow_set_general(
     let precise = c1_mode == C1::Precise;
     let mut total_jac: Option<JacobianSet> = None;
     let d = set.m.len();
-    let p = if opts.order == 0 {
+    let mut p = if opts.order == 0 {
         DEFAULT_ORDER
     } else {
         opts.order
     };
+    // (5.8) (e) whether the order of a short span is still to be chosen (at the first step)
+    let mut choose_order = opts.order == 0 && opts.step <= 0.0;
     let mut stats = FlowStats {
         order: p,
         steps: 0,
@@ -69,27 +71,52 @@ pub(super) fn flow_set_general(
         let rem = (total - done).intersection(iv(0.0, f64::MAX));
         // (5.3) Taylor coefficients at the centre, for every try of this step.
         let centre: Vec<Interval> = set.m.iter().map(|x| point(*x)).collect();
-        let c = sys.field.ode_taylor(&centre, p).ok_or_else(|| {
-            Error::refused(Reason::Undefined, "vector field not defined at the state")
-                .reached(done.inf())
-        })?;
-        // A fixed step (spec eq. (5.13)) or the rule of (5.8).
-        let fixed = opts.step > 0.0;
-        // the coefficients' midpoints, for the rules (5.8) and (5.8') (choices only)
-        let mid: Coeffs<f64> = if fixed {
-            Coeffs::from_rows(0, [])
-        } else {
-            c.map(|x| x.mid())
-        };
-        let mut h = if fixed {
-            round_step(opts.step)
-        } else {
-            let rule = step_size(mid.rows(), p, &set.m);
+        // the step of the rule (5.8) (a)-(c) at order `p`, from the coefficients' midpoints
+        // (choices only)
+        let rule_at = |mid: Rows<'_, f64>, p: usize| {
+            let rule = step_size(mid.first(p + 1), p, &set.m);
             let predicted = memo.map_or(rule, |(h0, ratio)| h0 * rescale(ratio, p, 1.5));
             let cap = ceiling.map_or(f64::INFINITY, |(hc, k)| {
                 hc * 0.97 * (1.0 + CEILING_GROWTH).powi(k)
             });
             round_step_fine(rule.min(predicted).min(cap))
+        };
+        // (5.8) (e) A span that takes two or three steps (at most SHORT_REST) at order `p`
+        // from its start is taken at SHORT_ORDER: fewer, longer steps where the span sets
+        // their number. The series goes on from order p to SHORT_ORDER when it does.
+        // (the midpoints to order p are kept for the rule when the series stops there)
+        let mut mid_p: Option<Coeffs<f64>> = None;
+        let mut short = |c: Rows<'_, Interval>| {
+            let mid = Coeffs::from_rows(c.width(), c.iter()).map(|x| x.mid());
+            let h = rule_at(mid.rows(), p);
+            mid_p = Some(mid);
+            h < rem.inf() && (rem.sup() / h).ceil() <= SHORT_REST
+        };
+        let more = if choose_order { SHORT_ORDER } else { p };
+        let c = sys
+            .field
+            .ode_taylor_until(&centre, p, more, |c| !short(c))
+            .ok_or_else(|| {
+                Error::refused(Reason::Undefined, "vector field not defined at the state")
+                    .reached(done.inf())
+            })?;
+        if choose_order {
+            choose_order = false;
+            p = c.len() - 1;
+            stats.order = p;
+        }
+        // A fixed step (spec eq. (5.13)) or the rule of (5.8).
+        let fixed = opts.step > 0.0;
+        // the coefficients' midpoints, for the rules (5.8) and (5.8') (choices only)
+        let mid: Coeffs<f64> = match mid_p {
+            _ if fixed => Coeffs::from_rows(0, []),
+            Some(mid) if mid.len() == c.len() => mid,
+            _ => c.map(|x| x.mid()),
+        };
+        let mut h = if fixed {
+            round_step(opts.step)
+        } else {
+            rule_at(mid.rows(), p)
         }
         .min(rem.inf());
         // (5.8) (d) In a rest of the span that takes at most SHORT_REST steps of this size,
@@ -236,6 +263,9 @@ pub(super) fn flow_set_general(
 /// (5.8) (d): in a rest of the span that takes at most this many steps, the steps are not
 /// sliced.
 pub(super) const SHORT_REST: f64 = 3.0;
+
+/// (5.8) (e): the order of a span that takes at most SHORT_REST steps at DEFAULT_ORDER.
+pub(super) const SHORT_ORDER: usize = 28;
 
 /// The lower orders a last step may take instead of the flow's order (spec (5.8')).
 pub(super) const LOW_ORDERS: [usize; 5] = [6, 8, 10, 12, 15];

@@ -499,22 +499,52 @@ impl Tape {
     /// containing 0, a square root of an enclosure not in (0, inf), or a non-finite
     /// coefficient (spec eq. (2.8)).
     pub fn ode_taylor<T: Coef>(&self, x0: &[T], order: usize) -> Option<Coeffs<T>> {
+        self.ode_taylor_until(x0, order, order, |_| true)
+    }
+
+    /// [`Tape::ode_taylor`] to `order`, then on to `more` unless `enough`, shown the
+    /// coefficients to `order`, says they suffice (the recurrences go on from where they
+    /// stopped: the coefficients to `more` are those of `ode_taylor(x0, more)`).
+    pub fn ode_taylor_until<T: Coef>(
+        &self,
+        x0: &[T],
+        order: usize,
+        more: usize,
+        enough: impl FnOnce(Rows<'_, T>) -> bool,
+    ) -> Option<Coeffs<T>> {
         let d = self.n_inputs;
+        let top = order.max(more);
         charge(self.ops.len(), order);
-        let mut s = Series::new(self.ops.len(), order + 1);
-        let mut flat: Vec<T> = Vec::with_capacity((order + 1) * d);
+        let mut s = Series::new(self.ops.len(), top + 1);
+        let mut flat: Vec<T> = Vec::with_capacity((top + 1) * d);
         flat.extend_from_slice(x0);
-        for k in 0..=order {
-            // Coefficient `order` of the nodes is not needed (only x_0 .. x_order are
+        let mut target = order;
+        let mut enough = Some(enough);
+        let mut k = 0;
+        loop {
+            if k == target && target < top {
+                if let Some(enough) = enough.take() {
+                    let rows = Rows {
+                        width: d,
+                        len: k + 1,
+                        flat: &flat,
+                    };
+                    if !enough(rows) {
+                        charge_more(self.ops.len(), order, top);
+                        target = top;
+                    }
+                }
+            }
+            // Coefficient `target` of the nodes is not needed (only x_0 .. x_target are
             // returned); step 0 always runs, since it carries the domain checks (2.8).
-            if k == order && k > 0 {
+            if k == target && k > 0 {
                 break;
             }
             s.step(&self.ops, k, &flat[k * d..(k + 1) * d]);
             if !s.ok {
                 return None;
             }
-            if k == order {
+            if k == target {
                 break;
             }
             let kk = T::cst((k + 1) as f64);
@@ -525,10 +555,11 @@ impl Tape {
                 }
                 flat.push(next);
             }
+            k += 1;
         }
         Some(Coeffs {
             width: d,
-            len: order + 1,
+            len: target + 1,
             flat,
         })
     }
@@ -968,10 +999,21 @@ pub fn work_done() -> u64 {
 }
 
 fn charge(ops: usize, order: usize) {
+    let terms = terms(ops, order);
+    WORK.with(|w| w.set(w.get().saturating_add(terms)));
+}
+
+/// The work of carrying a series of order `from` on to `to` (the difference of their work).
+fn charge_more(ops: usize, from: usize, to: usize) {
+    let terms = terms(ops, to).saturating_sub(terms(ops, from));
+    WORK.with(|w| w.set(w.get().saturating_add(terms)));
+}
+
+/// `L (p + 1) (p + 2) / 2`.
+fn terms(ops: usize, order: usize) -> u64 {
     let order = order as u64;
     let per_op = order.saturating_add(1).saturating_mul(order.saturating_add(2)) / 2;
-    let terms = (ops as u64).saturating_mul(per_op);
-    WORK.with(|w| w.set(w.get().saturating_add(terms)));
+    (ops as u64).saturating_mul(per_op)
 }
 
 thread_local! {
