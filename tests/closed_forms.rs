@@ -843,6 +843,21 @@ fn long_times_knife() {
 // ---------------------------------------------------------------------------------------
 // Extremes.
 
+/// Spec (5.8) (e) and (5.4'): a span of two or three steps at order 22 runs at order 28,
+/// and the retry of a rejected try uses that try's a priori box; the state still meets
+/// the closed form.
+#[test]
+fn particle_short_span_at_order_28_with_a_retry() {
+    for q in [[0.0, 0.0, 0.0], [0.0, 0.4, 0.0], [1.0, 1.0, -1.0]] {
+        let e = check_one(Scene::Particle, q, [0.8, 0.8], 0.5);
+        assert_eq!(e.stats.order, 28, "q = {q:?}");
+        assert!(e.stats.rejected >= 1, "q = {q:?}: {:?}", e.stats);
+    }
+    // a span of one step keeps order 22 (and its last step a lower one, (5.8'))
+    let e = check_one(Scene::Particle, [0.0, 0.0, 0.0], [0.8, 0.8], 0.05);
+    assert_eq!((e.stats.order, e.stats.steps), (22, 1));
+}
+
 #[test]
 fn particle_u2_zero() {
     for (q, u, t) in [

@@ -1165,6 +1165,43 @@ mod tests {
         assert!(tape.ode_taylor(&[point(0.0)], 3).is_none());
     }
 
+    /// `ode_taylor_until`: stopped at `order`, the coefficients of `ode_taylor(x0, order)`;
+    /// carried on, those of `ode_taylor(x0, more)`, bit for bit (the recurrences go on from
+    /// where they stopped); and `enough` is shown the rows to `order`. On the field of the
+    /// particle's velocity (with a quotient, whose recurrence reads its own coefficients)
+    /// and a sine (with its companion series).
+    #[test]
+    fn a_series_carried_on_is_the_series_of_the_higher_order() {
+        let tape = Tape::record(3, |x| {
+            let (y, u1, u2) = (x[0], x[1], x[2]);
+            vec![u2, -(y * u1 * u2) / (Tracer::one() + y * y) + y.sin(), Tracer::zero()]
+        });
+        let x0 = [point(0.4), crate::scalar::iv(0.8, 0.8000000000000002), point(0.8)];
+        let same = |a: &Coeffs<Interval>, b: &Coeffs<Interval>| {
+            a.len() == b.len()
+                && a.iter()
+                    .zip(b.iter())
+                    .all(|(r, s)| r.iter().zip(s).all(|(x, y)| x.inf() == y.inf() && x.sup() == y.sup()))
+        };
+        let mut seen = 0;
+        let stopped = tape
+            .ode_taylor_until(&x0, 12, 20, |rows| {
+                seen = rows.len();
+                true
+            })
+            .unwrap();
+        assert_eq!(seen, 13);
+        assert!(same(&stopped, &tape.ode_taylor(&x0, 12).unwrap()));
+        let carried = tape.ode_taylor_until(&x0, 12, 20, |_| false).unwrap();
+        assert!(same(&carried, &tape.ode_taylor(&x0, 20).unwrap()));
+        // the work counter charges the work of the order reached
+        let before = work_done();
+        tape.ode_taylor_until(&x0, 12, 20, |_| false).unwrap();
+        let carried_work = work_done() - before;
+        tape.ode_taylor(&x0, 20).unwrap();
+        assert_eq!(work_done() - before - carried_work, carried_work);
+    }
+
     #[test]
     fn taylor_coefficients_of_exp_and_rotation() {
         // x' = x from x(0) = 1: coefficients 1/k!
