@@ -26,9 +26,10 @@ use linalg::IMat;
 /// Settings of the validated integrator. `order = 0` chooses automatically.
 #[derive(Clone, Debug)]
 pub struct FlowOptions {
-    /// Taylor order `p` of the steps. `0` (default): `p = 22` (`DEFAULT_ORDER`), and a step
-    /// that reaches the end may take a lower order that also reaches it (spec eqs. (5.8),
-    /// (5.8')); a given order is used for every step.
+    /// Taylor order `p` of the steps. `0` (default): `p = 22` (`DEFAULT_ORDER`), or 28 for
+    /// a span of two or three steps (spec (5.8) (e)), and a step that reaches the end may
+    /// take a lower order that also reaches it (spec eqs. (5.8), (5.8')); a given order is
+    /// used for every step.
     pub order: usize,
     /// Refuse (exit 3) rather than take more steps than this.
     pub max_steps: usize,
