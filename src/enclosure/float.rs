@@ -3,6 +3,7 @@
 
 use super::control::*;
 use super::*;
+use crate::tape::Rows;
 use nalgebra::DMatrix;
 
 /// A float Taylor integration of `x' = F(x)` and of its variational equation over time `t`,
@@ -42,11 +43,14 @@ pub(super) fn float_flow_var(
     opts: &FlowOptions,
 ) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
     let (d, cols) = (x0.len(), w0.ncols());
-    let p = if opts.order == 0 {
+    let mut p = if opts.order == 0 {
         DEFAULT_ORDER
     } else {
         opts.order
     };
+    // (5.8) (e) as in the validated flows: a span of two or three steps at order p runs at
+    // SHORT_ORDER (the series of the first step goes on from p)
+    let mut choose_order = opts.order == 0;
     let mut xw: Vec<f64> = x0.to_vec();
     xw.extend(
         (0..d)
@@ -59,7 +63,16 @@ pub(super) fn float_flow_var(
             let w = DMatrix::from_fn(d, cols, |i, j| xw[d + i * cols + j]);
             return Some((xw[..d].to_vec(), w, steps));
         }
-        let c = tape.ode_taylor::<f64>(&xw, p)?;
+        let more = if choose_order { SHORT_ORDER } else { p };
+        let short = |c: Rows<'_, f64>| {
+            let h = step_size(c, p, &xw);
+            h < t - done && ((t - done) / h).ceil() <= SHORT_REST
+        };
+        let c = tape.ode_taylor_until::<f64>(&xw, p, more, |c| !short(c))?;
+        if choose_order {
+            choose_order = false;
+            p = c.len() - 1;
+        }
         // The step rule (5.8) on the state AND the variational series: the Jacobian's series
         // can have a smaller radius of convergence than the state's (e.g. the particle with
         // u1 = 0: x(t) stays 0 while D x / D u1 = asinh(u2 t) / u2 is singular at t = i/u2).

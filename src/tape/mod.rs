@@ -515,8 +515,8 @@ impl Tape {
         let d = self.n_inputs;
         let top = order.max(more);
         charge(self.ops.len(), order);
-        let mut s = Series::new(self.ops.len(), top + 1);
-        let mut flat: Vec<T> = Vec::with_capacity((top + 1) * d);
+        let mut s = Series::new(self.ops.len(), order + 1);
+        let mut flat: Vec<T> = Vec::with_capacity((order + 1) * d);
         flat.extend_from_slice(x0);
         let mut target = order;
         let mut enough = Some(enough);
@@ -531,6 +531,7 @@ impl Tape {
                     };
                     if !enough(rows) {
                         charge_more(self.ops.len(), order, top);
+                        s.widen(top + 1);
                         target = top;
                     }
                 }
@@ -761,6 +762,20 @@ impl<T: Coef> Series<T> {
             aux_at: nodes * n,
             nz,
         }
+    }
+    /// Room for `n` coefficients per node (and companion), those computed kept.
+    fn widen(&mut self, n: usize) {
+        if n <= self.n {
+            return;
+        }
+        let rows = 2 * self.aux_at / self.n;
+        let mut c = vec![T::zero(); rows * n];
+        for (to, from) in c.chunks_mut(n).zip(self.c.chunks(self.n)) {
+            to[..self.n].copy_from_slice(from);
+        }
+        self.c = c;
+        self.aux_at = rows / 2 * n;
+        self.n = n;
     }
     fn get(&self, node: u32, k: usize) -> T {
         self.c[node as usize * self.n + k]
