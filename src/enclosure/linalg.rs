@@ -98,7 +98,12 @@ fn times<'a>(
     let n = left.len();
     let mut flat = Vec::with_capacity(n * cols);
     for ai in left {
-        crate::dot::row_times(&ai[..rows.len()], rows, &mut flat);
+        if rows.is_empty() {
+            // an empty sum: a row of zeros
+            flat.extend(std::iter::repeat_n(point(0.0), cols));
+        } else {
+            crate::dot::row_times(&ai[..rows.len()], rows, &mut flat);
+        }
     }
     IMat::from_flat(n, cols, flat)
 }
@@ -226,6 +231,22 @@ pub fn enclose_inverse(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IMat> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Products keep their shape, an empty inner dimension included (then every entry is
+    /// the empty sum 0).
+    #[test]
+    fn products_have_the_shape_of_their_factors() {
+        let a = IMat::from_fn(2, 3, |i, j| point((i + j) as f64));
+        let b = DMatrix::from_fn(3, 4, |i, j| (i * j) as f64);
+        let ab = mul_points(&a, &b);
+        assert_eq!((ab.nrows(), ab.ncols()), (2, 4));
+        // row 1 of a is (1, 2, 3); column 3 of b is (0, 3, 6): 0 + 6 + 18
+        assert_eq!((ab[1][3].inf(), ab[1][3].sup()), (24.0, 24.0));
+        let empty = mul(&IMat::from_flat(2, 0, Vec::new()), &IMat::from_flat(0, 3, Vec::new()));
+        assert_eq!((empty.nrows(), empty.ncols()), (2, 3));
+        assert!(empty.entries().iter().all(|x| x.inf() == 0.0 && x.sup() == 0.0));
+        assert_eq!(a.to_rows()[1], vec![point(1.0), point(2.0), point(3.0)]);
+    }
 
     #[test]
     fn inverse_enclosure_contains_the_exact_inverse_of_a_rotation() {
