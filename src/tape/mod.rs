@@ -504,7 +504,10 @@ impl Tape {
 
     /// [`Tape::ode_taylor`] to `order`, then on to `more` unless `enough`, shown the
     /// coefficients to `order`, says they suffice (the recurrences go on from where they
-    /// stopped: the coefficients to `more` are those of `ode_taylor(x0, more)`).
+    /// stopped: the coefficients to `more` are those of `ode_taylor(x0, more)`). Should a
+    /// coefficient past `order` not be finite (or a check of (2.8) fail there), the
+    /// coefficients to `order` are returned: going on is a choice, and never costs the
+    /// series it started from.
     pub fn ode_taylor_until<T: Coef>(
         &self,
         x0: &[T],
@@ -542,19 +545,28 @@ impl Tape {
                 break;
             }
             s.step(&self.ops, k, &flat[k * d..(k + 1) * d]);
-            if !s.ok {
-                return None;
+            let mut failed = !s.ok;
+            if !failed && k < target {
+                let kk = T::cst((k + 1) as f64);
+                for i in 0..d {
+                    let next = s.get(self.outputs[i], k).quot(kk);
+                    failed |= !next.is_finite_coef();
+                    flat.push(next);
+                }
+            }
+            if failed {
+                // steps 0 .. order - 1 make the coefficients to `order`, step 0 the domain
+                // checks (2.8): a failure there fails the series
+                if k < order || k == 0 {
+                    return None;
+                }
+                // past `order`: the series to `order` stands
+                flat.truncate((order + 1) * d);
+                target = order;
+                break;
             }
             if k == target {
                 break;
-            }
-            let kk = T::cst((k + 1) as f64);
-            for i in 0..d {
-                let next = s.get(self.outputs[i], k).quot(kk);
-                if !next.is_finite_coef() {
-                    return None;
-                }
-                flat.push(next);
             }
             k += 1;
         }
@@ -1215,6 +1227,24 @@ mod tests {
         let carried_work = work_done() - before;
         tape.ode_taylor(&x0, 20).unwrap();
         assert_eq!(work_done() - before - carried_work, carried_work);
+    }
+
+    /// A series carried on past a coefficient that overflows stops at `order`, with the
+    /// coefficients to `order`: `x' = x^2` from `x0 = 10^12` has `x_k = x0^(k+1)`, finite to
+    /// k = 24 and not at 25. Failures up to `order` still fail the series.
+    #[test]
+    fn a_series_carried_into_overflow_keeps_its_order() {
+        let tape = Tape::record(1, |x| vec![x[0] * x[0]]);
+        let x0 = [1e12f64];
+        let c = tape.ode_taylor_until(&x0, 22, 28, |_| false).unwrap();
+        assert_eq!(c.len(), 23);
+        assert_eq!(c.iter().collect::<Vec<_>>(), tape.ode_taylor(&x0, 22).unwrap().iter().collect::<Vec<_>>());
+        assert!(tape.ode_taylor(&x0, 28).is_none());
+        assert!(tape.ode_taylor_until(&x0, 26, 28, |_| false).is_none());
+        // the domain checks of step 0 fail a series of order 0 too
+        let tape = Tape::record(1, |x| vec![x[0].sqrt()]);
+        assert!(tape.ode_taylor_until(&[point(-1.0)], 0, 4, |_| false).is_none());
+        assert!(tape.ode_taylor(&[point(-1.0)], 0).is_none());
     }
 
     #[test]
