@@ -81,16 +81,12 @@ pub(super) fn flow_set_general(
             });
             round_step_fine(rule.min(predicted).min(cap))
         };
-        // (5.8) (e) A span that takes two or three steps (at most SHORT_REST) at order `p`
-        // from its start is taken at SHORT_ORDER: fewer, longer steps where the span sets
-        // their number. The series goes on from order p to SHORT_ORDER when it does.
-        // (the midpoints to order p are kept for the rule when the series stops there)
-        let mut mid_p: Option<Coeffs<f64>> = None;
-        let mut short = |c: Rows<'_, Interval>| {
-            let mid = Coeffs::from_rows(c.width(), c.iter()).map(|x| x.mid());
-            let h = rule_at(mid.rows(), p);
-            mid_p = Some(mid);
-            h < rem.inf() && (rem.sup() / h).ceil() <= SHORT_REST
+        // (5.8) (e) A span that takes two or three steps at order `p` from its start is
+        // taken at SHORT_ORDER: fewer, longer steps where the span sets their number. The
+        // series goes on from order p to SHORT_ORDER when it does.
+        let short = |c: Rows<'_, Interval>| {
+            let h = rule_at(c.map(|x| x.mid()).rows(), p);
+            short_span(rem.inf(), rem.sup(), h)
         };
         let more = if choose_order { SHORT_ORDER } else { p };
         let c = sys
@@ -108,10 +104,10 @@ pub(super) fn flow_set_general(
         // A fixed step (spec eq. (5.13)) or the rule of (5.8).
         let fixed = opts.step > 0.0;
         // the coefficients' midpoints, for the rules (5.8) and (5.8') (choices only)
-        let mid: Coeffs<f64> = match mid_p {
-            _ if fixed => Coeffs::from_rows(0, []),
-            Some(mid) if mid.len() == c.len() => mid,
-            _ => c.map(|x| x.mid()),
+        let mid: Coeffs<f64> = if fixed {
+            Coeffs::from_rows(0, [])
+        } else {
+            c.map(|x| x.mid())
         };
         let mut h = if fixed {
             round_step(opts.step)
@@ -121,7 +117,7 @@ pub(super) fn flow_set_general(
         .min(rem.inf());
         // (5.8) (d) In a rest of the span that takes at most SHORT_REST steps of this size,
         // the remainder is held to the tolerance without slices (5.5).
-        let short_rest = !fixed && (rem.sup() / h).ceil() <= SHORT_REST;
+        let short_rest = !fixed && within_short_rest(rem.sup(), h);
         let mut last = h >= rem.inf();
         // (5.8') A last step that a lower order also reaches in one step takes that order
         // (the work of a Taylor series grows like the square of its order): a short flow,
@@ -266,6 +262,17 @@ pub(super) const SHORT_REST: f64 = 3.0;
 
 /// (5.8) (e): the order of a span that takes at most SHORT_REST steps at DEFAULT_ORDER.
 pub(super) const SHORT_ORDER: usize = 28;
+
+/// (5.8) (d): whether a rest of length `rest` takes at most SHORT_REST steps of size `h`.
+pub(super) fn within_short_rest(rest: f64, h: f64) -> bool {
+    (rest / h).ceil() <= SHORT_REST
+}
+
+/// (5.8) (e): whether a span `[lo, hi]` long takes two or three (at most SHORT_REST) steps
+/// of size `h`: more than one, and no more than a short rest.
+pub(super) fn short_span(lo: f64, hi: f64, h: f64) -> bool {
+    h < lo && within_short_rest(hi, h)
+}
 
 /// The lower orders a last step may take instead of the flow's order (spec (5.8')).
 pub(super) const LOW_ORDERS: [usize; 5] = [6, 8, 10, 12, 15];

@@ -64,10 +64,7 @@ pub(super) fn float_flow_var(
             return Some((xw[..d].to_vec(), w, steps));
         }
         let more = if choose_order { SHORT_ORDER } else { p };
-        let short = |c: Rows<'_, f64>| {
-            let h = step_size(c, p, &xw);
-            h < t - done && ((t - done) / h).ceil() <= SHORT_REST
-        };
+        let short = |c: Rows<'_, f64>| short_span(t - done, t - done, step_size(c, p, &xw));
         let c = tape.ode_taylor_until::<f64>(&xw, p, more, |c| !short(c))?;
         if choose_order {
             choose_order = false;

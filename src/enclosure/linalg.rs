@@ -38,9 +38,6 @@ impl IMat {
     pub fn nrows(&self) -> usize {
         self.rows
     }
-    pub fn ncols(&self) -> usize {
-        self.cols
-    }
     /// The rows, in order.
     pub fn rows(&self) -> impl ExactSizeIterator<Item = &[Interval]> {
         (0..self.rows).map(move |i| &self[i])
@@ -82,76 +79,27 @@ pub fn identity(n: usize) -> IMat {
     IMat::from_fn(n, n, |i, j| point(if i == j { 1.0 } else { 0.0 }))
 }
 
-/// `a b` in interval arithmetic (sums by fused multiply-add, outward rounded; a row at a
-/// time, spec (1.4)).
-pub fn mul(a: &IMat, b: &IMat) -> IMat {
-    times(a.rows(), &b.rows().collect::<Vec<_>>(), b.ncols())
+/// `I - a` for a square `a`, entrywise.
+pub fn identity_minus(a: &IMat) -> IMat {
+    IMat::from_fn(a.rows, a.cols, |i, j| {
+        point(if i == j { 1.0 } else { 0.0 }) - a[i][j]
+    })
 }
 
-/// The rows `left` times the matrix with rows `rows` (`cols` entries each), each product
-/// row by the kernel.
-fn times<'a>(
-    left: impl ExactSizeIterator<Item = &'a [Interval]>,
-    rows: &[&[Interval]],
-    cols: usize,
-) -> IMat {
-    let n = left.len();
-    let mut flat = Vec::with_capacity(n * cols);
-    for ai in left {
+/// `a b` in interval arithmetic (sums by fused multiply-add, outward rounded; a row at a
+/// time by the kernel, spec (1.4)). A float factor enters as `imat` (its points are exact).
+pub fn mul(a: &IMat, b: &IMat) -> IMat {
+    let rows: Vec<&[Interval]> = b.rows().collect();
+    let mut flat = Vec::with_capacity(a.rows * b.cols);
+    for ai in a.rows() {
         if rows.is_empty() {
             // an empty sum: a row of zeros
-            flat.extend(std::iter::repeat_n(point(0.0), cols));
+            flat.extend(std::iter::repeat_n(point(0.0), b.cols));
         } else {
-            crate::dot::row_times(&ai[..rows.len()], rows, &mut flat);
+            crate::dot::row_times(&ai[..rows.len()], &rows, &mut flat);
         }
     }
-    IMat::from_flat(n, cols, flat)
-}
-
-/// A float matrix with its entries as point intervals (exact), in one buffer:
-/// `Points::of(m).rows()` are the rows of `imat(m)`.
-struct Points {
-    flat: Vec<Interval>,
-    rows: usize,
-    cols: usize,
-}
-
-impl Points {
-    fn of(m: &DMatrix<f64>) -> Self {
-        let mut flat = Vec::with_capacity(m.nrows() * m.ncols());
-        for i in 0..m.nrows() {
-            flat.extend(m.row(i).iter().map(|x| point(*x)));
-        }
-        Points {
-            flat,
-            rows: m.nrows(),
-            cols: m.ncols(),
-        }
-    }
-    fn rows(&self) -> impl ExactSizeIterator<Item = &[Interval]> {
-        (0..self.rows).map(move |i| &self.flat[i * self.cols..(i + 1) * self.cols])
-    }
-}
-
-/// `a b` for a float matrix `b`: the same doubles as `mul(a, &imat(b))` (its entries are
-/// exact as points), without forming the matrix of points row by row.
-pub fn mul_points(a: &IMat, b: &DMatrix<f64>) -> IMat {
-    let b = Points::of(b);
-    times(a.rows(), &b.rows().collect::<Vec<_>>(), b.cols)
-}
-
-/// `a b` for a float matrix `a`: the same doubles as `mul(&imat(a), b)`.
-pub fn points_mul(a: &DMatrix<f64>, b: &IMat) -> IMat {
-    times(
-        Points::of(a).rows(),
-        &b.rows().collect::<Vec<_>>(),
-        b.ncols(),
-    )
-}
-
-/// `a x` for a float matrix `a`: the same doubles as `mul_vec(&imat(a), x)`.
-pub fn points_mul_vec(a: &DMatrix<f64>, x: &[Interval]) -> Vec<Interval> {
-    Points::of(a).rows().map(|r| row_dot(r, x)).collect()
+    IMat::from_flat(a.rows, b.cols, flat)
 }
 
 /// `a + b`, entrywise.
@@ -206,8 +154,8 @@ pub fn all_finite(a: &IMat) -> bool {
 /// `None` when `d >= 1/2` (the approximate inverse is too poor to prove anything useful).
 pub fn enclose_inverse(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IMat> {
     let n = b.nrows();
-    let xb = mul_points(&imat(x), b);
-    let e = IMat::from_fn(n, n, |i, j| point(if i == j { 1.0 } else { 0.0 }) - xb[i][j]);
+    let xi = imat(x);
+    let e = identity_minus(&mul(&xi, &imat(b)));
     if !all_finite(&e) {
         return None;
     }
@@ -224,7 +172,7 @@ pub fn enclose_inverse(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IMat> {
             *x = *x + tail + point(if i == j { 1.0 } else { 0.0 });
         }
     }
-    let r = mul_points(&s, x);
+    let r = mul(&s, &xi);
     all_finite(&r).then_some(r)
 }
 
@@ -238,12 +186,12 @@ mod tests {
     fn products_have_the_shape_of_their_factors() {
         let a = IMat::from_fn(2, 3, |i, j| point((i + j) as f64));
         let b = DMatrix::from_fn(3, 4, |i, j| (i * j) as f64);
-        let ab = mul_points(&a, &b);
-        assert_eq!((ab.nrows(), ab.ncols()), (2, 4));
+        let ab = mul(&a, &imat(&b));
+        assert_eq!((ab.nrows(), ab[1].len()), (2, 4));
         // row 1 of a is (1, 2, 3); column 3 of b is (0, 3, 6): 0 + 6 + 18
         assert_eq!((ab[1][3].inf(), ab[1][3].sup()), (24.0, 24.0));
         let empty = mul(&IMat::from_flat(2, 0, Vec::new()), &IMat::from_flat(0, 3, Vec::new()));
-        assert_eq!((empty.nrows(), empty.ncols()), (2, 3));
+        assert_eq!((empty.nrows(), empty[1].len()), (2, 3));
         assert!(empty.entries().iter().all(|x| x.inf() == 0.0 && x.sup() == 0.0));
         assert_eq!(a.to_rows()[1], vec![point(1.0), point(2.0), point(3.0)]);
     }

@@ -127,8 +127,8 @@ impl LohnerSet {
         r: &[Interval],
         boxed: &[Interval],
     ) -> Vec<Interval> {
-        let cr0 = linalg::points_mul_vec(&self.c, r0);
-        let br = linalg::points_mul_vec(&self.b, r);
+        let cr0 = linalg::mul_vec(&linalg::imat(&self.c), r0);
+        let br = linalg::mul_vec(&linalg::imat(&self.b), r);
         self.m
             .iter()
             .zip(cr0.iter().zip(br))
@@ -151,7 +151,7 @@ impl LohnerSet {
     /// this basis (5.15) needs.
     pub(super) fn reorganise(&mut self, b_inv: &IMat) -> DMatrix<f64> {
         let d = self.m.len();
-        let bc = linalg::mul_points(b_inv, &self.c);
+        let bc = linalg::mul(b_inv, &linalg::imat(&self.c));
         let fold = |r0: &[Interval], r: &[Interval]| -> Vec<Interval> {
             linalg::mul_vec(&bc, r0)
                 .iter()
@@ -179,8 +179,8 @@ impl LohnerSet {
         let at_m = g_jac.eval_checked(&self.m.iter().map(|x| point(*x)).collect::<Vec<_>>())?;
         let over = g_jac.eval_checked(&self.hull())?;
         let dg = IMat::from_flat(k, d, over[k..k + k * d].to_vec());
-        let lin0 = linalg::mul_vec(&linalg::mul_points(&dg, &self.c), &self.r0);
-        let lin1 = linalg::mul_vec(&linalg::mul_points(&dg, &self.b), &self.r);
+        let lin0 = linalg::mul_vec(&linalg::mul(&dg, &linalg::imat(&self.c)), &self.r0);
+        let lin1 = linalg::mul_vec(&linalg::mul(&dg, &linalg::imat(&self.b)), &self.r);
         let lin: Vec<Interval> = lin0.iter().zip(&lin1).map(|(a, b)| *a + *b).collect();
         let out: Vec<Interval> = (0..k)
             .map(|i| {
@@ -214,7 +214,7 @@ impl JacobianSet {
     /// (5.15) One step: `[J]` the step's derivative factor, `ba = [B'^{-1}][J B]` and
     /// `b_inv = [B'^{-1}]` from the state's update (5.10).
     pub(super) fn step(&self, jac: &IMat, ba: &IMat, b_inv: &IMat) -> Self {
-        let (c, off) = linalg::split(&linalg::mul_points(jac, &self.c));
+        let (c, off) = linalg::split(&linalg::mul(jac, &linalg::imat(&self.c)));
         let r = linalg::add(&linalg::mul(ba, &self.r), &linalg::mul(b_inv, &off));
         JacobianSet { c, r }
     }
@@ -223,14 +223,14 @@ impl JacobianSet {
     pub(super) fn rebase(&self, b: &DMatrix<f64>) -> Self {
         JacobianSet {
             c: self.c.clone(),
-            r: linalg::points_mul(b, &self.r),
+            r: linalg::mul(&linalg::imat(b), &self.r),
         }
     }
     /// `C + [B][R]` in intervals.
     pub(super) fn hull(&self, b: &DMatrix<f64>) -> IMat {
         linalg::add(
             &linalg::imat(&self.c),
-            &linalg::points_mul(b, &self.r),
+            &linalg::mul(&linalg::imat(b), &self.r),
         )
     }
 }

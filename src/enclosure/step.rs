@@ -149,8 +149,8 @@ pub(super) fn lohner_step(
         Some(jac) => (z, jac, ratio),
         None => box_enclosure(sys, &xbox, &phi, h, p, scale, tol, c1)?,
     };
-    let a = linalg::mul_points(&jac, &set.b);
-    let jc = linalg::mul_points(&jac, &set.c);
+    let a = linalg::mul(&jac, &linalg::imat(&set.b));
+    let jc = linalg::mul(&jac, &linalg::imat(&set.c));
     if !z.iter().all(|x| finite(*x)) || !linalg::all_finite(&a) || !linalg::all_finite(&jc) {
         return Err(StepFail::Shrink);
     }

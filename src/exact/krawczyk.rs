@@ -108,10 +108,7 @@ fn inflate(
                 "shooting map not finite at the Newton point",
             )));
         }
-        let cd = linalg::mul(&ci, &IMat::from_rows(&d));
-        let i_minus_cd = IMat::from_fn(n, n, |i, j| {
-            point(if i == j { 1.0 } else { 0.0 }) - cd[i][j]
-        });
+        let i_minus_cd = linalg::identity_minus(&linalg::mul(&ci, &IMat::from_rows(&d)));
         let dx: Vec<Interval> = (0..n).map(|i| x[i] - zt[i]).collect();
         let lin = linalg::mul_vec(&i_minus_cd, &dx);
         let k: Vec<Interval> = (0..n).map(|i| zt[i] - cg[i] + lin[i]).collect();

@@ -517,7 +517,7 @@ impl Tape {
     ) -> Option<Coeffs<T>> {
         let d = self.n_inputs;
         let top = order.max(more);
-        charge(self.ops.len(), order);
+        charge(terms(self.ops.len(), order));
         let mut s = Series::new(self.ops.len(), order + 1);
         let mut flat: Vec<T> = Vec::with_capacity((order + 1) * d);
         flat.extend_from_slice(x0);
@@ -533,7 +533,8 @@ impl Tape {
                         flat: &flat,
                     };
                     if !enough(rows) {
-                        charge_more(self.ops.len(), order, top);
+                        let ops = self.ops.len();
+                        charge(terms(ops, top) - terms(ops, order));
                         s.widen(top + 1);
                         target = top;
                     }
@@ -637,11 +638,7 @@ impl<T: Copy> Coeffs<T> {
     }
     /// The same coefficients through `f`, entry by entry.
     pub fn map<U>(&self, f: impl Fn(&T) -> U) -> Coeffs<U> {
-        Coeffs {
-            width: self.width,
-            len: self.len,
-            flat: self.flat.iter().map(f).collect(),
-        }
+        self.rows().map(f)
     }
     /// The number of rows (the order plus one).
     pub fn len(&self) -> usize {
@@ -669,6 +666,14 @@ impl<'a, T> Rows<'a, T> {
     /// The entries of a row.
     pub fn width(&self) -> usize {
         self.width
+    }
+    /// These rows through `f`, entry by entry.
+    pub fn map<U>(self, f: impl Fn(&T) -> U) -> Coeffs<U> {
+        Coeffs {
+            width: self.width,
+            len: self.len,
+            flat: self.flat[..self.len * self.width].iter().map(f).collect(),
+        }
     }
     /// The first `n` rows (all of them if there are fewer).
     pub fn first(self, n: usize) -> Rows<'a, T> {
@@ -1025,14 +1030,8 @@ pub fn work_done() -> u64 {
     WORK.with(Cell::get)
 }
 
-fn charge(ops: usize, order: usize) {
-    let terms = terms(ops, order);
-    WORK.with(|w| w.set(w.get().saturating_add(terms)));
-}
-
-/// The work of carrying a series of order `from` on to `to` (the difference of their work).
-fn charge_more(ops: usize, from: usize, to: usize) {
-    let terms = terms(ops, to).saturating_sub(terms(ops, from));
+/// Adds `terms` to this thread's work.
+fn charge(terms: u64) {
     WORK.with(|w| w.set(w.get().saturating_add(terms)));
 }
 
