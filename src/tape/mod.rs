@@ -808,7 +808,9 @@ impl<T: Coef> Series<T> {
         for (idx, op) in ops.iter().enumerate() {
             let (val, aux) = match *op {
                 Op::Input(i) => (input_k[i], None),
-                Op::Const(c) => (if k == 0 { T::cst(c) } else { zero }, None),
+                // a constant's coefficients past 0 are 0, as `new` and `widen` left them
+                Op::Const(_) | Op::Pi if k > 0 => continue,
+                Op::Const(c) => (T::cst(c), None),
                 Op::Add(a, b) => (self.get(a, k) + self.get(b, k), None),
                 Op::Sub(a, b) => (self.get(a, k) - self.get(b, k), None),
                 Op::Neg(a) => (-self.get(a, k), None),
@@ -871,7 +873,7 @@ impl<T: Coef> Series<T> {
                         (c, Some(s))
                     }
                 }
-                Op::Pi => (if k == 0 { T::pi() } else { zero }, None),
+                Op::Pi => (T::pi(), None),
                 Op::Exp(a) => {
                     // (2.9) w_0 = exp(a_0); w_k = (1/k) sum_{j=1..k} j a_j w_{k-j}
                     let me = idx as u32;
@@ -1226,6 +1228,32 @@ mod tests {
         let carried_work = work_done() - before;
         tape.ode_taylor(&x0, 20).unwrap();
         assert_eq!(work_done() - before - carried_work, carried_work);
+    }
+
+    /// A constant's coefficients past 0 are exactly 0 (the recurrences skip them): for
+    /// `x' = x + (3 + pi)`, `x_k = x_{k-1} / k` exactly from k = 2 on, in a series that
+    /// reuses the storage of an earlier one and in one carried on to a higher order.
+    #[test]
+    fn constants_have_no_coefficients_past_zero() {
+        let dirty = Tape::record(1, |x| vec![x[0] * x[0] + Tracer::cst(5.0)]);
+        let tape = Tape::record(1, |x| vec![x[0] + (Tracer::cst(3.0) + Tracer::pi())]);
+        for _ in 0..2 {
+            dirty.ode_taylor(&[0.5f64], 20).unwrap();
+            let plain = tape.ode_taylor(&[0.25f64], 12).unwrap();
+            let carried = tape.ode_taylor_until(&[0.25f64], 8, 16, |_| false).unwrap();
+            for c in [&plain, &carried] {
+                let x: Vec<f64> = c.iter().map(|r| r[0]).collect();
+                assert_eq!(x[1], 0.25 + (3.0 + std::f64::consts::PI));
+                for k in 2..x.len() {
+                    assert_eq!(x[k], x[k - 1] / k as f64, "k = {k}");
+                }
+            }
+            let iv = tape.ode_taylor(&[point(0.25)], 12).unwrap();
+            for k in 2..iv.len() {
+                let q = crate::dot::quotient(iv[k - 1][0], point(k as f64));
+                assert!(iv[k][0].inf() == q.inf() && iv[k][0].sup() == q.sup());
+            }
+        }
     }
 
     /// A series carried on past a coefficient that overflows stops at `order`, with the
