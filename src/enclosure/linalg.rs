@@ -74,16 +74,19 @@ pub fn imat(m: &DMatrix<f64>) -> IMat {
     IMat::from_fn(m.nrows(), m.ncols(), |i, j| point(m[(i, j)]))
 }
 
+/// Entry `(i, j)` of the identity.
+fn unit(i: usize, j: usize) -> Interval {
+    point(if i == j { 1.0 } else { 0.0 })
+}
+
 /// The `n x n` identity.
 pub fn identity(n: usize) -> IMat {
-    IMat::from_fn(n, n, |i, j| point(if i == j { 1.0 } else { 0.0 }))
+    IMat::from_fn(n, n, unit)
 }
 
 /// `I - a` for a square `a`, entrywise.
 pub fn identity_minus(a: &IMat) -> IMat {
-    IMat::from_fn(a.rows, a.cols, |i, j| {
-        point(if i == j { 1.0 } else { 0.0 }) - a[i][j]
-    })
+    IMat::from_fn(a.rows, a.cols, |i, j| unit(i, j) - a[i][j])
 }
 
 /// `a b` in interval arithmetic (sums by fused multiply-add, outward rounded; a row at a
@@ -169,7 +172,7 @@ pub fn enclose_inverse(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IMat> {
     let mut s = e;
     for i in 0..n {
         for (j, x) in s[i].iter_mut().enumerate() {
-            *x = *x + tail + point(if i == j { 1.0 } else { 0.0 });
+            *x = *x + tail + unit(i, j);
         }
     }
     let r = mul(&s, &xi);

@@ -811,6 +811,7 @@ impl<T: Coef> Series<T> {
                 // a constant's coefficients past 0 are 0, as `new` and `widen` left them
                 Op::Const(_) | Op::Pi if k > 0 => continue,
                 Op::Const(c) => (T::cst(c), None),
+                Op::Pi => (T::pi(), None),
                 Op::Add(a, b) => (self.get(a, k) + self.get(b, k), None),
                 Op::Sub(a, b) => (self.get(a, k) - self.get(b, k), None),
                 Op::Neg(a) => (-self.get(a, k), None),
@@ -873,7 +874,6 @@ impl<T: Coef> Series<T> {
                         (c, Some(s))
                     }
                 }
-                Op::Pi => (T::pi(), None),
                 Op::Exp(a) => {
                     // (2.9) w_0 = exp(a_0); w_k = (1/k) sum_{j=1..k} j a_j w_{k-j}
                     let me = idx as u32;
