@@ -110,9 +110,7 @@ fn inflate(
             )));
         }
         let i_minus_cd = linalg::identity_minus(&linalg::mul(&ci, &IMat::from_rows(&d)));
-        let dx: Vec<Interval> = (0..n).map(|i| x[i] - zt[i]).collect();
-        let lin = linalg::mul_vec(&i_minus_cd, &dx);
-        let k: Vec<Interval> = (0..n).map(|i| zt[i] - cg[i] + lin[i]).collect();
+        let k = image(&zt, &cg, &i_minus_cd, &x);
         if k.iter().zip(&x).all(|(a, b)| finite(*a) && a.interior(*b)) {
             return refine(&zt, &cg, &i_minus_cd, k).map_err(Failed::Other);
         }
@@ -135,6 +133,14 @@ fn inflate(
     )))
 }
 
+/// `z~ - C [G(z~)] + M (Y - z~)` (spec (6.3)), `cg = C [G(z~)]` and `m = I - C [DG](X)`:
+/// `K(X)` for `Y = X`, and each pass of (6.3').
+fn image(zt: &[Interval], cg: &[Interval], m: &IMat, y: &[Interval]) -> Vec<Interval> {
+    let dy: Vec<Interval> = y.iter().zip(zt).map(|(a, z)| *a - *z).collect();
+    let lin = linalg::mul_vec(m, &dy);
+    (0..y.len()).map(|i| zt[i] - cg[i] + lin[i]).collect()
+}
+
 /// Most passes of [`refine`] after a successful test.
 const REFINE_PASSES: usize = 64;
 
@@ -152,10 +158,10 @@ fn refine(
     mut y: Vec<Interval>,
 ) -> Result<Vec<Interval>, Error> {
     for _ in 0..REFINE_PASSES {
-        let dy: Vec<Interval> = y.iter().zip(zt).map(|(a, z)| *a - *z).collect();
-        let lin = linalg::mul_vec(m, &dy);
-        let next: Vec<Interval> = (0..y.len())
-            .map(|i| (zt[i] - cg[i] + lin[i]).intersection(y[i]))
+        let next: Vec<Interval> = image(zt, cg, m, &y)
+            .iter()
+            .zip(&y)
+            .map(|(k, y)| k.intersection(*y))
             .collect();
         if next.iter().any(|x| x.is_empty()) {
             return Err(Error::internal(
