@@ -395,48 +395,56 @@ impl Model {
 
     /// The tape of x' = F(x) and its variational equation (internals feature).
     #[cfg(feature = "internals")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
     pub fn dynamics(&self) -> &System {
         &self.dynamics
     }
 
     /// The tape of the field with the action appended (spec eq. (6.8)) (internals feature).
     #[cfg(feature = "internals")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
     pub fn with_action(&self) -> &System {
         &self.with_action
     }
 
     /// The tape of x -> v = E(q)^T u (internals feature).
     #[cfg(feature = "internals")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
     pub fn velocity(&self) -> &crate::tape::Tape {
         &self.velocity
     }
 
     /// The tape of x -> (v, Dv/Dx) (internals feature).
     #[cfg(feature = "internals")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
     pub fn velocity_jac(&self) -> &crate::tape::Tape {
         &self.velocity_jac
     }
 
     /// The tape of q -> mu(q) (internals feature).
     #[cfg(feature = "internals")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
     pub fn constraints(&self) -> &crate::tape::Tape {
         &self.constraints
     }
 
     /// The tape of (q, v) -> p_a (internals feature).
     #[cfg(feature = "internals")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
     pub fn momentum_d(&self) -> &crate::tape::Tape {
         &self.momentum_d
     }
 
     /// The tape of (q, v) -> E_L(q, v) (internals feature).
     #[cfg(feature = "internals")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
     pub fn energy(&self) -> &crate::tape::Tape {
         &self.energy
     }
 
     /// The tape of (q, v) -> F_nh(q, v) (internals feature).
     #[cfg(feature = "internals")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
     pub fn nh_force(&self) -> &crate::tape::Tape {
         &self.nh_force
     }

@@ -24,6 +24,7 @@ mod sleigh;
 
 pub use contact_oscillator::ContactOscillator;
 #[cfg(feature = "scene-files")]
+#[cfg_attr(docsrs, doc(cfg(feature = "scene-files")))]
 pub use file::SceneFile;
 pub use knife::{Knife, KnifeEps};
 pub use particle::Particle;
