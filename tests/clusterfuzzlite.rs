@@ -103,12 +103,12 @@ fn the_image_and_the_workflow_are_the_documented_rust_setup() {
 }
 
 #[test]
-fn the_targets_in_the_readme_are_the_fuzz_targets() {
-    // the README's list of binaries copied to $OUT, `{a,b,...}`
-    let readme = read("README.md");
+fn the_targets_in_the_fuzz_readme_are_the_fuzz_targets() {
+    // fuzz/README.md's list of binaries copied to $OUT, `{a,b,...}`
+    let readme = read("fuzz/README.md");
     let start = readme
         .find("fuzz/target/x86_64-unknown-linux-gnu/release/{")
-        .expect("the README names the binaries");
+        .expect("fuzz/README.md names the binaries");
     let rest = &readme[start..];
     let list = &rest[rest.find('{').unwrap() + 1..rest.find('}').unwrap()];
     let named: BTreeSet<String> = list.split(',').map(|s| s.trim().to_string()).collect();

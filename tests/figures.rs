@@ -440,22 +440,25 @@ fn stability_names_every_outcome() {
     assert!(text.lines().all(|l| l.starts_with('|') && l.ends_with('|')));
 }
 
-/// The README's proptest examples are `tests/readme_proptest.rs` and
-/// `tests/readme_own_scheme.rs`, verbatim (so they compile and pass), and the README embeds every figure that `figures` writes.
+/// The README's proptest example is `tests/readme_proptest.rs` and docs/testing.md's is
+/// `tests/readme_own_scheme.rs`, verbatim (so they compile and pass), and docs/figures.md
+/// embeds every figure that `figures` writes.
 #[test]
-fn readme_shows_the_tested_example_and_the_figures() {
+fn the_docs_show_the_tested_examples_and_the_figures() {
     let readme = include_str!("../README.md");
     assert!(
         readme.contains(include_str!("readme_proptest.rs")),
         "README.md does not contain tests/readme_proptest.rs verbatim"
     );
+    let testing = include_str!("../docs/testing.md");
     assert!(
-        readme.contains(include_str!("readme_own_scheme.rs")),
-        "README.md does not contain tests/readme_own_scheme.rs verbatim"
+        testing.contains(include_str!("readme_own_scheme.rs")),
+        "docs/testing.md does not contain tests/readme_own_scheme.rs verbatim"
     );
+    let figures = include_str!("../docs/figures.md");
     for name in SVGS {
-        let link = format!("(docs/figures/{name}.svg)");
-        assert!(readme.contains(&link), "README.md does not embed {link}");
+        let link = format!("(figures/{name}.svg)");
+        assert!(figures.contains(&link), "docs/figures.md does not embed {link}");
         let svg = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("docs/figures/{name}.svg"));
         let (polylines, _, _) = read_svg(&svg);
         assert!(polylines >= 1, "{svg:?}");

@@ -297,15 +297,15 @@ fn a_nan_tolerance_is_a_finding_and_an_infinite_one_claims_nothing() {
 }
 
 #[test]
-fn the_template_fuzz_target_is_the_readme_block_and_uses_the_template_solver() {
+fn the_template_fuzz_target_is_the_docs_block_and_uses_the_template_solver() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let target =
         std::fs::read_to_string(root.join("examples/fuzz_newton/fuzz_targets/my_solver.rs"))
             .unwrap();
-    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let docs = std::fs::read_to_string(root.join("docs/testing.md")).unwrap();
     assert!(
-        readme.contains(&format!("```rust\n{target}```")),
-        "the README's fuzz target differs from examples/fuzz_newton/fuzz_targets/my_solver.rs"
+        docs.contains(&format!("```rust\n{target}```")),
+        "docs/testing.md's fuzz target differs from examples/fuzz_newton/fuzz_targets/my_solver.rs"
     );
     assert!(target.contains("#[path = \"../my_solver.rs\"]"));
     assert!(target.contains("fuzz_solver(model, solver, tolerance, data)"));
