@@ -61,13 +61,14 @@ fn json(a: &Answer) -> String {
 fn a_flow_answer_built_by_hand_prints_the_contracts_object() {
     // contract command 1 with the stats (E8): the keys in serde_json's (sorted) order, a
     // zero lower end as -0.0 (inari's inf, IEEE 1788), f64 always with a point or exponent
+    // (serde_json's shortest form: `1e+300`, `1e-7`)
     let a = Answer::Flow {
         enclosure: enclosure(),
         jacobian: None,
     };
     assert_eq!(
         json(&a),
-        r#"{"q":[[0.1,0.30000000000000004],[-2.5,-2.0]],"stats":{"h_max":0.5,"h_min":0.25,"order":22,"rejected":1,"steps":3},"u":[[1.0,1.0]],"v":[[-1e-7,1e300],[-0.0,0.5]]}"#
+        r#"{"q":[[0.1,0.30000000000000004],[-2.5,-2.0]],"stats":{"h_max":0.5,"h_min":0.25,"order":22,"rejected":1,"steps":3},"u":[[1.0,1.0]],"v":[[-1e-7,1e+300],[-0.0,0.5]]}"#
     );
     let a = Answer::Flow {
         enclosure: enclosure(),
@@ -83,7 +84,7 @@ fn a_flow_answer_built_by_hand_prints_the_contracts_object() {
     };
     assert_eq!(
         json(&a),
-        r#"{"at":[{"q":[[0.1,0.30000000000000004],[-2.5,-2.0]],"t":0.5,"u":[[1.0,1.0]],"v":[[-1e-7,1e300],[-0.0,0.5]]},{"q":[[0.1,0.30000000000000004],[-2.5,-2.0]],"t":1.0,"u":[[1.0,1.0]],"v":[[-1e-7,1e300],[-0.0,0.5]]}],"stats":{"h_max":0.5,"h_min":0.25,"order":22,"rejected":1,"steps":5}}"#
+        r#"{"at":[{"q":[[0.1,0.30000000000000004],[-2.5,-2.0]],"t":0.5,"u":[[1.0,1.0]],"v":[[-1e-7,1e+300],[-0.0,0.5]]},{"q":[[0.1,0.30000000000000004],[-2.5,-2.0]],"t":1.0,"u":[[1.0,1.0]],"v":[[-1e-7,1e+300],[-0.0,0.5]]}],"stats":{"h_max":0.5,"h_min":0.25,"order":22,"rejected":1,"steps":5}}"#
     );
     let a = Answer::FlowAt {
         times: vec![],
@@ -186,7 +187,7 @@ fn the_library_serde_form_is_the_protocols_and_reads_back() {
     let own = serde_json::to_string(&e).unwrap();
     assert_eq!(
         own,
-        r#"{"q":[[0.1,0.30000000000000004],[-2.5,-2.0]],"u":[[1.0,1.0]],"v":[[-1e-7,1e300],[-0.0,0.5]],"stats":{"order":22,"steps":3,"rejected":1,"h_min":0.25,"h_max":0.5}}"#
+        r#"{"q":[[0.1,0.30000000000000004],[-2.5,-2.0]],"u":[[1.0,1.0]],"v":[[-1e-7,1e+300],[-0.0,0.5]],"stats":{"order":22,"steps":3,"rejected":1,"h_min":0.25,"h_max":0.5}}"#
     );
     assert_eq!(serde_json::from_str::<FlowEnclosure>(&own).unwrap(), e);
     // an infinite end is null in JSON and reads back in its place
