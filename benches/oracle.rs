@@ -3,9 +3,8 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use dalembert::protocol::Session;
-use dalembert::scalar::point;
 use dalembert::schemes::{NewtonOptions, Scheme, SchemeKind};
-use dalembert::{exact, flow, AnyScene, FlowOptions, Model};
+use dalembert::{exact, flow, AnyScene, FlowOptions, Interval, Model};
 
 const SCENES: [(&str, [f64; 3]); 3] = [
     ("particle", [0.4, 0.4, 0.08]),
@@ -24,7 +23,10 @@ fn certified(c: &mut Criterion) {
         c.bench_function(&format!("flow/{name}/t=0.5"), |b| {
             b.iter(|| flow(&m, black_box(&[0.0; 3]), &[0.8, 0.8], 0.5, &opts))
         });
-        let (p0, p1) = (vec![point(0.0); 3], q1.map(point).to_vec());
+        let (p0, p1) = (
+            vec![Interval::point(0.0); 3],
+            q1.map(Interval::point).to_vec(),
+        );
         c.bench_function(&format!("step/{name}/h=0.5"), |b| {
             b.iter(|| exact::step(&m, black_box(&p0), &p1, 0.5, &opts))
         });
@@ -57,7 +59,10 @@ fn files(c: &mut Criterion) {
         c.bench_function(&format!("flow/{name}-file/t=0.5"), |b| {
             b.iter(|| flow(&m, black_box(&[0.0; 3]), &[0.8, 0.8], 0.5, &opts))
         });
-        let (p0, p1) = (vec![point(0.0); 3], q1.map(point).to_vec());
+        let (p0, p1) = (
+            vec![Interval::point(0.0); 3],
+            q1.map(Interval::point).to_vec(),
+        );
         c.bench_function(&format!("step/{name}-file/h=0.5"), |b| {
             b.iter(|| exact::step(&m, black_box(&p0), &p1, 0.5, &opts))
         });

@@ -7,7 +7,7 @@ use dalembert::report::orders::{ladders, starts, GLOBAL_H, LOCAL_H, T_END};
 use dalembert::testing::Ladder;
 use dalembert::Error;
 
-fn show(x: inari::Interval) -> String {
+fn show(x: dalembert::Interval) -> String {
     if x.is_entire() {
         "(none proved)".into()
     } else {

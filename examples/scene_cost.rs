@@ -3,9 +3,8 @@
 //! runs N certified flows to t = 0.5 and N exact steps at h = 0.5. Run it under
 //! `valgrind --tool=callgrind` for deterministic instruction counts, or `time` it.
 
-use dalembert::scalar::point;
 use dalembert::scene::{AnyScene, SceneFile};
-use dalembert::{exact, flow, FlowOptions, Model};
+use dalembert::{exact, flow, FlowOptions, Interval, Model};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -27,7 +26,10 @@ fn main() {
     }
     .expect("model");
     let opts = FlowOptions::default();
-    let (p0, p1) = (vec![point(0.0); 3], q1.map(point).to_vec());
+    let (p0, p1) = (
+        vec![Interval::point(0.0); 3],
+        q1.map(Interval::point).to_vec(),
+    );
     let mut acc = 0.0;
     for _ in 0..n {
         acc += flow(&m, &[0.0; 3], &[0.8, 0.8], 0.5, &opts)

@@ -9,6 +9,7 @@ use crate::scalar::{Dual, Scalar};
 use crate::scene::{Mat, Scene};
 
 /// Scene data at one configuration, with first derivatives in q (spec eq. (4.1)).
+#[derive(Debug)]
 pub struct Geometry<S> {
     /// Number of coordinates `n`.
     pub n: usize,

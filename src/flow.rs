@@ -6,14 +6,16 @@
 use crate::enclosure::{
     flow_set_jacobian, flow_set_span_memo, too_many, FlowOptions, FlowStats, LohnerSet,
 };
+use crate::interval::{wrap, wrap_rows};
 use crate::model::Model;
 use crate::progress::Progress;
 use crate::scalar::point;
-use crate::{Error, Reason};
-use inari::Interval;
+use crate::{Error, Interval, Reason};
 
 /// The certified state at time t.
-#[derive(Clone)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct FlowEnclosure {
     /// Contains the exact configuration `q(t)` (n intervals).
     pub q: Vec<Interval>,
@@ -24,13 +26,6 @@ pub struct FlowEnclosure {
     /// What the integrator did between 0 and `t`.
     pub stats: FlowStats,
 }
-
-crate::readable::readable_debug!(FlowEnclosure {
-    q: iv,
-    u: iv,
-    v: iv,
-    stats: dbg
-});
 
 /// Enclosure of the exact nonholonomic state at time `t` from `q(0) = q`,
 /// `qd(0) = sum_a u_a e_a(q)`.
@@ -201,9 +196,9 @@ fn finish(model: &Model, set: &LohnerSet, stats: FlowStats) -> Result<FlowEnclos
         .image(&model.velocity_jac)
         .ok_or_else(|| Error::refused(Reason::Unbounded, "velocity enclosure is not finite"))?;
     Ok(FlowEnclosure {
-        q: x[..model.n].to_vec(),
-        u: x[model.n..].to_vec(),
-        v,
+        q: wrap(x[..model.n].to_vec()),
+        u: wrap(x[model.n..].to_vec()),
+        v: wrap(v),
         stats,
     })
 }
@@ -223,7 +218,7 @@ pub fn flow_c1(
 ) -> Result<(FlowEnclosure, Vec<Vec<Interval>>), Error> {
     let x = flow_query(model, q, u, t)?;
     let (set, jac, stats) = flow_set_jacobian(&model.dynamics, LohnerSet::point(&x), t, opts)?;
-    Ok((finish(model, &set, stats)?, jac.to_rows()))
+    Ok((finish(model, &set, stats)?, wrap_rows(jac.to_rows())))
 }
 
 #[cfg(test)]

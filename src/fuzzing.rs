@@ -327,7 +327,8 @@ pub fn retraction(data: &[u8]) -> Tally {
 fn retraction_invariant(scene: usize, q0: &[f64], q1: &[f64], h: f64) -> Tally {
     with_model(scene, |model, _, _| {
         let pts = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
-        match exact::retract(model, &pts(q0), &pts(q1), h, &budget()) {
+        let answer = |v: &[f64]| crate::interval::wrap(pts(v));
+        match exact::retract(model, &answer(q0), &answer(q1), h, &budget()) {
             Err(Error::Internal(m)) => panic!("internal fault: {m}"),
             Err(e) => Tally::one(&e),
             Ok(r) => {
@@ -337,15 +338,21 @@ fn retraction_invariant(scene: usize, q0: &[f64], q1: &[f64], h: f64) -> Tally {
                         .chain(&r.v0)
                         .chain(&r.v1)
                         .chain(&r.q1);
-                assert!(all.clone().all(|x| finite(*x)), "non-finite success");
-                let x0: Vec<_> = pts(q0).into_iter().chain(r.u0.iter().copied()).collect();
+                assert!(
+                    all.clone().all(|x| finite((*x).into())),
+                    "non-finite success"
+                );
+                let x0: Vec<_> = pts(q0)
+                    .into_iter()
+                    .chain(r.u0.iter().map(|x| inari::Interval::from(*x)))
+                    .collect();
                 if let Ok((set, _)) =
                     flow_set(&model.dynamics, LohnerSet::from_box(&x0), h, &budget())
                 {
                     let hull = set.hull();
                     for i in 0..model.n {
                         assert!(
-                            !hull[i].intersection(r.q1[i]).is_empty(),
+                            !hull[i].intersection(r.q1[i].into()).is_empty(),
                             "re-check failed: q(h) enclosures disjoint in component {i}"
                         );
                     }

@@ -62,6 +62,8 @@
 #![allow(clippy::needless_range_loop)]
 // Every public item is documented; clippy's `-D warnings` keeps it so.
 #![warn(missing_docs)]
+// Every public type prints with `{:?}` (answers show their intervals as `[lo, hi]`).
+#![warn(missing_debug_implementations)]
 
 // The public surface: what a user of the library needs, and nothing else (spec/design.md,
 // "Public surface"). The scene language, the exact objects, the oracle, the float schemes and
@@ -76,6 +78,7 @@ pub mod flow;
 #[cfg(feature = "fuzzing")]
 #[cfg_attr(docsrs, doc(cfg(feature = "fuzzing")))]
 pub mod fuzzing;
+mod interval;
 pub mod model;
 pub mod newton;
 pub mod oracle;
@@ -91,6 +94,11 @@ pub mod scene;
 pub mod schemes;
 pub mod spec;
 pub mod testing;
+
+// The answer structs (those a user receives, not builds: `FlowEnclosure`, `Retraction`,
+// `Verdict`, ...) are `#[non_exhaustive]`, so that a field can be added without breaking a
+// user, who still reads and compares them; not with the `internals` feature, under which the
+// crate's own tests build answers by hand (`cfg_attr(not(feature = "internals"), ..)`).
 
 /// Internal layers, public only with the `internals` feature (the crate's own tests reach
 /// them; no stability is promised). Without it they are crate-private.
@@ -122,6 +130,7 @@ mod readable;
 pub use enclosure::{Basis, FlowOptions, FlowStats};
 pub use error::{Error, Reason, Refusal};
 pub use flow::{flow, FlowEnclosure};
+pub use interval::Interval;
 pub use model::Model;
 pub use progress::Progress;
 pub use scene::{AnyScene, Scene};

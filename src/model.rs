@@ -49,6 +49,17 @@ pub struct Model {
     pub(crate) nh_force: Tape,
 }
 
+/// A summary: the scene's name and sizes (the tapes are long).
+impl std::fmt::Debug for Model {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Model")
+            .field("scene", &self.name())
+            .field("n", &self.n)
+            .field("k", &self.k)
+            .finish_non_exhaustive()
+    }
+}
+
 /// Largest number of coordinates a scene may have.
 pub const MAX_DIM: usize = 64;
 

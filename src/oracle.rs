@@ -10,10 +10,11 @@
 //! ```
 
 use crate::exact::{self, ExactFlow, ExactTrajectory, Iterate};
+use crate::interval::unwrap;
 use crate::scalar::point;
 use crate::tape::finite;
-use crate::{Error, FlowOptions, Model, Reason};
-use inari::Interval;
+use crate::{Error, FlowOptions, Interval, Model, Reason};
+use inari::Interval as Inari;
 
 /// What to compute besides the distances.
 #[derive(Clone, Debug)]
@@ -36,7 +37,9 @@ impl Default for CheckOptions {
 }
 
 /// Certified figures about a candidate trajectory `q_0 .. q_N` (spec Theorem 8.1).
-#[derive(Clone)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct Verdict {
     /// `distance[k] ∋ |q_k - q^e_k|_inf`, `q^e` the exact discrete flow from `(q_0, q_1)`.
     pub distance: Vec<Interval>,
@@ -53,27 +56,19 @@ pub struct Verdict {
     pub exact: ExactTrajectory,
 }
 
-crate::readable::readable_debug!(Verdict {
-    distance: iv,
-    max_distance: iv,
-    defect: iv,
-    max_defect: iv,
-    energy_error: iv,
-    exact: dbg
-});
-
 /// `|a - B|_inf` over the box `B`: an interval containing `max_i |a_i - b_i|` for every
 /// `b in B`.
 pub fn distance(a: &[f64], b: &[Interval]) -> Interval {
     a.iter()
         .zip(b)
-        .map(|(x, y)| (point(*x) - *y).abs())
+        .map(|(x, y)| (point(*x) - Inari::from(*y)).abs())
         .fold(point(0.0), |m, d| m.max(d))
+        .into()
 }
 
 /// `E_L(q, v)` enclosed over the boxes (the energy of the exact trajectory through `(q, v)`).
-pub(crate) fn energy(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Interval, Error> {
-    let x: Vec<Interval> = q.iter().chain(v).copied().collect();
+pub(crate) fn energy(model: &Model, q: &[Inari], v: &[Inari]) -> Result<Inari, Error> {
+    let x: Vec<Inari> = q.iter().chain(v).copied().collect();
     model
         .energy
         .eval_checked(&x)
@@ -210,7 +205,9 @@ fn collect<'q>(
 }
 
 /// Certified figures about the pair `(q_k, q_{k+1})` (Theorems 6.1, 6.2).
-#[derive(Clone)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct PairVerdict {
     /// `∋ s` of the pair, its defect w.r.t. M_h^{e,nh}.
     pub defect: Vec<Interval>,
@@ -218,13 +215,10 @@ pub struct PairVerdict {
     pub energy_error: Interval,
 }
 
-crate::readable::readable_debug!(PairVerdict {
-    defect: iv,
-    energy_error: iv
-});
-
 /// Certified figures about one row `q_k` of a candidate trajectory (spec Theorem 8.1).
-#[derive(Clone)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct RowVerdict {
     /// The row's index `k`.
     pub k: usize,
@@ -236,15 +230,10 @@ pub struct RowVerdict {
     pub exact: Iterate,
 }
 
-crate::readable::readable_debug!(RowVerdict {
-    k: dbg,
-    distance: iv,
-    pair: dbg,
-    exact: dbg
-});
-
 /// What [`check_each`] returns once every row is checked.
-#[derive(Clone)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct CheckSummary {
     /// The number of rows `N + 1`.
     pub rows: usize,
@@ -255,13 +244,6 @@ pub struct CheckSummary {
     /// `∋ max_k |s_k|_inf` over the pairs' defects (`None` without pair figures).
     pub max_defect: Option<Interval>,
 }
-
-crate::readable::readable_debug!(CheckSummary {
-    rows: dbg,
-    max_distance: iv,
-    retraction: dbg,
-    max_defect: iv
-});
 
 /// [`check_trajectory`] one row at a time, in memory independent of the number of rows:
 /// `rows` is read as needed, and `sink` is given each row's verdict as soon as it is
@@ -358,16 +340,16 @@ fn check_rows(
         (None, Some(a), Some(b)) => point(b) - point(a),
         _ => point(h.unwrap_or(0.0)),
     };
-    let pts = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
+    let pts = |v: &[f64]| v.iter().map(|x| Interval::point(*x)).collect::<Vec<_>>();
     let h0 = step(0, t0, t1)?;
     let mut flow = ExactFlow::start(model, &pts(&q0), &pts(&q1), h0, &opts.flow)?;
     let mut max_distance = point(0.0);
-    let mut max_defect: Option<Interval> = None;
+    let mut max_defect: Option<Inari> = None;
     // Row k against the iterate k of the exact discrete flow, `dt` after the iterate k-1.
     let mut compare =
-        |flow: &mut ExactFlow, q: &[f64], dt: Interval| -> Result<(Interval, Iterate), Error> {
-            let exact = flow.next_iterate_after(dt)?;
-            let d = distance(q, &exact.q);
+        |flow: &mut ExactFlow, q: &[f64], dt: Inari| -> Result<(Inari, Iterate), Error> {
+            let exact = flow.next_iterate_after(dt.into())?;
+            let d = distance(q, &exact.q).into();
             if !finite(d) {
                 return Err(Error::refused(
                     Reason::Unbounded,
@@ -379,7 +361,7 @@ fn check_rows(
         };
     let first = compare(&mut flow, &q0, point(h0))?;
     let e0 = if opts.pairs {
-        Some(energy(model, &first.1.q, &first.1.v)?)
+        Some(energy(model, &unwrap(&first.1.q), &unwrap(&first.1.v))?)
     } else {
         None
     };
@@ -399,17 +381,19 @@ fn check_rows(
                     let hk = step(exact.k, tk, tn)?;
                     exact::retract(model, &pts(&qk), &pts(&next), hk, &opts.flow)?
                 };
-                let size = r.s.iter().fold(point(0.0), |m, x| m.max(x.abs()));
+                let size =
+                    r.s.iter()
+                        .fold(point(0.0), |m, x| m.max(Inari::from(*x).abs()));
                 max_defect = Some(max_defect.map_or(size, |m| m.max(size)));
                 Some(PairVerdict {
-                    energy_error: energy(model, &pts(&qk), &r.v0)? - e0,
+                    energy_error: (energy(model, &unwrap(&pts(&qk)), &unwrap(&r.v0))? - e0).into(),
                     defect: r.s,
                 })
             }
         };
         sink(RowVerdict {
             k: exact.k,
-            distance: d,
+            distance: d.into(),
             pair,
             exact,
         })?;
@@ -420,15 +404,15 @@ fn check_rows(
     let (_, _, d, exact) = pending;
     sink(RowVerdict {
         k: exact.k,
-        distance: d,
+        distance: d.into(),
         pair: None,
         exact,
     })?;
     Ok(CheckSummary {
         rows: count,
-        max_distance,
+        max_distance: max_distance.into(),
         retraction: flow.retraction,
-        max_defect,
+        max_defect: max_defect.map(Interval::from),
     })
 }
 
@@ -495,18 +479,15 @@ pub(crate) fn decide_one(what: &str, x: Interval, tol: f64) -> Result<bool, Erro
 }
 
 /// Certified figures about one step `(q0, q1, q2)` of a candidate scheme.
-#[derive(Clone)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct StepVerdict {
     /// `∋ |q2 - q^e_2|_inf`, `q^e_2 = q(2h)` of the exact discrete flow from `(q0, q1)`.
     pub distance: Interval,
     /// `∋ s` of `(q0, q1)`.
     pub defect: Vec<Interval>,
 }
-
-crate::readable::readable_debug!(StepVerdict {
-    distance: iv,
-    defect: iv
-});
 
 /// Check one step against the exact discrete flow (spec Theorem 8.1 with N = 2).
 ///

@@ -1,6 +1,7 @@
-//! Readable `{:?}` of the answers: every interval as `[lo, hi]`, its endpoints printed
-//! exactly (the shortest decimal that reads back as the same f64). inari's own `Debug`
-//! shows its SIMD representation (`__m128d(-lo, hi)`), which no reader should have to decode.
+//! Readable `{:?}` of internal types that hold `inari::Interval`s (the Lohner sets): every
+//! interval printed as the answers' [`crate::Interval`] prints, `[lo, hi]`. inari's own
+//! `Debug` shows its SIMD representation (`__m128d(-lo, hi)`), which no reader should have
+//! to decode.
 
 use inari::Interval;
 use std::fmt;
@@ -10,11 +11,7 @@ pub(crate) struct Show<'a, T: ?Sized>(pub &'a T);
 
 impl fmt::Debug for Show<'_, Interval> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.0.is_empty() {
-            f.write_str("[empty]")
-        } else {
-            write!(f, "[{:?}, {:?}]", self.0.inf(), self.0.sup())
-        }
+        fmt::Debug::fmt(&crate::Interval::from(*self.0), f)
     }
 }
 

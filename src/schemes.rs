@@ -216,8 +216,22 @@ pub struct Scheme {
     normals: Tape,
 }
 
-/// A float trajectory of a scheme, with what the user may want to look at.
-#[derive(Clone, Debug)]
+/// A summary: the kind and the sizes (the compiled tapes are long).
+impl std::fmt::Debug for Scheme {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Scheme")
+            .field("kind", &self.kind)
+            .field("n", &self.n)
+            .field("k", &self.k)
+            .finish_non_exhaustive()
+    }
+}
+
+/// A float trajectory of a scheme, with what the user may want to look at. Serialized
+/// (feature `serde`) as the `integrate` answer of the JSON protocol.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct Trajectory {
     /// `q_0 .. q_N`: `q_0` as given, `q_1` moved onto M_h^d (spec eq. (7.3)), then the steps
     /// (7.4).
@@ -226,7 +240,9 @@ pub struct Trajectory {
     pub p: Vec<Vec<f64>>,
     /// `H|_{D*}(q_k, p_k)`.
     pub energy: Vec<f64>,
-    /// Newton iterations of each step (the projection of q_1 first).
+    /// Newton iterations of each step (the projection of q_1 first); serialized as
+    /// `newton_iterations`.
+    #[cfg_attr(feature = "serde", serde(rename = "newton_iterations"))]
     pub iterations: Vec<usize>,
     /// Largest final residual `|R|_inf` over all Newton solves.
     pub max_residual: f64,

@@ -286,7 +286,7 @@ fn cli_equals_library() {
     for scene in ["particle", "knife"] {
         let m = Model::new(&AnyScene::new(scene, &[]).unwrap()).unwrap();
         let o = FlowOptions::default();
-        let r = exact::retract(&m, &pts(&q0), &pts(&q1), hf, &o).unwrap();
+        let r = exact::retract(&m, &args(&q0), &args(&q1), hf, &o).unwrap();
         let out = run(&[
             "retract", "--scene", scene, "--q0", a, "--q1", b, "--h", h, "--json",
         ]);
@@ -307,7 +307,7 @@ fn cli_equals_library() {
                 );
             }
         }
-        let st = exact::step(&m, &pts(&q0), &pts(&q1), hf, &o).unwrap();
+        let st = exact::step(&m, &args(&q0), &args(&q1), hf, &o).unwrap();
         let out = run(&[
             "step", "--scene", scene, "--q0", a, "--q1", b, "--h", h, "--json",
         ]);

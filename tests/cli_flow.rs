@@ -2,7 +2,6 @@
 //! numbers), tested on the built binary.
 
 use dalembert::{flow, AnyScene, FlowEnclosure, FlowOptions, Model};
-use inari::Interval;
 use serde_json::Value;
 use std::time::Duration;
 
@@ -275,7 +274,7 @@ fn library(scene: &str, params: &[(&str, f64)], q: &[f64], u: &[f64], t: f64) ->
     flow(&model, q, u, t, &FlowOptions::default()).unwrap()
 }
 
-fn same_bits(cli: &[(f64, f64)], lib: &[Interval], what: &str) {
+fn same_bits(cli: &[(f64, f64)], lib: &[dalembert::Interval], what: &str) {
     assert_eq!(cli.len(), lib.len(), "{what}: dimension");
     for (i, ((lo, hi), x)) in cli.iter().zip(lib).enumerate() {
         assert_eq!(

@@ -480,7 +480,7 @@ fn compare(
     let e = scene.exact(q, u, t);
     let mut pinned = 0;
     let mut bad = Vec::new();
-    let groups: [(&str, &[Interval], &[Interval]); 3] = [
+    let groups: [(&str, &[dalembert::Interval], &[Interval]); 3] = [
         ("q", &got.q, &e.q),
         ("u", &got.u, &e.u),
         ("v", &got.v, &e.v),

@@ -46,7 +46,7 @@ fn float_point(t: f64) -> Vec<f64> {
     c.iter().map(|x| x.mid()).collect()
 }
 
-fn width(b: &[Interval]) -> f64 {
+fn width(b: &[dalembert::Interval]) -> f64 {
     b.iter().fold(0.0f64, |m, x| m.max(x.wid()))
 }
 

@@ -64,8 +64,14 @@ fn sinc(h: Interval) -> Interval {
     }
 }
 
+/// The library's answers as inari intervals, for arithmetic.
+fn ia(v: &[dalembert::Interval]) -> Vec<Interval> {
+    v.iter().map(|x| Interval::from(*x)).collect()
+}
+
 /// Two enclosures of the same number must intersect; a failure is a bug of the reference.
-fn meet(a: Interval, b: Interval, what: &str) -> Interval {
+fn meet(a: impl Into<Interval>, b: impl Into<Interval>, what: &str) -> Interval {
+    let (a, b) = (a.into(), b.into());
     let m = a.intersection(b);
     assert!(!m.is_empty(), "{what}: {} vs {}", show(a), show(b));
     m
@@ -440,7 +446,7 @@ fn sleigh_flow_encloses_the_closed_form_and_the_energy() {
         }
         // energy enclosure contains the initial energy
         let e0 = sleigh_energy(&m, &q.map(pt), &[pt(u[0]), pt(u[1])]);
-        let et = sleigh_energy(&m, &e.q, &e.u);
+        let et = sleigh_energy(&m, &ia(&e.q), &ia(&e.u));
         assert!(
             !et.intersection(e0).is_empty(),
             "energy {} vs {}\n{ctx}",
@@ -475,13 +481,13 @@ fn sleigh_aligns_with_its_blade() {
     let vinf = (2.0 * e0 / p[0]).sqrt();
     assert!(e.u[1].mag() < 1e-9, "omega(50) = {}", show(e.u[1]));
     assert!(
-        (e.u[0] - pt(vinf)).mag() < 1e-9,
+        (Interval::from(e.u[0]) - pt(vinf)).mag() < 1e-9,
         "v(50) = {} vs {vinf}",
         show(e.u[0])
     );
     // and the heading has converged: theta(50) and theta(49) agree to the same order
     let e49 = run(&m, &q, &u, 49.0).unwrap();
-    assert!((e.q[2] - e49.q[2]).mag() < 1e-9);
+    assert!((Interval::from(e.q[2]) - Interval::from(e49.q[2])).mag() < 1e-9);
 }
 
 /// The configuration-dependent mass matrix through the generic Geometry: M(q) as in spec
@@ -600,7 +606,7 @@ fn contact_oscillator_invariants_are_certified() {
         let q0: Vec<Interval> = q.iter().map(|x| pt(*x)).collect();
         let v0 = vec![-(pt(q[1]) * pt(u[1])), pt(u[0]), pt(u[1])];
         let i0 = oscillator_invariants(eps, &q0, &v0);
-        let it = oscillator_invariants(eps, &e.q, &e.v);
+        let it = oscillator_invariants(eps, &ia(&e.q), &ia(&e.v));
         for (k, name) in ["E", "E_y", "E - E_y"].iter().enumerate() {
             assert!(
                 !it[k].intersection(i0[k]).is_empty(),
@@ -614,7 +620,7 @@ fn contact_oscillator_invariants_are_certified() {
                 show(it[k])
             );
         }
-        let qv: Vec<Interval> = e.q.iter().chain(&e.v).copied().collect();
+        let qv: Vec<Interval> = ia(&e.q).into_iter().chain(ia(&e.v)).collect();
         let et = m.energy().eval_checked(&qv).unwrap()[0];
         meet(et, i0[0], &format!("energy tape\n{ctx}"));
         // the non-reversible variant moves the same way
@@ -636,7 +642,11 @@ fn contact_oscillator_nr_differs_only_in_momenta_and_action() {
     let m = model("contact-oscillator", &[]);
     let nr = model("contact-oscillator-nr", &[("delta", delta)]);
     let (q0, q1, h) = ([0.2, 0.5, -0.3], [0.1, 0.6, -0.1], 0.4);
-    let b = |v: &[f64]| v.iter().map(|x| pt(*x)).collect::<Vec<_>>();
+    let b = |v: &[f64]| {
+        v.iter()
+            .map(|x| dalembert::Interval::point(*x))
+            .collect::<Vec<_>>()
+    };
     let o = dalembert::FlowOptions::default();
     let s = dalembert::exact::step(&m, &b(&q0), &b(&q1), h, &o).unwrap();
     let sn = dalembert::exact::step(&nr, &b(&q0), &b(&q1), h, &o).unwrap();
@@ -644,16 +654,24 @@ fn contact_oscillator_nr_differs_only_in_momenta_and_action() {
         meet(*a, *c, "q");
     }
     let shift0 = pt(delta) * pt(q0[2]).sin();
-    let shift1 = pt(delta) * s.q1[2].sin();
+    let shift1 = pt(delta) * Interval::from(s.q1[2]).sin();
     meet(s.p_minus[0], sn.p_minus[0], "p_minus[0]");
-    meet(s.p_minus[1] + shift0, sn.p_minus[1], "p_minus[1]");
+    meet(
+        Interval::from(s.p_minus[1]) + shift0,
+        sn.p_minus[1],
+        "p_minus[1]",
+    );
     meet(s.p_plus[0], sn.p_plus[0], "p_plus[0]");
-    meet(s.p_plus[1] + shift1, sn.p_plus[1], "p_plus[1]");
+    meet(
+        Interval::from(s.p_plus[1]) + shift1,
+        sn.p_plus[1],
+        "p_plus[1]",
+    );
     let (_, l) = dalembert::exact::discrete_lagrangian(&m, &b(&q0), &b(&q1), h, &o).unwrap();
     let (_, ln) = dalembert::exact::discrete_lagrangian(&nr, &b(&q0), &b(&q1), h, &o).unwrap();
     // int_0^h delta sin(z) zd dt = delta (cos z0 - cos z(h))
-    let boundary = pt(delta) * (pt(q0[2]).cos() - s.q1[2].cos());
-    meet(l + boundary, ln, "action");
+    let boundary = pt(delta) * (pt(q0[2]).cos() - Interval::from(s.q1[2]).cos());
+    meet(Interval::from(l) + boundary, ln, "action");
     assert!(boundary.mag() > 1e-3, "the test must see the boundary term");
 }
 

@@ -6,10 +6,8 @@
 mod common;
 
 use common::{exact_energy, integrate as run, model};
-use dalembert::scalar::point;
 use dalembert::schemes::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use dalembert::FlowOptions;
-use inari::Interval;
 
 /// Figures of a trajectory's energy E_k = H|D*(q_k, p_k).
 struct Figures {
@@ -254,11 +252,15 @@ fn exact_discrete_flow_of_the_variant_keeps_the_energy() {
     let (q0, q1, h, n) = ([1.0, 0.5, 0.2], [0.9, 0.6, 0.36], 0.4, 40);
     let s = Scheme::new(&m, SchemeKind::Mla);
     let q1p = s.project(&q0, &q1, &NewtonOptions::default()).unwrap().0;
-    let b = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
+    let b = |v: &[f64]| {
+        v.iter()
+            .map(|x| dalembert::Interval::point(*x))
+            .collect::<Vec<_>>()
+    };
     let ex =
         dalembert::exact::trajectory(&m, &b(&q0), &b(&q1p), h, n, &FlowOptions::default()).unwrap();
     let e_exact = exact_energy(&m, &q0, &q1p, h).mid();
-    let mid = |v: &[Interval]| v.iter().map(|x| x.mid()).collect::<Vec<f64>>();
+    let mid = |v: &[dalembert::Interval]| v.iter().map(|x| x.mid()).collect::<Vec<f64>>();
     for k in 0..=n {
         let ek = s.energy(&mid(&ex.q[k]), &mid(&ex.p[k]));
         assert!((ek - e_exact).abs() < 1e-9, "step {k}: {ek} vs {e_exact}");

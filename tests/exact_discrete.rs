@@ -116,7 +116,8 @@ fn check_particle(q0: &[f64], q1: &[f64], h: f64, r: &Retraction) -> ParticleRet
         hm.contains(0.0),
         "SOUNDNESS: h mu_d(Q0, q1 box) = {hm:?} excludes 0 at {c}"
     );
-    let moved = [pt(q1[0]) - y1 * r.s[0], y1, pt(q1[2]) + r.s[0]];
+    let s0 = I::from(r.s[0]);
+    let moved = [pt(q1[0]) - y1 * s0, y1, pt(q1[2]) + s0];
     let hm = particle_h_mu_d(&q0i, &moved);
     assert!(
         hm.contains(0.0),
@@ -164,7 +165,7 @@ fn check_knife(q0: &[f64], q1: &[f64], h: f64, r: &Retraction) -> KnifeRet {
 }
 
 fn retract(m: &Model, q0: &[f64], q1: &[f64], h: f64) -> Result<Retraction, Error> {
-    exact::retract(m, &pts(q0), &pts(q1), h, &opts())
+    exact::retract(m, &args(q0), &args(q1), h, &opts())
 }
 
 fn must_retract(m: &Model, q0: &[f64], q1: &[f64], h: f64) -> Retraction {
@@ -525,7 +526,7 @@ fn refusals_are_uncertified() {
 #[test]
 fn malformed_input_is_input_error() {
     let m = model("particle");
-    let (q0, q1) = (pts(&[0.0, 0.0, 0.0]), pts(&[1.0, 1.0, 1.0]));
+    let (q0, q1) = (args(&[0.0, 0.0, 0.0]), args(&[1.0, 1.0, 1.0]));
     for h in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         let r = exact::retract(&m, &q0, &q1, h, &opts());
         assert!(matches!(r, Err(Error::Input(_))), "h = {h}: {r:?}");
@@ -534,7 +535,7 @@ fn malformed_input_is_input_error() {
     }
     let r = exact::retract(&m, &q0[..2], &q1, 0.5, &opts());
     assert!(matches!(r, Err(Error::Input(_))), "{r:?}");
-    let r = exact::trajectory(&m, &q0, &pts(&[1.0, 1.0, 1.0, 1.0]), 0.5, 3, &opts());
+    let r = exact::trajectory(&m, &q0, &args(&[1.0, 1.0, 1.0, 1.0]), 0.5, 3, &opts());
     assert!(matches!(r, Err(Error::Input(_))), "{r:?}");
 }
 
@@ -573,7 +574,7 @@ fn trajectory_routes_and_momentum_matching() {
         let m = model(name);
         let q1 = on_manifold_q1(&m, &q0, &u0, h);
         let c = ctx(&q0, &q1, h);
-        let tr = exact::trajectory(&m, &pts(&q0), &pts(&q1), h, n, &opts())
+        let tr = exact::trajectory(&m, &args(&q0), &args(&q1), h, n, &opts())
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(tr.q.len(), n + 1);
         assert_eq!(tr.p.len(), n + 1);
@@ -602,7 +603,7 @@ fn trajectory_routes_and_momentum_matching() {
             }
             // route 2: one validated flow over [0, kh] from the retraction's u0 box
             if [1, n / 2, n].contains(&k) {
-                let e = exact::exponential(&m, &pts(&q0), &ustar, t, &opts()).unwrap();
+                let e = exact::exponential(&m, &args(&q0), &ustar, t, &opts()).unwrap();
                 assert!(
                     overlap(&tr.q[k], &e.q1),
                     "{name} k={k}: q {:?} vs exp {:?}",
@@ -630,7 +631,7 @@ fn trajectory_routes_and_momentum_matching() {
             }
         }
         // one step of the exact discrete flow: (q0, q1) -> (q1, q2)
-        let st = exact::step(&m, &pts(&q0), &pts(&q1), h, &opts()).unwrap();
+        let st = exact::step(&m, &args(&q0), &args(&q1), h, &opts()).unwrap();
         assert!(
             overlap(&st.q2, &tr.q[2]),
             "{name}: step q2 {:?} vs {:?}",
@@ -646,7 +647,7 @@ fn trajectory_routes_and_momentum_matching() {
         // the q_k (~1e-16): they must agree to rounding level; exact overlaps are counted.
         let qk: Vec<Vec<f64>> = tr.q.iter().map(|q| mids(q)).collect();
         let steps: Vec<_> = (0..n)
-            .map(|k| exact::step(&m, &pts(&qk[k]), &pts(&qk[k + 1]), h, &opts()).unwrap())
+            .map(|k| exact::step(&m, &args(&qk[k]), &args(&qk[k + 1]), h, &opts()).unwrap())
             .collect();
         let mut overlaps = 0;
         for k in 1..n {
@@ -727,7 +728,7 @@ fn trajectory_equals_flow_on_exact_pairs() {
         ("knife", [0.0, 0.0, 0.0], [1.0, 0.0], [0.5625, 0.0, 0.0]),
     ] {
         let m = model(name);
-        let tr = exact::trajectory(&m, &pts(&q0), &pts(&q1), h, n, &opts()).unwrap();
+        let tr = exact::trajectory(&m, &args(&q0), &args(&q1), h, n, &opts()).unwrap();
         assert!(tr.retraction.possibly_member());
         assert!(
             overlap(&tr.retraction.u0, &pts(&u0)),
@@ -766,7 +767,7 @@ fn lagrangian_straight_line() {
         ([0.3, 0.0, -1.0], [0.7, 0.0, 4.0], 1e-4),
         ([4.0, 0.0, 0.0], [-3.0, 0.0, 0.1], 2.0),
     ] {
-        let (r, l) = exact::discrete_lagrangian(&m, &pts(&q0), &pts(&q1), h, &opts()).unwrap();
+        let (r, l) = exact::discrete_lagrangian(&m, &args(&q0), &args(&q1), h, &opts()).unwrap();
         let dx = pt(q1[0]) - pt(q0[0]);
         let exact_l = dx.sqr() / (pt(2.0) * pt(h));
         let c = ctx(&q0, &q1, h);
@@ -811,14 +812,14 @@ proptest! {
         let pm = model("particle");
         let mut q1 = on_manifold_q1(&pm, &q0, &u0, h);
         for _ in 0..2 {
-            let (r, l) = exact::discrete_lagrangian(&pm, &pts(&q0), &pts(&q1), h, &opts()).unwrap();
+            let (r, l) = exact::discrete_lagrangian(&pm, &args(&q0), &args(&q1), h, &opts()).unwrap();
             let cf = check_particle(&q0, &q1, h, &r);
             prop_assert!(!l.disjoint(cf.l), "SOUNDNESS: l {:?} vs closed form {:?} at {}", l, cf.l, ctx(&q0, &q1, h));
             q1[2] += dz;
         }
         let km = model("knife");
         let q1 = on_manifold_q1(&km, &q0, &u0, h);
-        let (r, l) = exact::discrete_lagrangian(&km, &pts(&q0), &pts(&q1), h, &opts()).unwrap();
+        let (r, l) = exact::discrete_lagrangian(&km, &args(&q0), &args(&q1), h, &opts()).unwrap();
         let cf = check_knife(&q0, &q1, h, &r);
         let quad = knife_action_quadrature(&q0, &mids(&cf.u0), h);
         prop_assert!(
@@ -842,7 +843,7 @@ proptest! {
         for name in ["particle", "knife"] {
             let m = model(name);
             let q1 = on_manifold_q1(&m, &q0, &u0, h);
-            let st = exact::step(&m, &pts(&q0), &pts(&q1), h, &opts()).unwrap();
+            let st = exact::step(&m, &args(&q0), &args(&q1), h, &opts()).unwrap();
             let r = &st.retraction;
             let c = ctx(&q0, &q1, h);
             if name == "particle" {
@@ -883,7 +884,7 @@ fn tightness_long_trajectory() {
     let q1 = [0.4, 0.4, f.q[2].mid()];
     assert!((f.q[0].mid() - 0.4).abs() < 1e-14);
     let t0 = std::time::Instant::now();
-    let tr = exact::trajectory(&m, &pts(&q0), &pts(&q1), h, n, &opts()).unwrap();
+    let tr = exact::trajectory(&m, &args(&q0), &args(&q1), h, n, &opts()).unwrap();
     let elapsed = t0.elapsed();
     let cf = check_particle(&q0, &q1, h, &tr.retraction);
     assert!(tr.retraction.s[0].mag() < 1e-15);
@@ -898,8 +899,8 @@ fn tightness_long_trajectory() {
             let (qc, pc) = closed_form_at("particle", &q0, &cf.u0, k as f64 * h);
             assert!(overlap(&tr.q[k], &qc), "k={k}: {:?} vs {qc:?}", tr.q[k]);
             assert!(overlap(&tr.p[k], &pc), "k={k}: {:?} vs {pc:?}", tr.p[k]);
-            let p = &tr.p[k];
-            let hk = (p[0].sqr() / (pt(1.0) + tr.q[k][1].sqr()) + p[1].sqr()) * pt(0.5);
+            let (p, y) = (ia(&tr.p[k]), I::from(tr.q[k][1]));
+            let hk = (p[0].sqr() / (pt(1.0) + y.sqr()) + p[1].sqr()) * pt(0.5);
             assert!(!hk.disjoint(energy), "k={k}: H {hk:?} vs {energy:?}");
         }
     }
@@ -936,7 +937,7 @@ fn float_jacobian_when_only_the_variational_series_limits_the_step() {
     assert!((jac[(2, 0)] - dz).abs() < 1e-12, "{} vs {dz}", jac[(2, 0)]);
     // The pair (0, (0, +-2, 0)) lies on M_h^{e,nh} with u0 = (0, +-4): certified.
     for y in [2.0, -2.0] {
-        let r = exact::retract(&m, &pts(&[0.0; 3]), &pts(&[0.0, y, 0.0]), 0.5, &opts())
+        let r = exact::retract(&m, &args(&[0.0; 3]), &args(&[0.0, y, 0.0]), 0.5, &opts())
             .unwrap_or_else(|e| panic!("y1 = {y}: {e}"));
         assert!(
             r.u0[0].contains(0.0) && r.u0[1].contains(2.0 * y),

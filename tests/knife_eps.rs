@@ -456,7 +456,8 @@ fn ref_velocity(eps: f64, s: &RState) -> [Float; 3] {
 }
 
 /// inf <= r <= sup, compared exactly (f64 endpoints convert to Float exactly).
-fn contains(x: &Interval, r: &Float) -> bool {
+fn contains<T: Copy + Into<Interval>>(x: &T, r: &Float) -> bool {
+    let x: Interval = (*x).into();
     !x.is_empty() && fl(x.inf()) <= *r && *r <= fl(x.sup())
 }
 
@@ -675,7 +676,11 @@ fn knife_model() -> Model {
 }
 
 fn components(e: &FlowEnclosure) -> Vec<Interval> {
-    e.q.iter().chain(&e.u).chain(&e.v).copied().collect()
+    e.q.iter()
+        .chain(&e.u)
+        .chain(&e.v)
+        .map(|x| Interval::from(*x))
+        .collect()
 }
 
 /// Distance between two intervals (0 when they intersect).

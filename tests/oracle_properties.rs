@@ -99,9 +99,9 @@ use dalembert::schemes::{
     discrete_constraint, discrete_force, ld_gradients, step_residual, NewtonOptions, Scheme,
     SchemeKind,
 };
+use dalembert::Interval;
 use dalembert::{flow, AnyScene, FlowOptions, Model};
 use exact_common::{gap, overlap};
-use inari::Interval;
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestError, TestRng, TestRunner};
@@ -144,7 +144,7 @@ impl Which {
 }
 
 fn pts(v: &[f64]) -> Vec<Interval> {
-    v.iter().map(|x| point(*x)).collect()
+    v.iter().map(|x| Interval::point(*x)).collect()
 }
 
 fn mids(v: &[Interval]) -> Vec<f64> {
@@ -858,7 +858,11 @@ fn law_reversibility(which: Which, p: &Pair) -> Result<(), String> {
             return Err(format!("reversed q(h) {:?} vs {:?}", back.q1, st.q1));
         }
         // the reversed trajectory passes q(h) with momentum -p(h)
-        let neg: Vec<Interval> = st.p_plus.iter().map(|x| -*x).collect();
+        let neg: Vec<inari::Interval> = st
+            .p_plus
+            .iter()
+            .map(|x| -inari::Interval::from(*x))
+            .collect();
         if !overlap(&back.p_plus, &neg) {
             return Err(format!(
                 "reversed momentum at q(h) {:?} vs -p(h) {:?}",

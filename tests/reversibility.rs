@@ -100,7 +100,7 @@ fn knife_eps_flowed_forward_then_reversed_returns_to_its_start() {
     assert!(w < 1e-8, "width {w}");
 }
 
-fn meets(x: Interval, r: Interval) -> bool {
+fn meets(x: dalembert::Interval, r: Interval) -> bool {
     !x.intersection(r).is_empty()
 }
 

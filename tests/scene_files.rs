@@ -57,10 +57,11 @@ fn assert_close(a: &[f64], b: &[f64], what: &str) {
     }
 }
 
-fn assert_overlap(a: &[Interval], b: &[Interval], what: &str) {
+fn assert_overlap<T: Copy + Into<Interval>>(a: &[T], b: &[T], what: &str) {
     assert_eq!(a.len(), b.len(), "{what}");
     for (x, y) in a.iter().zip(b) {
-        assert!(!x.intersection(*y).is_empty(), "{what}: {x:?} vs {y:?}");
+        let (x, y): (Interval, Interval) = ((*x).into(), (*y).into());
+        assert!(!x.intersection(y).is_empty(), "{what}: {x:?} vs {y:?}");
         let (wx, wy) = (x.wid(), y.wid());
         assert!(
             wx <= 1.1 * wy + 1e-300 && wy <= 1.1 * wx + 1e-300,
@@ -624,7 +625,9 @@ fn every_example_compiles_and_its_flow_conserves_energy() {
         let x0: Vec<Interval> = q0.iter().chain(&u0).map(|x| point(*x)).collect();
         let v0 = model.velocity().eval(&x0);
         let e0 = model.energy().eval(&[qi.clone(), v0].concat())[0];
-        let e1 = model.energy().eval(&[fl.q.clone(), fl.v.clone()].concat())[0];
+        let ia =
+            |v: &[dalembert::Interval]| v.iter().map(|x| Interval::from(*x)).collect::<Vec<_>>();
+        let e1 = model.energy().eval(&[ia(&fl.q), ia(&fl.v)].concat())[0];
         assert!(
             !e0.intersection(e1).is_empty() && e1.wid() < 1e-6,
             "{}: energy {e0:?} -> {e1:?}",

@@ -42,7 +42,12 @@ fn boxed(q: &[f64]) -> Vec<Interval> {
     q.iter().map(|x| point(*x)).collect()
 }
 
-fn mid(q: &[Interval]) -> Vec<f64> {
+/// Points as the library's arguments take them.
+fn args(q: &[f64]) -> Vec<dalembert::Interval> {
+    q.iter().map(|x| dalembert::Interval::point(*x)).collect()
+}
+
+fn mid(q: &[dalembert::Interval]) -> Vec<f64> {
     q.iter().map(|x| x.mid()).collect()
 }
 
@@ -443,8 +448,8 @@ fn particle_energy_claims() {
     assert_eq!(mla.q[1], dla.q[1]);
     let ex = dalembert::exact::trajectory(
         &m,
-        &boxed(&q0),
-        &boxed(&mla.q[1]),
+        &args(&q0),
+        &args(&mla.q[1]),
         h,
         n,
         &FlowOptions::default(),

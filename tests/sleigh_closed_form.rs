@@ -260,7 +260,7 @@ fn the_old_coefficient_is_excluded_at_negative_a() {
     assert!(!e.q[2].intersection(r.q[2]).is_empty());
     // the old beta is |beta|, so the old theta is theta0 - (theta - theta0) here (theta0 = 0)
     let old = -r.q[2];
-    let gap = (e.q[2] - old).abs();
+    let gap = (Interval::from(e.q[2]) - old).abs();
     assert!(gap.inf() > 1.0, "gap {}", show(gap));
 }
 
@@ -315,13 +315,13 @@ fn negative_a_aligns_backwards() {
     assert!(e.u[1].mag() < 1e-9, "omega(50) = {}", show(e.u[1]));
     assert!(e.u[0].sup() < 0.0);
     assert!(
-        (e.u[0] + vinf).mag() < 1e-9,
+        (Interval::from(e.u[0]) + vinf).mag() < 1e-9,
         "v(50) = {} vs -{}",
         show(e.u[0]),
         show(vinf)
     );
     assert!(
-        (e.q[2] - theta_inf).mag() < 1e-9,
+        (Interval::from(e.q[2]) - theta_inf).mag() < 1e-9,
         "theta(50) = {} vs the limit {}",
         show(e.q[2]),
         show(theta_inf)

@@ -7,7 +7,11 @@ use dalembert::schemes::{Scheme, SchemeKind};
 use dalembert::testing::{
     check_stepper, check_stepper_from_state, global_order, local_order, observed_order, Stepper,
 };
-use dalembert::{scalar::iv, AnyScene, Error, FlowOptions, Model};
+use dalembert::{AnyScene, Error, FlowOptions, Interval, Model};
+
+fn iv(lo: f64, hi: f64) -> Interval {
+    Interval::try_new(lo, hi).unwrap()
+}
 
 fn model(name: &str) -> Model {
     Model::new(&AnyScene::new(name, &[]).unwrap()).unwrap()
@@ -190,7 +194,7 @@ fn a_first_order_start_shows_against_the_continuous_flow_only() {
         assert_eq!(from_state.continuous.len(), steps + 1);
         at_t1.push(from_state.continuous[steps]);
     }
-    let ratio = at_t1[0] / at_t1[1];
+    let ratio = inari::Interval::from(at_t1[0]) / inari::Interval::from(at_t1[1]);
     assert!(ratio.inf() > 1.5 && ratio.sup() < 2.5, "{ratio:?}");
 }
 

@@ -64,7 +64,7 @@ fn closed_form(q0: [f64; 3], u: [f64; 2], t: f64) -> [Interval; 3] {
     ]
 }
 
-fn overlaps(a: Interval, b: Interval) -> bool {
+fn overlaps(a: dalembert::Interval, b: Interval) -> bool {
     !a.disjoint(b)
 }
 
@@ -146,9 +146,9 @@ fn retract_and_step_on_a_pair_of_the_exact_motion() {
     let (q0, u, h) = ([0.2, -0.1, 0.3], [0.6, 0.9], 0.25);
     let r1 = closed_form(q0, u, h);
     let q1: Vec<f64> = r1.iter().map(|x| x.mid()).collect();
-    let (iq0, iq1): (Vec<Interval>, Vec<Interval>) = (
-        q0.iter().map(|x| point(*x)).collect(),
-        q1.iter().map(|x| point(*x)).collect(),
+    let (iq0, iq1): (Vec<dalembert::Interval>, Vec<dalembert::Interval>) = (
+        q0.iter().map(|x| dalembert::Interval::point(*x)).collect(),
+        q1.iter().map(|x| dalembert::Interval::point(*x)).collect(),
     );
     let opts = FlowOptions::default();
     let r = exact::retract(&m, &iq0, &iq1, h, &opts).unwrap();

@@ -3,8 +3,8 @@
 //! refusal, never a partial answer.
 
 use dalembert::protocol::{Query, Session};
+use dalembert::Interval;
 use dalembert::{exact, flow, work_done, AnyScene, Error, FlowOptions, Model, Reason};
-use inari::Interval;
 use serde_json::{json, Value};
 
 fn model(name: &str) -> Model {
@@ -65,7 +65,7 @@ fn a_retraction_within_its_work_is_the_same_and_below_it_is_refused() {
     let m = model("knife");
     let pts = |v: &[f64]| {
         v.iter()
-            .map(|x| Interval::try_from((*x, *x)).unwrap())
+            .map(|x| Interval::try_new(*x, *x).unwrap())
             .collect::<Vec<_>>()
     };
     let (q0, q1, h) = (pts(&[0.0, 0.0, 0.0]), pts(&[0.1, 0.02, 0.1]), 0.125);
@@ -121,7 +121,7 @@ fn a_short_flow_takes_unsliced_steps_within_its_work() {
     let opts = FlowOptions::default();
     let point = |v: &[f64]| {
         v.iter()
-            .map(|x| Interval::try_from((*x, *x)).unwrap())
+            .map(|x| Interval::try_new(*x, *x).unwrap())
             .collect::<Vec<_>>()
     };
     let mut over = Vec::new();

@@ -1,9 +1,8 @@
 //! `dalembert` with no arguments: a demonstration on the paper's nonholonomic particle.
 
 use crate::oracle::{check_trajectory, CheckOptions};
-use crate::scalar::point;
 use crate::schemes::{NewtonOptions, Scheme, SchemeKind};
-use crate::{exact, AnyScene, Error, FlowOptions, Model};
+use crate::{exact, AnyScene, Error, FlowOptions, Interval, Model};
 use std::time::Instant;
 
 pub fn run() -> Result<(), Error> {
@@ -30,12 +29,12 @@ pub fn run() -> Result<(), Error> {
     }
     println!("\n2. The exact retraction and the exact discrete flow at h = 0.5");
     let h = 0.5;
-    let q0 = [point(0.0); 3];
+    let q0 = [Interval::point(0.0); 3];
     for q1 in [
         [0.4, 0.4, 0.08],
         [0.3900353197707153, 0.4, 0.0770329614269008],
     ] {
-        let s = exact::step(&model, &q0, &q1.map(point), h, &opts)?;
+        let s = exact::step(&model, &q0, &q1.map(Interval::point), h, &opts)?;
         let r = &s.retraction;
         println!(
             "   Q1 = {q1:?}: defect s in [{:.3e}, {:.3e}] -> {}; u0 in [{:.15}, {:.15}]; q2.x in [{:.15}, {:.15}]",

@@ -2,11 +2,12 @@
 //! (spec chapter 11, `crate::testing::{local_order, global_order}`).
 
 use super::{scene_spec, SceneArgs};
-use crate::protocol::{self, interval, intervals, Session};
+use crate::protocol::{self, Session};
 use crate::schemes::{Scheme, SchemeKind};
 use crate::testing::{global_order, local_order, Ladder};
-use crate::{Error, FlowOptions};
-use serde_json::{json, Value};
+use crate::{Error, FlowOptions, Interval};
+use serde::Serialize;
+use serde_json::json;
 
 pub fn run(
     scene: &SceneArgs,
@@ -39,13 +40,13 @@ pub fn run(
     let t_end = global_h[0] * (1.0 / global_h[0]).round().max(1.0);
     let local = local_order(&model, &s, &q, &u, &local_h, &opts)?;
     let global = global_order(&model, &s, &q, &u, t_end, &global_h, &opts)?;
-    let ladder = |l: &Ladder| {
-        json!({
-            "h": l.h,
-            "error": intervals(&l.error),
-            "order": l.orders.iter().map(|o| order_json(*o)).collect::<Vec<_>>(),
-        })
-    };
+    fn ladder(l: &Ladder) -> LadderView<'_> {
+        LadderView {
+            h: &l.h,
+            error: &l.error,
+            order: l.orders.iter().map(|o| order_json(*o)).collect(),
+        }
+    }
     let v = json!({
         "scene": model.name(),
         "scheme": scheme,
@@ -87,17 +88,22 @@ pub fn run(
     Ok(out)
 }
 
-/// An order enclosure as JSON: `[lo, hi]`, or null where none is proved.
-fn order_json(o: inari::Interval) -> Value {
-    if o.is_entire() {
-        Value::Null
-    } else {
-        interval(o)
-    }
+/// A ladder as the JSON answer has it: `order` where [`Ladder`] has `orders`, and `null`
+/// where none is proved.
+#[derive(Serialize)]
+struct LadderView<'a> {
+    h: &'a [f64],
+    error: &'a [Interval],
+    order: Vec<Option<Interval>>,
+}
+
+/// An order enclosure: `None` (JSON null) where none is proved (the whole line).
+fn order_json(o: Interval) -> Option<Interval> {
+    (!o.is_entire()).then_some(o)
 }
 
 /// Rounded outward to 3 decimals (the printed interval contains the certified one).
-fn show_order(o: inari::Interval) -> String {
+fn show_order(o: Interval) -> String {
     if o.is_entire() {
         return "(none proved)".into();
     }

@@ -108,6 +108,8 @@ impl Default for FlowOptions {
 
 /// What the integrator did.
 #[derive(Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct FlowStats {
     /// The Taylor order `p` of the steps (a last step may have used a lower one, spec (5.8')).
     pub order: usize,

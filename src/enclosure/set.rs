@@ -13,7 +13,7 @@ use nalgebra::DMatrix;
 /// (5.1)): `m`, `C` and `B` are exact f64 data, `[r0]` and `[r]` interval vectors that
 /// contain 0. `C r0` is the propagated part (the initial set, and the errors folded into it
 /// by a reorganisation, spec (5.10')); `B r` gathers the errors of the steps since.
-#[derive(Clone)]
+#[derive(Clone, PartialEq)]
 pub struct LohnerSet {
     /// The centre `m` (exact f64 data).
     pub m: Vec<f64>,
@@ -44,7 +44,7 @@ crate::readable::readable_debug!(LohnerSet {
 });
 
 /// The marked subset of a [`LohnerSet`]: its own `[r0]`, `[r]` (inside the set's) and box.
-#[derive(Clone)]
+#[derive(Clone, PartialEq)]
 pub struct SubSet {
     /// The subset's `[r0_S]` (spec eq. (5.14)).
     pub r0: Vec<Interval>,

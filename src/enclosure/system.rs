@@ -10,6 +10,7 @@ use crate::tape::{Tape, Tracer};
 /// those of `var_cols` (spec eq. (5.6)), and `field_var_tail`, the same for a d x `tail`
 /// matrix W: the derivatives with respect to the last `tail` components of the initial
 /// state only (the shooting Jacobian of the retraction needs D x / D u0, not D x / D q0).
+#[derive(Debug)]
 pub struct System {
     /// `x -> F(x)`, `d` inputs and outputs.
     pub field: Tape,

@@ -9,18 +9,22 @@ use crate::enclosure::{
     float_flow_counted, float_flow_tail_counted, flow_set, flow_set_c1, flow_set_span, FlowOptions,
     LohnerSet,
 };
+use crate::interval::{unwrap, wrap, wrap_rows};
 use crate::model::Model;
 use crate::newton::{self, NewtonFailure, NewtonOptions, NewtonOutcome};
 use crate::scalar::point;
 use crate::tape::finite;
+use crate::Interval;
 use crate::{Error, Reason};
-use inari::Interval;
+use inari::Interval as Inari;
 use nalgebra::{DMatrix, DVector};
 
 pub use krawczyk::krawczyk;
 
 /// The nonholonomic exponential map with its derivative (spec eq. (6.1)).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct Exponential {
     /// `q(h)` for every initial condition in the input boxes.
     pub q1: Vec<Interval>,
@@ -28,7 +32,8 @@ pub struct Exponential {
     pub v1: Vec<Interval>,
     /// `D q(h) / D u0`, n x (n - k), over the whole input box.
     pub dq_du: Vec<Vec<Interval>>,
-    /// The state set at time h (to carry a trajectory further).
+    /// The state set at time h (to carry a trajectory further); not serialized.
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub set: LohnerSet,
 }
 
@@ -46,20 +51,24 @@ pub fn exponential(
     opts: &FlowOptions,
 ) -> Result<Exponential, Error> {
     let n = model.n;
-    let x0: Vec<Interval> = q0.iter().chain(u0).copied().collect();
+    let x0: Vec<Inari> = q0.iter().chain(u0).map(|x| Inari::from(*x)).collect();
     let (set, jac, _) = flow_set_c1(&model.dynamics, LohnerSet::from_box(&x0), h, opts)?;
     let hull = set.hull();
     let v1 = set_velocity(model, &set)?;
-    let dq_du = jac.rows().take(n).map(|row| row[n..].to_vec()).collect();
+    let dq_du = jac
+        .rows()
+        .take(n)
+        .map(|row| wrap(row[n..].to_vec()))
+        .collect();
     Ok(Exponential {
-        q1: hull[..n].to_vec(),
-        v1,
+        q1: wrap(hull[..n].to_vec()),
+        v1: wrap(v1),
         dq_du,
         set,
     })
 }
 
-fn velocity(model: &Model, x: &[Interval]) -> Result<Vec<Interval>, Error> {
+fn velocity(model: &Model, x: &[Inari]) -> Result<Vec<Inari>, Error> {
     model
         .velocity
         .eval_checked(x)
@@ -67,13 +76,18 @@ fn velocity(model: &Model, x: &[Interval]) -> Result<Vec<Interval>, Error> {
 }
 
 /// Velocities over a state set, by the centred form (spec eq. (5.12)).
-fn set_velocity(model: &Model, set: &LohnerSet) -> Result<Vec<Interval>, Error> {
+fn set_velocity(model: &Model, set: &LohnerSet) -> Result<Vec<Inari>, Error> {
     set.image(&model.velocity_jac)
         .ok_or_else(|| Error::refused(Reason::Unbounded, "velocity enclosure is not finite"))
 }
 
 /// `N(q) = mu(q)^T`, n x k, enclosed over a box (spec eq. (6.2)).
 pub fn normal_matrix(model: &Model, q: &[Interval]) -> Result<Vec<Vec<Interval>>, Error> {
+    Ok(wrap_rows(normal_rows(model, &unwrap(q))?))
+}
+
+/// [`normal_matrix`] in the computation's intervals.
+fn normal_rows(model: &Model, q: &[Inari]) -> Result<Vec<Vec<Inari>>, Error> {
     let (n, k) = (model.n, model.k);
     let mu = model
         .constraints
@@ -85,7 +99,9 @@ pub fn normal_matrix(model: &Model, q: &[Interval]) -> Result<Vec<Vec<Interval>>
 }
 
 /// The exact retraction at a pair (spec eqs. (6.2)-(6.4)).
-#[derive(Clone)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct Retraction {
     /// Quasi-velocities at Q0: `R^{e-}` in the basis of D.
     pub u0: Vec<Interval>,
@@ -97,18 +113,10 @@ pub struct Retraction {
     pub v1: Vec<Interval>,
     /// `q(h) = Q1 + N(Q1) s`, the point of M_h^{e,nh} over Q0 nearest Q1 along N.
     pub q1: Vec<Interval>,
-    /// The state set at time h (carries the trajectory on).
+    /// The state set at time h (carries the trajectory on); not serialized.
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub set: LohnerSet,
 }
-
-crate::readable::readable_debug!(Retraction {
-    u0: iv,
-    s: iv,
-    v0: iv,
-    v1: iv,
-    q1: iv,
-    set: dbg
-});
 
 impl Retraction {
     /// False when the defect enclosure excludes 0: (Q0, Q1) is proved off M_h^{e,nh}.
@@ -129,10 +137,9 @@ impl Retraction {
 /// # Example
 /// ```
 /// use dalembert::exact::retract;
-/// use dalembert::scalar::point;
-/// use dalembert::{AnyScene, FlowOptions, Model};
+/// use dalembert::{AnyScene, FlowOptions, Interval, Model};
 /// let model = Model::new(&AnyScene::new("particle", &[])?)?;
-/// let pts = |v: &[f64]| v.iter().map(|&x| point(x)).collect::<Vec<_>>();
+/// let pts = |v: &[f64]| v.iter().map(|&x| Interval::point(x)).collect::<Vec<_>>();
 /// let (q0, q1) = (pts(&[0.0, 0.0, 0.0]), pts(&[0.4, 0.4, 0.0]));
 /// let r = retract(&model, &q0, &q1, 0.5, &FlowOptions::default())?;
 /// // the defect s excludes 0: (Q0, Q1) is proved off M_h^{e,nh} (here s is about 0.073)
@@ -148,10 +155,21 @@ pub fn retract(
     h: f64,
     opts: &FlowOptions,
 ) -> Result<Retraction, Error> {
+    retract_in(model, &unwrap(q0), &unwrap(q1), h, opts)
+}
+
+/// [`retract`] with the pair in the computation's intervals.
+fn retract_in(
+    model: &Model,
+    q0: &[Inari],
+    q1: &[Inari],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<Retraction, Error> {
     check_pair(model, q0, q1, h)?;
     let (n, k) = (model.n, model.k);
     let m = n - k;
-    let nq1 = IMat::from_rows(&normal_matrix(model, q1)?);
+    let nq1 = IMat::from_rows(&normal_rows(model, q1)?);
     let guess = newton_guess(model, q0, q1, h, opts);
     // past the deadline or the work limit the Newton guess stops early: say so rather
     // than why it stopped
@@ -162,7 +180,7 @@ pub fn retract(
         .ok_or_else(|| Error::uncertified("singular Jacobian of the shooting map"))?;
     // The state set at time h from the last Krawczyk box (it contains the answer's).
     let last_set = std::cell::RefCell::new(None);
-    let x0_of = |u: &[Interval]| q0.iter().chain(u).copied().collect::<Vec<_>>();
+    let x0_of = |u: &[Inari]| q0.iter().chain(u).copied().collect::<Vec<_>>();
     // One C^1 flow of the box X = (Q0, U) with the point (Q0, u~) marked (spec eq. (6.3)):
     // G(z~; Q0, Q1) = q(h; Q0, u~) - Q1 - N(Q1) s~ from the marked subset, and
     // DG = [D_u q(h) | -N(Q1)] over the box.
@@ -171,14 +189,14 @@ pub fn retract(
         .map(|x| x.mid())
         .chain(guess[..m].iter().copied())
         .collect();
-    let at_guess: Vec<Interval> = guess.iter().map(|x| point(*x)).collect();
+    let at_guess: Vec<Inari> = guess.iter().map(|x| point(*x)).collect();
     let marked = x0_of(&at_guess[..m]);
     let ns_guess = linalg::mul_vec(&nq1, &at_guess[m..]);
     // The validated flows of all Krawczyk boxes share KRAWCZYK_WORK * max_steps steps, so
     // that a hard pair costs a bounded amount of work whatever the inflations do.
     let work = std::cell::Cell::new(0usize);
     let work_budget = KRAWCZYK_WORK * opts.max_steps;
-    let gd = |z: &[Interval]| -> Result<(Vec<Interval>, Vec<Vec<Interval>>), Error> {
+    let gd = |z: &[Inari]| -> Result<(Vec<Inari>, Vec<Vec<Inari>>), Error> {
         let left = work_budget.saturating_sub(work.get());
         if left == 0 {
             return Err(Error::refused(
@@ -244,23 +262,28 @@ pub fn retract(
     let v1 = set_velocity(model, &set)?;
     // q(h) is enclosed twice: by the flow and by Q1 + N(Q1) s (spec eq. (6.4)).
     let ns = linalg::mul_vec(&nq1, &s);
-    let q_at_h = intersect_checked(
+    let q_at_h = intersect(
         &hull[..n],
         &(0..n).map(|i| q1[i] + ns[i]).collect::<Vec<_>>(),
     )?;
     Ok(Retraction {
-        u0,
-        s,
-        v0,
-        v1,
-        q1: q_at_h,
+        u0: wrap(u0),
+        s: wrap(s),
+        v0: wrap(v0),
+        v1: wrap(v1),
+        q1: wrap(q_at_h),
         set,
     })
 }
 
 /// Two enclosures of one object must intersect (spec 0.4); their intersection encloses it.
 pub fn intersect_checked(a: &[Interval], b: &[Interval]) -> Result<Vec<Interval>, Error> {
-    let r: Vec<Interval> = a.iter().zip(b).map(|(x, y)| x.intersection(*y)).collect();
+    Ok(wrap(intersect(&unwrap(a), &unwrap(b))?))
+}
+
+/// [`intersect_checked`] in the computation's intervals.
+fn intersect(a: &[Inari], b: &[Inari]) -> Result<Vec<Inari>, Error> {
+    let r: Vec<Inari> = a.iter().zip(b).map(|(x, y)| x.intersection(*y)).collect();
     if r.iter().any(|x| x.is_empty()) {
         // both enclose the same exact value: disjoint only through a fault of the crate
         return Err(Error::internal(
@@ -270,7 +293,7 @@ pub fn intersect_checked(a: &[Interval], b: &[Interval]) -> Result<Vec<Interval>
     Ok(r)
 }
 
-fn check_pair(model: &Model, q0: &[Interval], q1: &[Interval], h: f64) -> Result<(), Error> {
+fn check_pair(model: &Model, q0: &[Inari], q1: &[Inari], h: f64) -> Result<(), Error> {
     let n = model.n;
     if q0.len() != n || q1.len() != n {
         return Err(Error::input(format!(
@@ -304,14 +327,14 @@ const KRAWCZYK_WORK: usize = 3;
 /// matrix C; returns the point, the float Jacobian of G there and the float residual G.
 fn newton_guess(
     model: &Model,
-    q0: &[Interval],
-    q1: &[Interval],
+    q0: &[Inari],
+    q1: &[Inari],
     h: f64,
     opts: &FlowOptions,
 ) -> Result<NewtonGuess, Error> {
     let (n, k) = (model.n, model.k);
     let m = n - k;
-    let mid = |x: &[Interval]| x.iter().map(|v| v.mid()).collect::<Vec<f64>>();
+    let mid = |x: &[Inari]| x.iter().map(|v| v.mid()).collect::<Vec<f64>>();
     let (a, b) = (mid(q0), mid(q1));
     let not_converged =
         || Error::uncertified("Newton iteration for the retraction did not converge");
@@ -455,7 +478,9 @@ fn newton_guess(
 }
 
 /// The exact discrete flow and Legendre transforms at a pair (spec eqs. (6.5)-(6.7)).
-#[derive(Clone)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct ExactStep {
     /// The retraction of `(Q0, Q1)` the step starts from (spec eqs. (6.2)-(6.4)).
     pub retraction: Retraction,
@@ -469,14 +494,6 @@ pub struct ExactStep {
     pub p_plus: Vec<Interval>,
 }
 
-crate::readable::readable_debug!(ExactStep {
-    retraction: dbg,
-    q1: iv,
-    q2: iv,
-    p_minus: iv,
-    p_plus: iv
-});
-
 /// One step of the exact discrete flow, with the Legendre transforms.
 ///
 /// # Containment
@@ -487,10 +504,9 @@ crate::readable::readable_debug!(ExactStep {
 /// # Example
 /// ```
 /// use dalembert::exact::step;
-/// use dalembert::scalar::point;
-/// use dalembert::{AnyScene, FlowOptions, Model};
+/// use dalembert::{AnyScene, FlowOptions, Interval, Model};
 /// let model = Model::new(&AnyScene::new("particle", &[])?)?;
-/// let pts = |v: &[f64]| v.iter().map(|&x| point(x)).collect::<Vec<_>>();
+/// let pts = |v: &[f64]| v.iter().map(|&x| Interval::point(x)).collect::<Vec<_>>();
 /// let (q0, q1) = (pts(&[0.0, 0.0, 0.0]), pts(&[0.4, 0.4, 0.08]));
 /// let s = step(&model, &q0, &q1, 0.5, &FlowOptions::default())?;
 /// // on the particle y(t) = u_2 t and p_2 = yd = u_2 = 0.8 on the whole trajectory
@@ -511,7 +527,7 @@ pub fn step(
     let p_minus = momentum(model, q0, &r.v0)?;
     let p_plus = momentum(model, &r.q1, &r.v1)?;
     let (set2, _) = flow_set(&model.dynamics, r.set.clone(), h, opts)?;
-    let q2 = set2.hull()[..n].to_vec();
+    let q2 = wrap(set2.hull()[..n].to_vec());
     Ok(ExactStep {
         q1: r.q1.clone(),
         q2,
@@ -524,7 +540,12 @@ pub fn step(
 /// `p_a = <M(q) v + A(q), e_a(q)>` over boxes (spec eq. (4.8); `A = 0` unless the scene has
 /// a one-form).
 pub fn momentum(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Vec<Interval>, Error> {
-    let x: Vec<Interval> = q.iter().chain(v).copied().collect();
+    Ok(wrap(momentum_in(model, &unwrap(q), &unwrap(v))?))
+}
+
+/// [`momentum`] in the computation's intervals.
+fn momentum_in(model: &Model, q: &[Inari], v: &[Inari]) -> Result<Vec<Inari>, Error> {
+    let x: Vec<Inari> = q.iter().chain(v).copied().collect();
     model
         .momentum_d
         .eval_checked(&x)
@@ -532,7 +553,9 @@ pub fn momentum(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Vec<Int
 }
 
 /// The exact discrete trajectory `q_0 .. q_N` from `(Q0, Q1)` (spec eq. (6.6)).
-#[derive(Clone)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct ExactTrajectory {
     /// The retraction of `(Q0, Q1)`: its `u0` box fixes the trajectory (spec eq. (6.2)).
     pub retraction: Retraction,
@@ -544,13 +567,6 @@ pub struct ExactTrajectory {
     /// pair starting at k (momentum matching, paper eq. (momemtummatch)).
     pub p: Vec<Vec<Interval>>,
 }
-
-crate::readable::readable_debug!(ExactTrajectory {
-    retraction: dbg,
-    q: iv,
-    v: iv,
-    p: iv
-});
 
 /// Iterate the exact discrete flow N - 1 times from `(Q0, Q1)`.
 ///
@@ -589,7 +605,9 @@ pub fn trajectory(
 
 /// One iterate of the exact discrete flow: `q ∋ q(kh)`, `v ∋ qd(kh)`, `p ∋` the
 /// D*-momentum at `kh` (as the rows of [`ExactTrajectory`]).
-#[derive(Clone)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct Iterate {
     /// The index `k` of the iterate (0 for `Q0`).
     pub k: usize,
@@ -601,13 +619,6 @@ pub struct Iterate {
     /// Contains the D*-momentum `(<FL(qd(kh)), e_a(q(kh))>)_a` (spec eq. (4.8)).
     pub p: Vec<Interval>,
 }
-
-crate::readable::readable_debug!(Iterate {
-    k: dbg,
-    q: iv,
-    v: iv,
-    p: iv
-});
 
 /// The exact discrete flow from `(Q0, Q1)` one iterate at a time, in memory independent of
 /// the number of iterates (spec eq. (6.6)): the state is the trajectory's Lohner set at
@@ -624,9 +635,21 @@ pub struct ExactFlow<'m> {
     opts: FlowOptions,
     set: LohnerSet,
     k: usize,
-    q0: Vec<Interval>,
+    q0: Vec<Inari>,
     /// The retraction of `(Q0, Q1)` the trajectory starts from.
     pub retraction: Retraction,
+}
+
+/// A summary: the scene, the step, the next iterate's index and the retraction.
+impl std::fmt::Debug for ExactFlow<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ExactFlow")
+            .field("scene", &self.model.name())
+            .field("h", &self.h)
+            .field("k", &self.k)
+            .field("retraction", &self.retraction)
+            .finish_non_exhaustive()
+    }
 }
 
 impl<'m> ExactFlow<'m> {
@@ -638,21 +661,22 @@ impl<'m> ExactFlow<'m> {
         h: f64,
         opts: &FlowOptions,
     ) -> Result<Self, Error> {
-        let retraction = retract(model, q0, q1, h, opts)?;
+        let q0 = unwrap(q0);
+        let retraction = retract_in(model, &q0, &unwrap(q1), h, opts)?;
         Ok(ExactFlow {
             model,
             h,
             opts: opts.clone(),
             set: retraction.set.clone(),
             k: 0,
-            q0: q0.to_vec(),
+            q0,
             retraction,
         })
     }
 
     /// The iterate `k` (0 for `Q0`, 1 for `q(h)`, then one flow of the set by `h` each).
     pub fn next_iterate(&mut self) -> Result<Iterate, Error> {
-        self.next_iterate_after(point(self.h))
+        self.next_iterate_after(Interval::point(self.h))
     }
 
     /// Non-uniform steps (spec eq. (8.4)): as [`ExactFlow::next_iterate`], the set flown
@@ -663,24 +687,30 @@ impl<'m> ExactFlow<'m> {
     pub fn next_iterate_after(&mut self, dt: Interval) -> Result<Iterate, Error> {
         let (model, n, k) = (self.model, self.model.n, self.k);
         let (q, v) = match k {
-            0 => (self.q0.clone(), self.retraction.v0.clone()),
+            0 => (self.q0.clone(), unwrap(&self.retraction.v0)),
             _ => {
                 if k > 1 {
                     // on an error the set stays as it was: a later call tries again
-                    self.set = flow_set_span(&model.dynamics, self.set.clone(), dt, &self.opts)?.0;
+                    self.set =
+                        flow_set_span(&model.dynamics, self.set.clone(), dt.into(), &self.opts)?.0;
                 }
                 let hull = self.set.hull();
                 let q = if k == 1 {
-                    intersect_checked(&hull[..n], &self.retraction.q1)?
+                    intersect(&hull[..n], &unwrap(&self.retraction.q1))?
                 } else {
                     hull[..n].to_vec()
                 };
                 (q, set_velocity(model, &self.set)?)
             }
         };
-        let p = momentum(model, &q, &v)?;
+        let p = momentum_in(model, &q, &v)?;
         self.k += 1;
-        Ok(Iterate { k, q, v, p })
+        Ok(Iterate {
+            k,
+            q: wrap(q),
+            v: wrap(v),
+            p: wrap(p),
+        })
     }
 }
 
@@ -700,10 +730,10 @@ pub fn discrete_lagrangian(
     opts: &FlowOptions,
 ) -> Result<(Retraction, Interval), Error> {
     let r = retract(model, q0, q1, h, opts)?;
-    let x0: Vec<Interval> = q0
+    let x0: Vec<Inari> = q0
         .iter()
         .chain(&r.u0)
-        .copied()
+        .map(|x| Inari::from(*x))
         .chain(std::iter::once(point(0.0)))
         .collect();
     let (set, _) = flow_set(&model.with_action, LohnerSet::from_box(&x0), h, opts)?;
@@ -714,5 +744,5 @@ pub fn discrete_lagrangian(
             "action enclosure not finite",
         ));
     }
-    Ok((r, l))
+    Ok((r, l.into()))
 }

@@ -10,8 +10,8 @@ use crate::exact::{ExactStep, Retraction};
 use crate::oracle::Verdict;
 use crate::scene::Description;
 use crate::schemes::{Row, Trajectory};
-use crate::{Error, FlowEnclosure, FlowStats};
-use inari::Interval;
+use crate::{Error, FlowEnclosure, FlowStats, Interval};
+use serde::Serialize;
 use serde_json::{json, Value};
 use std::io::Write;
 
@@ -66,53 +66,47 @@ impl Answer {
     pub fn to_json(&self) -> Value {
         match self {
             Answer::Flow {
-                enclosure: e,
+                enclosure,
                 jacobian,
-            } => {
-                let mut a = json!({
-                    "q": intervals(&e.q),
-                    "v": intervals(&e.v),
-                    "u": intervals(&e.u),
-                    "stats": stats(&e.stats),
-                });
-                if let Some(j) = jacobian {
-                    a["jacobian"] = Value::Array(j.iter().map(|row| intervals(row)).collect());
-                }
-                a
-            }
-            Answer::FlowAt { times, enclosures } => {
-                let total = enclosures.last().map(|e| stats(&e.stats));
-                let at: Vec<Value> = times
+            } => value(FlowView {
+                enclosure,
+                jacobian: jacobian.as_ref(),
+            }),
+            Answer::FlowAt { times, enclosures } => value(FlowAtView {
+                at: times
                     .iter()
                     .zip(enclosures)
-                    .map(|(t, e)| {
-                        json!({
-                            "t": t,
-                            "q": intervals(&e.q),
-                            "v": intervals(&e.v),
-                            "u": intervals(&e.u),
-                        })
+                    .map(|(t, e)| Stop {
+                        t: *t,
+                        q: &e.q,
+                        v: &e.v,
+                        u: &e.u,
                     })
-                    .collect();
-                json!({"at": at, "stats": total})
-            }
-            Answer::Retract(r) => json!({
-                "u0": intervals(&r.u0),
-                "v0": intervals(&r.v0),
-                "v1": intervals(&r.v1),
-                "defect": intervals(&r.s),
-                "member": if r.possibly_member() { "possible" } else { "no" },
-                "q1": intervals(&r.q1),
+                    .collect(),
+                stats: enclosures.last().map(|e| &e.stats),
             }),
-            Answer::Step(s) => json!({
-                "q1": intervals(&s.q1),
-                "q2": intervals(&s.q2),
-                "p_minus": intervals(&s.p_minus),
-                "p_plus": intervals(&s.p_plus),
+            Answer::Retract(r) => value(RetractView {
+                u0: &r.u0,
+                v0: &r.v0,
+                v1: &r.v1,
+                defect: &r.s,
+                member: if r.possibly_member() {
+                    "possible"
+                } else {
+                    "no"
+                },
+                q1: &r.q1,
             }),
-            Answer::Lagrangian { l, retraction } => {
-                json!({"l": interval(*l), "defect": intervals(&retraction.s)})
-            }
+            Answer::Step(s) => value(StepView {
+                q1: &s.q1,
+                q2: &s.q2,
+                p_minus: &s.p_minus,
+                p_plus: &s.p_plus,
+            }),
+            Answer::Lagrangian { l, retraction } => value(LagrangianView {
+                l: *l,
+                defect: &retraction.s,
+            }),
             Answer::Check {
                 verdict: v, passed, ..
             } => verdict(v, *passed),
@@ -304,19 +298,28 @@ pub fn description(s: &Description) -> Value {
     })
 }
 
+/// The JSON value of an answer or a part of one, from its serde form. The objects are
+/// serde_json's maps, whose keys are kept sorted: the answers print their keys in that
+/// order whatever the order of the fields.
+pub(crate) fn value(x: impl Serialize) -> Value {
+    // cannot fail: the answers are numbers, strings, arrays and structs, no map with keys
+    // that are not strings
+    serde_json::to_value(x).unwrap_or(Value::Null)
+}
+
 /// `[lo, hi]`; serde_json prints f64 in shortest round-trip form.
 pub fn interval(x: Interval) -> Value {
-    json!([x.inf(), x.sup()])
+    value(x)
 }
 
 /// The intervals as a JSON array of `[lo, hi]`.
 pub fn intervals(x: &[Interval]) -> Value {
-    Value::Array(x.iter().map(|v| interval(*v)).collect())
+    value(x)
 }
 
 /// The object `stats` of a flow answer: `order`, `steps`, `rejected`, `h_min`, `h_max`.
 pub fn stats(s: &FlowStats) -> Value {
-    json!({"order": s.order, "steps": s.steps, "rejected": s.rejected, "h_min": s.h_min, "h_max": s.h_max})
+    value(s)
 }
 
 /// The batch error object (contract, E10): `code` and `message`; for a refusal also its
@@ -341,26 +344,88 @@ pub fn error_object(e: &Error) -> Value {
 /// The `check` answer: `{"distance", "max_distance", "defect", "energy_error", "passed"}`.
 /// With pair figures also `"max_defect"` (contract E13).
 pub fn verdict(v: &crate::oracle::Verdict, passed: bool) -> Value {
-    let mut a = json!({
-        "distance": intervals(&v.distance),
-        "max_distance": interval(v.max_distance),
-        "defect": v.defect.iter().map(|d| intervals(d)).collect::<Vec<_>>(),
-        "energy_error": intervals(&v.energy_error),
-        "passed": passed,
-    });
-    if let Some(m) = v.max_defect {
-        a["max_defect"] = interval(m);
-    }
-    a
+    value(CheckView {
+        distance: &v.distance,
+        max_distance: v.max_distance,
+        defect: &v.defect,
+        energy_error: &v.energy_error,
+        passed,
+        max_defect: v.max_defect,
+    })
 }
 
-/// The `integrate` answer, with the Legendre transforms, energy and Newton figures.
+/// The `integrate` answer, with the Legendre transforms, energy and Newton figures: the
+/// serde form of [`Trajectory`] (`q`, `p`, `energy`, `newton_iterations`, `max_residual`).
 pub fn trajectory(t: &Trajectory) -> Value {
-    json!({
-        "q": t.q,
-        "p": t.p,
-        "energy": t.energy,
-        "newton_iterations": t.iterations,
-        "max_residual": t.max_residual,
-    })
+    value(t)
+}
+
+// The answers whose protocol object is not the serde form of the library's type: some keys
+// renamed, dropped or computed. The keys print sorted (see [`value`]).
+
+/// `flow` at one time: the enclosure's `q`, `u`, `v`, `stats`, and `jacobian` when asked.
+#[derive(Serialize)]
+struct FlowView<'a> {
+    #[serde(flatten)]
+    enclosure: &'a FlowEnclosure,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    jacobian: Option<&'a Vec<Vec<Interval>>>,
+}
+
+/// `flow` at many times: a stop each (without its stats), and the stats of the whole
+/// integration (`null` when there is no stop).
+#[derive(Serialize)]
+struct FlowAtView<'a> {
+    at: Vec<Stop<'a>>,
+    stats: Option<&'a FlowStats>,
+}
+
+/// One stop of `flow --times`.
+#[derive(Serialize)]
+struct Stop<'a> {
+    t: f64,
+    q: &'a [Interval],
+    v: &'a [Interval],
+    u: &'a [Interval],
+}
+
+/// `retract`: the retraction with its defect `s` as `defect`, and whether the pair may be
+/// a member of M_h^{e,nh}.
+#[derive(Serialize)]
+struct RetractView<'a> {
+    u0: &'a [Interval],
+    v0: &'a [Interval],
+    v1: &'a [Interval],
+    defect: &'a [Interval],
+    member: &'static str,
+    q1: &'a [Interval],
+}
+
+/// `step`: the step without its retraction.
+#[derive(Serialize)]
+struct StepView<'a> {
+    q1: &'a [Interval],
+    q2: &'a [Interval],
+    p_minus: &'a [Interval],
+    p_plus: &'a [Interval],
+}
+
+/// `lagrangian`: the action and the retraction's defect.
+#[derive(Serialize)]
+struct LagrangianView<'a> {
+    l: Interval,
+    defect: &'a [Interval],
+}
+
+/// `check`: the verdict without the exact trajectory, with the decision; `max_defect` only
+/// with pair figures.
+#[derive(Serialize)]
+struct CheckView<'a> {
+    distance: &'a [Interval],
+    max_distance: Interval,
+    defect: &'a [Vec<Interval>],
+    energy_error: &'a [Interval],
+    passed: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    max_defect: Option<Interval>,
 }

@@ -25,8 +25,7 @@ pub use crate::oracle::{Steps, Tolerances};
 use crate::scalar::point;
 use crate::scene::{Scene, SceneFile};
 use crate::schemes::{NewtonOptions, Scheme, SchemeKind, Trajectory};
-use crate::{AnyScene, Error, FlowOptions, Model};
-use inari::Interval;
+use crate::{AnyScene, Error, FlowOptions, Interval, Model};
 use serde_json::{json, Value};
 use std::collections::HashMap;
 use std::rc::Rc;
@@ -161,6 +160,21 @@ pub struct Session {
     /// `flow.work_limit`; `None`: no work limit. Unlike a deadline it replays the same on
     /// every machine (the fuzz target `batch_line` sets it).
     pub work: Option<u64>,
+}
+
+/// A summary: the scenes compiled so far (by key) and the settings.
+impl std::fmt::Debug for Session {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut scenes: Vec<&String> = self.models.keys().collect();
+        scenes.sort();
+        f.debug_struct("Session")
+            .field("scenes", &scenes)
+            .field("flow", &self.flow)
+            .field("max_integrate_steps", &self.max_integrate_steps)
+            .field("deadline", &self.deadline)
+            .field("work", &self.work)
+            .finish_non_exhaustive()
+    }
 }
 
 /// The budget in seconds of a single-step query (`retract`, `step`, `lagrangian`, and each
@@ -388,7 +402,7 @@ impl Session {
         let model = self.model(&pair.scene)?;
         for q in [&pair.q0, &pair.q1] {
             if q.len() == model.n && q.iter().all(|x| x.is_finite()) {
-                model.check_at(&points(q))?;
+                model.check_at(&q.iter().map(|x| point(*x)).collect::<Vec<_>>())?;
             }
         }
         let sc = self.scheme(&pair.scene, scheme)?;
@@ -485,7 +499,7 @@ pub struct BatchAnswer {
 }
 
 fn points(v: &[f64]) -> Vec<Interval> {
-    v.iter().map(|x| point(*x)).collect()
+    v.iter().map(|x| Interval::point(*x)).collect()
 }
 
 /// Whether a verdict passes the tolerance (spec (8.3)): `true` when `max_distance <= tol`

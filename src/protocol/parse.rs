@@ -24,6 +24,7 @@ pub enum Line {
 
 /// Lines of bytes from a reader, each at most `limit` bytes kept: a longer line is skipped
 /// to its end without being held (memory stays `limit` plus the reader's buffer).
+#[derive(Debug)]
 pub struct LineReader<R> {
     inner: R,
     limit: usize,

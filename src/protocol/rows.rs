@@ -9,7 +9,7 @@
 use super::answer::{interval, intervals};
 use super::Tolerances;
 use crate::schemes::Row;
-use inari::Interval;
+use crate::Interval;
 use std::io::{self, Write};
 
 /// One f64 as serde_json prints it (shortest round-trip form), as the JSON answers do.
@@ -32,6 +32,7 @@ fn list(w: &mut impl Write, xs: &[f64]) -> io::Result<()> {
 /// The `integrate` answer row by row: the CSV `k,q0..,p0..,energy` (one part), or the
 /// object of contract command 4 (four parts: the arrays `q`, `p`, `energy`,
 /// `newton_iterations`).
+#[derive(Debug)]
 pub struct IntegrateRows {
     json: bool,
     /// The number of coordinates (the CSV header's `q` columns).
@@ -135,6 +136,7 @@ fn csv_row(w: &mut impl Write, r: &Row, n: usize) -> io::Result<()> {
 
 /// The `check` answer row by row: the verdict table (one part), or the object of the batch
 /// `check` answer (three parts: the arrays `distance`, `defect`, `energy_error`).
+#[derive(Debug)]
 pub struct CheckRows {
     json: bool,
 }

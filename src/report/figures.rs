@@ -4,12 +4,12 @@
 use super::orders::{self, Orders, SCHEMES};
 use super::{max_width, points, Figure, Panel, Progress, Series, Style, Table};
 use crate::exact;
+use crate::interval::unwrap;
 use crate::oracle::{distance, energy};
 use crate::scalar::point;
 use crate::schemes::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use crate::testing::Ladder;
-use crate::{flow, AnyScene, Basis, Error, FlowOptions, Model};
-use inari::Interval;
+use crate::{flow, AnyScene, Basis, Error, FlowOptions, Interval, Model};
 use std::time::Instant;
 
 /// Sizes of the runs. [`Settings::paper`] is the paper's; [`Settings::quick`] a small
@@ -106,7 +106,7 @@ fn run_scheme(
 
 /// An upper bound of `|e - E|` over the interval `E`.
 fn above(e: f64, exact: Interval) -> f64 {
-    (point(e) - exact).abs().sup()
+    (point(e) - inari::Interval::from(exact)).abs().sup()
 }
 
 /// Energy panels of DLA and MLA from the same `(q0, q1)` against the exact energy (9.1).
@@ -207,7 +207,7 @@ pub fn particle(steps: usize, progress: &Progress) -> Result<Vec<Figure>, Error>
         &FlowOptions::default(),
     )?;
     progress.count("particle: figures", 2, 3);
-    let e = energy(&m, &ex.q[0], &ex.v[0])?;
+    let e = energy(&m, &unwrap(&ex.q[0]), &unwrap(&ex.v[0]))?.into();
     let mut figs = vec![energy_figure("particle_energy", "Particle", &dla, &mla, e)];
     // Certified distances |q_k - q(kh)|_inf (spec Theorem 8.1).
     let dist = |tr: &Trajectory| -> Vec<Interval> {
@@ -297,7 +297,7 @@ pub fn knife(eps: Option<f64>, steps: usize, progress: &Progress) -> Result<Figu
         H,
         &FlowOptions::default(),
     )?;
-    let exact_energy = energy(&m, &points(&q0), &r.v0)?;
+    let exact_energy = energy(&m, &unwrap(&points(&q0)), &unwrap(&r.v0))?.into();
     progress.count(scene, 1, 1);
     Ok(energy_figure(name, &title, &dla, &mla, exact_energy))
 }

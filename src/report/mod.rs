@@ -8,8 +8,7 @@ pub mod orders;
 pub mod stability;
 
 pub use crate::progress::Progress;
-use crate::scalar::point;
-use inari::Interval;
+use crate::Interval;
 
 /// A figure: one or more panels side by side, and the data as tables (one CSV file each).
 #[derive(Clone, Debug)]
@@ -118,7 +117,7 @@ impl Table {
 
 /// Points of f64 values as thin intervals.
 pub(crate) fn points(v: &[f64]) -> Vec<Interval> {
-    v.iter().map(|x| point(*x)).collect()
+    v.iter().map(|x| Interval::point(*x)).collect()
 }
 
 /// The largest width of a list of intervals.

@@ -339,6 +339,7 @@ impl SceneInfo {
 }
 
 /// Parameter values handed to a scene's constructor: the given ones, else the defaults.
+#[derive(Debug)]
 pub struct Params<'a> {
     info: &'static SceneInfo,
     given: &'a [(String, f64)],

@@ -43,9 +43,9 @@
 use super::{pair_point, Stepper};
 use crate::oracle::check_step;
 use crate::schemes::{NewtonFailure, NewtonOptions, Scheme};
+use crate::Interval;
 use crate::{Error, FlowOptions, Model};
 pub use arbitrary::Unstructured;
-use inari::Interval;
 use std::fmt;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -99,6 +99,7 @@ impl NewtonSolver for Scheme {
 }
 
 /// A [`Stepper`] as a solver: every `Ok` answer is claimed converged.
+#[derive(Debug)]
 pub struct Claimed<S>(pub S);
 
 impl<S: Stepper> NewtonSolver for Claimed<S> {

@@ -28,8 +28,8 @@ pub mod strategies;
 use crate::oracle::{check_step, check_trajectory, CheckOptions};
 use crate::scalar::{point, Scalar};
 use crate::schemes::{NewtonOptions, Scheme};
-use crate::{flow, Error, FlowOptions, Model};
-use inari::Interval;
+use crate::{flow, Error, FlowOptions, Interval, Model};
+use inari::Interval as Inari;
 
 /// A user's one-step map of a two-step (variational) integrator: `q_{k+1}` from
 /// `(q_{k-1}, q_k)` and the step `h`, or the stepper's own failure (its message).
@@ -54,7 +54,9 @@ impl Stepper for Scheme {
 }
 
 /// The certified local errors of a stepper on a ladder of step sizes (spec eq. (11.1)).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct Ladder {
     /// The step sizes, as given.
     pub h: Vec<f64>,
@@ -184,7 +186,9 @@ fn ladder(hs: &[f64], error: Vec<Interval>) -> Ladder {
 }
 
 /// Certified verdicts on a stepper's run (spec eq. (11.4)).
-#[derive(Clone)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct StepperVerdict {
     /// The stepper's iterates `q_0 .. q_N` (`q_0`, `q_1` as given or started).
     pub q: Vec<Vec<f64>>,
@@ -195,12 +199,6 @@ pub struct StepperVerdict {
     /// `t_k = k h`; empty when the run was started from a pair.
     pub continuous: Vec<Interval>,
 }
-
-crate::readable::readable_debug!(StepperVerdict {
-    q: dbg,
-    discrete: dbg,
-    continuous: iv
-});
 
 impl StepperVerdict {
     /// Whether the run passes the tolerance `tol` on the distance to the exact discrete
@@ -266,7 +264,7 @@ pub fn check_stepper_from_state<St: Stepper + ?Sized>(
         Some(r) => r.map_err(|e| Error::input(format!("the stepper's start failed: {e}")))?,
     };
     let mut v = check_stepper(model, stepper, q0, &q1, h, steps, opts)?;
-    let mut continuous = vec![point(0.0)];
+    let mut continuous = vec![Interval::point(0.0)];
     for (k, qk) in v.q.iter().enumerate().skip(1) {
         let e = flow(model, q0, u0, k as f64 * h, opts)?;
         continuous.push(crate::oracle::distance(qk, &e.q));
@@ -307,14 +305,16 @@ pub fn observed_order(ea: Interval, eb: Interval, ha: f64, hb: f64) -> Interval 
     let r = (point(ha) / point(hb)).ln();
     let usable = ea.inf() > 0.0 && eb.inf() > 0.0 && r.inf() > 0.0;
     if usable {
-        (ea / eb).ln() / r
+        ((Inari::from(ea) / Inari::from(eb)).ln() / r).into()
     } else {
         Interval::ENTIRE
     }
 }
 
 /// A start pair for a scheme, with what the oracle proved about it.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct Pair {
     /// The first configuration `q0`.
     pub q0: Vec<f64>,
@@ -330,7 +330,7 @@ pub struct Pair {
 }
 
 #[cfg(any(feature = "proptest", feature = "quickcheck"))]
-pub(crate) fn points(v: &[f64]) -> Vec<Interval> {
+pub(crate) fn points(v: &[f64]) -> Vec<Inari> {
     v.iter().map(|x| point(*x)).collect()
 }
 
@@ -344,7 +344,8 @@ pub(crate) fn exact_pair(
 ) -> Option<Pair> {
     let opts = FlowOptions::default();
     let q1 = pair_point(model, &q0, &u0, h, distance, &opts)?;
-    let r = crate::exact::retract(model, &points(&q0), &points(&q1), h, &opts).ok()?;
+    let pts = |v: &[f64]| crate::interval::wrap(points(v));
+    let r = crate::exact::retract(model, &pts(&q0), &pts(&q1), h, &opts).ok()?;
     Some(Pair {
         q0,
         u0,

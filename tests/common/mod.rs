@@ -22,7 +22,8 @@ pub fn hex(x: f64) -> String {
 }
 
 /// An interval as `[inf, sup] (wid ...)`.
-pub fn show(x: Interval) -> String {
+pub fn show(x: impl Into<Interval>) -> String {
+    let x = x.into();
     if x.is_empty() {
         return "EMPTY".to_string();
     }
@@ -77,8 +78,8 @@ pub fn run(model: &Model, q: &[f64], u: &[f64], t: f64) -> Result<FlowEnclosure,
 }
 
 /// `max(1, |x|)` for an interval: the scale of the relative width bounds.
-pub fn scale(x: Interval) -> f64 {
-    x.mag().max(1.0)
+pub fn scale(x: impl Into<Interval>) -> f64 {
+    x.into().mag().max(1.0)
 }
 
 /// SplitMix64 (Steele, Lea, Flood 2014): a tiny generator with a fixed seed, so that the
@@ -160,8 +161,16 @@ pub fn integrate(
 /// (the retraction's v0 and the model's energy tape in intervals), at most 1e-12 wide.
 pub fn exact_energy(m: &Model, q0: &[f64], q1: &[f64], h: f64) -> Interval {
     let b = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
-    let r = dalembert::exact::retract(m, &b(q0), &b(q1), h, &FlowOptions::default()).unwrap();
-    let x: Vec<Interval> = b(q0).into_iter().chain(r.v0).collect();
+    let a = |v: &[f64]| {
+        v.iter()
+            .map(|x| dalembert::Interval::point(*x))
+            .collect::<Vec<_>>()
+    };
+    let r = dalembert::exact::retract(m, &a(q0), &a(q1), h, &FlowOptions::default()).unwrap();
+    let x: Vec<Interval> = b(q0)
+        .into_iter()
+        .chain(r.v0.into_iter().map(Interval::from))
+        .collect();
     let e = m.energy().eval_checked(&x).unwrap()[0];
     assert!(e.wid() < 1e-12, "{e:?}");
     e

@@ -21,16 +21,27 @@ pub fn pts(v: &[f64]) -> Vec<I> {
     v.iter().map(|x| point(*x)).collect()
 }
 
-pub fn mids(v: &[I]) -> Vec<f64> {
-    v.iter().map(|x| x.mid()).collect()
+/// Points as the library's arguments take them.
+pub fn args(v: &[f64]) -> Vec<dalembert::Interval> {
+    v.iter().map(|x| dalembert::Interval::point(*x)).collect()
+}
+
+/// The library's answers as inari intervals, for arithmetic.
+pub fn ia(v: &[dalembert::Interval]) -> Vec<I> {
+    v.iter().map(|x| I::from(*x)).collect()
+}
+
+pub fn mids<T: Copy + Into<I>>(v: &[T]) -> Vec<f64> {
+    v.iter().map(|x| (*x).into().mid()).collect()
 }
 
 /// Width relative to max(1, |x|).
-pub fn rel_wid(x: I) -> f64 {
+pub fn rel_wid(x: impl Into<I>) -> f64 {
+    let x = x.into();
     x.wid() / x.mag().max(1.0)
 }
 
-pub fn max_rel_wid(v: &[I]) -> f64 {
+pub fn max_rel_wid<T: Copy + Into<I>>(v: &[T]) -> f64 {
     v.iter().map(|x| rel_wid(*x)).fold(0.0, f64::max)
 }
 
@@ -43,12 +54,16 @@ pub fn bits(v: &[f64]) -> String {
     format!("[{}]", parts.join(", "))
 }
 
-pub fn overlap(a: &[I], b: &[I]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| !x.disjoint(*y))
+pub fn overlap<A: Copy + Into<I>, B: Copy + Into<I>>(a: &[A], b: &[B]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(x, y)| !(*x).into().disjoint((*y).into()))
 }
 
 /// Distance between two intervals (0 when they intersect).
-pub fn gap(a: I, b: I) -> f64 {
+pub fn gap(a: impl Into<I>, b: impl Into<I>) -> f64 {
+    let (a, b) = (a.into(), b.into());
     if !a.disjoint(b) {
         0.0
     } else if a.sup() < b.inf() {
@@ -151,7 +166,11 @@ pub struct ParticleRet {
 }
 
 /// h mu_d(Q0, Q1) = (z1 - z0) - (x1 - x0) A(y0, y1), over boxes.
-pub fn particle_h_mu_d(q0: &[I], q1: &[I]) -> I {
+pub fn particle_h_mu_d<A: Copy + Into<I>, B: Copy + Into<I>>(q0: &[A], q1: &[B]) -> I {
+    let (q0, q1) = (
+        q0.iter().map(|x| (*x).into()).collect::<Vec<I>>(),
+        q1.iter().map(|x| (*x).into()).collect::<Vec<I>>(),
+    );
     let d = q1[1] - q0[1];
     let r = ratio(q0[1], q1[1], d);
     let a = (q1[1] + q0[1]) / (sq1(q1[1]) + sq1(q0[1])) * r;
