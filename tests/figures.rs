@@ -458,7 +458,10 @@ fn the_docs_show_the_tested_examples_and_the_figures() {
     let figures = include_str!("../docs/figures.md");
     for name in SVGS {
         let link = format!("(figures/{name}.svg)");
-        assert!(figures.contains(&link), "docs/figures.md does not embed {link}");
+        assert!(
+            figures.contains(&link),
+            "docs/figures.md does not embed {link}"
+        );
         let svg = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("docs/figures/{name}.svg"));
         let (polylines, _, _) = read_svg(&svg);
         assert!(polylines >= 1, "{svg:?}");

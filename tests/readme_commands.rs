@@ -21,7 +21,10 @@ fn commands(readme: &str) -> Vec<(String, i32)> {
             continue;
         }
         let (cmd, comment) = match line.find("  #") {
-            Some(i) => (line[..i].trim(), line[i..].trim_start().trim_start_matches('#')),
+            Some(i) => (
+                line[..i].trim(),
+                line[i..].trim_start().trim_start_matches('#'),
+            ),
             None => (line.trim(), ""),
         };
         let runs_dalembert = cmd.starts_with("dalembert ") || cmd.contains("| dalembert ");
@@ -61,17 +64,13 @@ fn every_readme_command_runs_as_written() {
     assert!(cmds.len() >= 6, "{cmds:?}");
 
     let bin = PathBuf::from(env!("CARGO_BIN_EXE_dalembert"));
-    let path = std::env::join_paths(
-        std::iter::once(bin.parent().unwrap().to_path_buf())
-            .chain(std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default())),
-    )
+    let path = std::env::join_paths(std::iter::once(bin.parent().unwrap().to_path_buf()).chain(
+        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()),
+    ))
     .unwrap();
     let dir = std::env::temp_dir().join(format!("dalembert-readme-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    copy_dir(
-        &root.join("examples/scenes"),
-        &dir.join("examples/scenes"),
-    );
+    copy_dir(&root.join("examples/scenes"), &dir.join("examples/scenes"));
 
     for (cmd, status) in &cmds {
         let out = Command::new("sh")
