@@ -21,8 +21,9 @@ use std::fmt;
 /// `{:?}` and `{}` both print `[lo, hi]`, each end in Rust's shortest round-trip form for
 /// f64 (the `{:?}` of f64: `[0.1, 0.30000000000000004]`, `[-1.0, 2.5]`, `[-inf, 1e300]`),
 /// so the printed ends read back (`str::parse::<f64>`) to the same f64; the empty set
-/// prints `[empty]`. Formatting flags (width, precision) are ignored: a shortened end would
-/// no longer be an end of the enclosure.
+/// prints `[empty]`. The ends are [`Interval::inf`] and [`Interval::sup`]: a zero lower end
+/// is `-0.0` (`[0, 0]` prints `[-0.0, 0.0]`, IEEE 1788). Formatting flags (width, precision)
+/// are ignored: a shortened end would no longer be an end of the enclosure.
 ///
 /// # Comparing
 /// `==` is equality of sets (inari's): the same two ends, or both empty.
@@ -54,12 +55,12 @@ impl Interval {
         inari::Interval::try_from((lo, hi)).ok().map(Interval)
     }
 
-    /// The lower end (`+inf` for the empty set).
+    /// The lower end (`-0.0` when it is zero; `+inf` for the empty set).
     pub fn inf(self) -> f64 {
         self.0.inf()
     }
 
-    /// The upper end (`-inf` for the empty set).
+    /// The upper end (`0.0` when it is zero; `-inf` for the empty set).
     pub fn sup(self) -> f64 {
         self.0.sup()
     }

@@ -212,9 +212,7 @@ fn a_broken_user_scene_is_refused_with_the_reason() {
             vec![vec![S::one(), q[0].clone()], vec![S::zero(), S::one()]]
         }
     }
-    let e = Model::new(&Lopsided)
-        .err()
-        .expect("a non-symmetric mass is refused");
+    let e = Model::new(&Lopsided).expect_err("a non-symmetric mass is refused");
     assert!(
         matches!(e, Error::Input(_)) && e.message().contains("symmetric"),
         "{e}"

@@ -17,7 +17,7 @@ use std::io::Write;
 
 /// The answer of one command, as the library computed it (contract commands 1-4, the
 /// `lagrangian` and `check` queries, and the `scenes` listing).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Answer {
     /// `flow` at one time `t`; with `jacobian`, also D(q, u)(t) / D(q, u)(0).
     Flow {
