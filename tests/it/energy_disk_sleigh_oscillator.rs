@@ -3,9 +3,7 @@
 //! printed with `cargo test --test energy_disk_sleigh_oscillator -- --nocapture` and
 //! asserted with margins.
 
-mod common;
-
-use common::{exact_energy, integrate as run, model};
+use crate::common::{exact_energy, integrate as run, model};
 use dalembert::scalar::point;
 use dalembert::schemes::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use dalembert::FlowOptions;

@@ -47,7 +47,7 @@ impl Scene for Unicycle {
     }
 }
 
-fn model() -> Model {
+fn unicycle() -> Model {
     Model::new(&Unicycle { m: 2.0, j: 0.75 }).unwrap()
 }
 
@@ -70,7 +70,7 @@ fn overlaps(a: Interval, b: Interval) -> bool {
 
 #[test]
 fn the_derived_basis_is_the_hand_computed_one() {
-    let m = model();
+    let m = unicycle();
     let q = [0.3, -1.2, 0.7];
     let e = m.scene().basis(&q);
     assert_eq!(e[0][0], 1.0);
@@ -81,7 +81,7 @@ fn the_derived_basis_is_the_hand_computed_one() {
 
 #[test]
 fn certified_flow_contains_the_closed_form() {
-    let m = model();
+    let m = unicycle();
     let cases = [
         ([0.0, 0.0, 0.0], [0.8, 0.8], 0.5),
         ([1.0, -2.0, 0.4], [0.3, -0.3], 3.0),
@@ -108,7 +108,7 @@ fn certified_flow_contains_the_closed_form() {
 /// (exit 3), never answered: the free coordinate x stops being a coordinate of D there.
 #[test]
 fn the_derived_basis_singularity_is_a_refusal() {
-    let m = model();
+    let m = unicycle();
     let r = flow(
         &m,
         &[0.0, 0.0, 1.4],
@@ -142,7 +142,7 @@ fn the_derived_basis_singularity_is_a_refusal() {
 
 #[test]
 fn retract_and_step_on_a_pair_of_the_exact_motion() {
-    let m = model();
+    let m = unicycle();
     let (q0, u, h) = ([0.2, -0.1, 0.3], [0.6, 0.9], 0.25);
     let r1 = closed_form(q0, u, h);
     let q1: Vec<f64> = r1.iter().map(|x| x.mid()).collect();
@@ -168,7 +168,7 @@ fn retract_and_step_on_a_pair_of_the_exact_motion() {
 
 #[test]
 fn mla_on_the_user_scene_passes_the_oracle() {
-    let m = model();
+    let m = unicycle();
     let (q0, u, h) = ([0.0, 0.0, 0.1], [0.5, 0.4], 0.1);
     let q1: Vec<f64> = closed_form(q0, u, h).iter().map(|x| x.mid()).collect();
     let mla = Scheme::new(&m, SchemeKind::Mla);

@@ -18,9 +18,7 @@
 //! q = (x, y, phi). The paper writes the knife as (x, phi, y), so its "q1 = (0.4, 0.4, y1)"
 //! is x1 = 0.4, phi1 = 0.4 here, with y1 fixed by M_h^d.
 
-mod common;
-
-use common::{exact_energy, integrate as run};
+use crate::common::{exact_energy, integrate as run, model};
 use dalembert::scalar::{point, Dual};
 use dalembert::scene::{Particle, Scene};
 use dalembert::schemes::{
@@ -33,9 +31,9 @@ use std::time::{Duration, Instant};
 
 const EPS: f64 = f64::EPSILON;
 
-fn model(name: &str, eps: Option<f64>) -> Model {
-    let params: Vec<(String, f64)> = eps.map(|e| vec![("eps".into(), e)]).unwrap_or_default();
-    Model::new(&AnyScene::new(name, &params).unwrap()).unwrap()
+/// The parameters of a scene with `eps` given or not.
+fn params(eps: Option<f64>) -> Vec<(&'static str, f64)> {
+    eps.map(|e| vec![("eps", e)]).unwrap_or_default()
 }
 
 fn boxed(q: &[f64]) -> Vec<Interval> {
@@ -162,7 +160,7 @@ fn paper_restricted_legendre(q0: &[f64], q1: &[f64], h: f64) -> ([f64; 2], [f64;
 /// relative to max(1, |q|_inf), the whole state).
 #[test]
 fn particle_mla_is_the_papers_explicit_recurrence() {
-    let m = model("particle", None);
+    let m = model("particle", &[]);
     let s = Scheme::new(&m, SchemeKind::Mla);
     let opts = NewtonOptions::default();
     let (h, n) = (0.5, 200);
@@ -234,7 +232,7 @@ fn particle_mla_is_the_papers_explicit_recurrence() {
 /// handful of roundings; the terms can cancel, so the scale is the terms', not the result's).
 #[test]
 fn particle_legendre_transforms_are_the_papers() {
-    let m = model("particle", None);
+    let m = model("particle", &[]);
     let mla = Scheme::new(&m, SchemeKind::Mla);
     let dla = Scheme::new(&m, SchemeKind::Dla);
     let mut g = Mix(11);
@@ -297,9 +295,9 @@ fn knife_projection_of_the_papers_q1() {
     let opts = NewtonOptions::default();
     for eps in [0.0, 0.1] {
         let m = if eps == 0.0 {
-            model("knife", None)
+            model("knife", &[])
         } else {
-            model("knife-eps", Some(eps))
+            model("knife-eps", &[("eps", eps)])
         };
         let sch = Scheme::new(&m, SchemeKind::Mla);
         let (s2, c2, s4, c4) = (0.2f64.sin(), 0.2f64.cos(), 0.4f64.sin(), 0.4f64.cos());
@@ -337,7 +335,7 @@ fn projection_solves_its_affine_equation() {
         ("knife-eps", Some(0.5)),
         ("knife-eps", Some(0.99)),
     ] {
-        let m = model(name, eps);
+        let m = model(name, &params(eps));
         let s = Scheme::new(&m, SchemeKind::Mla);
         let (mut ok, mut failed, mut first_failure) = (0, 0, None);
         let mut worst = 0.0f64;
@@ -393,7 +391,7 @@ fn projection_solves_its_affine_equation() {
 /// (knife) to ~5% (knife-eps 0.9-0.99) of moderate inputs. Run with `--ignored`.
 #[test]
 fn projection_of_moderate_inputs_must_not_fail() {
-    let m = model("knife", None);
+    let m = model("knife", &[]);
     let s = Scheme::new(&m, SchemeKind::Mla);
     let opts = NewtonOptions::default();
     let (q0, q1) = ([1.0, 100.0, 0.1], [1.1, 100.1, 0.2]);
@@ -434,7 +432,7 @@ fn iteration_summary(tr: &Trajectory) -> String {
 ///     grows to ~490); in (x, y): MLA 0.069, DLA 0.105. Asserted: MLA < DLA in both.
 #[test]
 fn particle_energy_claims() {
-    let m = model("particle", None);
+    let m = model("particle", &[]);
     let (h, n) = (0.5, 1200);
     let q0 = [0.0; 3];
     let q1 = [0.4, 0.4, particle_z1(&q0, 0.4, 0.4)];
@@ -521,9 +519,9 @@ fn particle_energy_claims() {
 /// `knife_projection_of_the_papers_q1`), h = 0.5, N = 600.
 fn knife_run(eps: f64) -> (Model, [f64; 3], Trajectory, Trajectory, f64) {
     let m = if eps == 0.0 {
-        model("knife", None)
+        model("knife", &[])
     } else {
-        model("knife-eps", Some(eps))
+        model("knife-eps", &[("eps", eps)])
     };
     let q1 = [0.4, 0.4 * 0.2f64.sin() / (0.2f64.cos() - eps), 0.4];
     let mla = run(&m, SchemeKind::Mla, &[0.0; 3], &q1, 0.5, 600);
@@ -609,7 +607,7 @@ fn both_schemes_are_second_order() {
         ("knife", None),
         ("knife-eps", Some(0.1)),
     ] {
-        let m = model(name, eps);
+        let m = model(name, &params(eps));
         let end = dalembert::flow(&m, &q0, &u0, 1.0, &fo).unwrap();
         assert!(end.q.iter().all(|x| x.wid() < 1e-12));
         let q_end = mid(&end.q);
@@ -1144,7 +1142,7 @@ fn robustness() {
             ];
             for (name, eps) in &scenes {
                 for kind in [SchemeKind::Mla, SchemeKind::Dla] {
-                    let m = model(name, *eps);
+                    let m = model(name, &params(*eps));
                     let s = Scheme::new(&m, kind);
                     schemes.push((format!("{name} eps={eps:?} {kind:?}"), m, s));
                 }
@@ -1194,7 +1192,7 @@ fn robustness() {
 /// is rejected as `Newton { step: 1, failure: NonFinite }`).
 #[test]
 fn integrate_with_one_step_returns_nan_momenta() {
-    let m = model("particle", None);
+    let m = model("particle", &[]);
     let s = Scheme::new(&m, SchemeKind::Mla);
     let opts = NewtonOptions::default();
     for (q1, h) in [([1e300, 0.0, 0.0], 1e-10), ([0.0, 1.0, 0.0], 1e-310)] {
@@ -1230,7 +1228,7 @@ fn input_errors_are_named() {
         );
     }
     assert!(AnyScene::new("knife-eps", &[("eps".into(), 0.999_999)]).is_ok());
-    let m = model("knife", None);
+    let m = model("knife", &[]);
     let s = Scheme::new(&m, SchemeKind::Mla);
     let opts = NewtonOptions::default();
     let (q0, q1) = ([0.0; 3], [0.4, 0.4 * 0.2f64.tan(), 0.4]);

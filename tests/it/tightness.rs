@@ -12,9 +12,7 @@
 //! (spec eqs. (5.1), (5.12)), 3 of 50 particle and knife-eps states exceeded the bound
 //! (up to 2e-12 relative); the bound was kept and the method improved.
 
-mod common;
-
-use common::{describe, model, run, scale, show, SplitMix64};
+use crate::common::{describe, model, run, scale, show, SplitMix64};
 use dalembert::{Error, FlowEnclosure};
 
 const REL: f64 = 1e-12;

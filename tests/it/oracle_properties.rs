@@ -87,9 +87,7 @@
 //! proptest: fixed ChaCha seeds, no failure persistence; quickcheck: `Gen::from_size_and_seed`
 //! with inputs built from generated u64 words mapped into the ranges.
 
-#[path = "exact_common/mod.rs"]
-mod exact_common;
-
+use crate::common::{gap, overlap};
 use dalembert::exact::{self, ExactStep};
 use dalembert::newton::{self, NewtonOutcome};
 use dalembert::oracle::{check_trajectory, CheckOptions, Verdict};
@@ -99,8 +97,7 @@ use dalembert::schemes::{
     discrete_constraint, discrete_force, ld_gradients, step_residual, NewtonOptions, Scheme,
     SchemeKind,
 };
-use dalembert::{flow, AnyScene, FlowOptions, Model};
-use exact_common::{gap, overlap};
+use dalembert::{flow, FlowOptions, Model};
 use inari::Interval;
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
@@ -125,7 +122,7 @@ impl Which {
         }
     }
     fn model(self) -> Model {
-        Model::new(&AnyScene::new(self.name(), &[]).expect("scene")).unwrap()
+        crate::common::model(self.name(), &[])
     }
     /// Rows e_a(q) of the basis of D_q.
     fn basis(self, q: &[f64]) -> Vec<Vec<f64>> {

@@ -1,10 +1,7 @@
 //! The command line of the exact discrete objects (contract.md commands 2 and 3, and the
 //! `lagrangian` extension): JSON shape, interval well-formedness, closed forms, exit codes.
 
-#[path = "exact_common/mod.rs"]
-mod common;
-
-use common::*;
+use crate::common::*;
 use dalembert::scalar::iv;
 use dalembert::{exact, AnyScene, FlowOptions, Model};
 use serde_json::Value;

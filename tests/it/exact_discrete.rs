@@ -16,19 +16,12 @@
 //! So s and mu_d vanish together; s is mu_d scaled by -h/(1 + y1 A), and the retraction is
 //! singular where 1 + y1 A = 0 (possible only for y0 y1 < 0).
 
-#[path = "exact_common/mod.rs"]
-mod common;
-
-use common::*;
+use crate::common::*;
 use dalembert::exact::{self, Retraction};
 use dalembert::scalar::Scalar;
-use dalembert::{AnyScene, Error, FlowOptions, Model};
+use dalembert::{Error, FlowOptions, Model};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, RngSeed};
-
-fn model(name: &str) -> Model {
-    Model::new(&AnyScene::new(name, &[]).unwrap()).unwrap()
-}
 
 fn opts() -> FlowOptions {
     FlowOptions::default()
@@ -182,7 +175,7 @@ proptest! {
     /// u0 is recovered up to what rounding Q1 to floats allows.
     #[test]
     fn on_manifold_particle((q0, u0, h) in state(1e-6, 2.0)) {
-        let m = model("particle");
+        let m = model("particle", &[]);
         let q1 = on_manifold_q1(&m, &q0, &u0, h);
         let r = must_retract(&m, &q0, &q1, h);
         check_particle(&q0, &q1, h, &r);
@@ -215,7 +208,7 @@ proptest! {
         e in -6.0f64..0.0,
         neg in any::<bool>(),
     ) {
-        let m = model("particle");
+        let m = model("particle", &[]);
         let mut q1 = on_manifold_q1(&m, &q0, &u0, h);
         let delta = if neg { -(10f64.powf(e)) } else { 10f64.powf(e) };
         q1[2] += delta;
@@ -240,7 +233,7 @@ proptest! {
         e in -6.0f64..0.0,
         off in any::<bool>(),
     ) {
-        let m = model("knife");
+        let m = model("knife", &[]);
         let mut q1 = on_manifold_q1(&m, &q0, &u0, h);
         if off {
             q1[1] += 10f64.powf(e);
@@ -260,7 +253,7 @@ proptest! {
 /// inside.
 #[test]
 fn krawczyk_refinement_after_an_overshot_inflation() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     let (q0, u0, h) = (
         [0.0, -4.308335842268921, 0.0],
         [0.0, 3.640718463185442],
@@ -283,7 +276,7 @@ fn krawczyk_refinement_after_an_overshot_inflation() {
 
 #[test]
 fn extreme_step_sizes() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     let q0 = [0.25, -1.5, 2.0];
     let u0 = [1.25, 0.75];
     for h in [1e-6, 1e-5, 1e-3, 0.1, 1.0, 2.0] {
@@ -331,7 +324,7 @@ fn check_exact_equal_y(q0: &[f64], q1: &[f64], h: f64, r: &Retraction) {
 /// s = -(z1 - z0 - y0 (x1 - x0))/(1 + y0^2).
 #[test]
 fn extreme_equal_y() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     let mut refused = 0;
     for (q0, q1, h) in EXACT_EQUAL_Y {
         assert_eq!(
@@ -399,7 +392,7 @@ fn extreme_equal_y() {
 /// never fits. The same pairs one ulp off M are certified (see `extreme_equal_y`).
 #[test]
 fn exact_members_with_equal_y_are_certified() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     for (q0, q1, h) in EXACT_EQUAL_Y {
         let r = must_retract(&m, &q0, &q1, h);
         check_exact_equal_y(&q0, &q1, h, &r);
@@ -408,7 +401,7 @@ fn exact_members_with_equal_y_are_certified() {
 
 #[test]
 fn extreme_large_y() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     for (q0, q1, h) in [
         ([0.0, 1e4, 0.0], [1.0, 1e4 + 2.0, 1e4], 0.5),
         ([1.0, 9999.0, -5.0], [1.0001, 1e4, -4.0], 0.01),
@@ -464,8 +457,8 @@ fn singular_y0() -> f64 {
 /// singular set every Ok still passes the closed-form checks.
 #[test]
 fn refusals_are_uncertified() {
-    let pm = model("particle");
-    let km = model("knife");
+    let pm = model("particle", &[]);
+    let km = model("knife", &[]);
     // knife turned by pi in one step: the blade ends anti-parallel, X1 cos + Y1 sin = h sinc cos(pi/2) ~ 0
     let r = retract(
         &km,
@@ -524,7 +517,7 @@ fn refusals_are_uncertified() {
 
 #[test]
 fn malformed_input_is_input_error() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     let (q0, q1) = (pts(&[0.0, 0.0, 0.0]), pts(&[1.0, 1.0, 1.0]));
     for h in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         let r = exact::retract(&m, &q0, &q1, h, &opts());
@@ -570,7 +563,7 @@ fn trajectory_routes_and_momentum_matching() {
         ("particle", [0.1, -0.6, 0.3], [0.9, 0.35]),
         ("knife", [0.2, -0.4, 0.3], [0.7, -0.45]),
     ] {
-        let m = model(name);
+        let m = model(name, &[]);
         let q1 = on_manifold_q1(&m, &q0, &u0, h);
         let c = ctx(&q0, &q1, h);
         let tr = exact::trajectory(&m, &pts(&q0), &pts(&q1), h, n, &opts())
@@ -726,7 +719,7 @@ fn trajectory_equals_flow_on_exact_pairs() {
         // x = t + t^2/4
         ("knife", [0.0, 0.0, 0.0], [1.0, 0.0], [0.5625, 0.0, 0.0]),
     ] {
-        let m = model(name);
+        let m = model(name, &[]);
         let tr = exact::trajectory(&m, &pts(&q0), &pts(&q1), h, n, &opts()).unwrap();
         assert!(tr.retraction.possibly_member());
         assert!(
@@ -759,7 +752,7 @@ fn trajectory_equals_flow_on_exact_pairs() {
 /// s = z0 - z1), and l = (x1 - x0)^2 / (2h) exactly.
 #[test]
 fn lagrangian_straight_line() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     for (q0, q1, h) in [
         ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 1.0),
         ([-1.5, 0.0, 2.0], [2.25, 0.0, 2.0], 0.3),
@@ -808,7 +801,7 @@ proptest! {
         (q0, u0, h) in state(1e-3, 1.0),
         dz in -0.5f64..0.5,
     ) {
-        let pm = model("particle");
+        let pm = model("particle", &[]);
         let mut q1 = on_manifold_q1(&pm, &q0, &u0, h);
         for _ in 0..2 {
             let (r, l) = exact::discrete_lagrangian(&pm, &pts(&q0), &pts(&q1), h, &opts()).unwrap();
@@ -816,7 +809,7 @@ proptest! {
             prop_assert!(!l.disjoint(cf.l), "SOUNDNESS: l {:?} vs closed form {:?} at {}", l, cf.l, ctx(&q0, &q1, h));
             q1[2] += dz;
         }
-        let km = model("knife");
+        let km = model("knife", &[]);
         let q1 = on_manifold_q1(&km, &q0, &u0, h);
         let (r, l) = exact::discrete_lagrangian(&km, &pts(&q0), &pts(&q1), h, &opts()).unwrap();
         let cf = check_knife(&q0, &q1, h, &r);
@@ -840,7 +833,7 @@ proptest! {
     #[test]
     fn tightness_random((q0, u0, h) in state(1e-6, 0.5)) {
         for name in ["particle", "knife"] {
-            let m = model(name);
+            let m = model(name, &[]);
             let q1 = on_manifold_q1(&m, &q0, &u0, h);
             let st = exact::step(&m, &pts(&q0), &pts(&q1), h, &opts()).unwrap();
             let r = &st.retraction;
@@ -871,7 +864,7 @@ proptest! {
 /// The paper's experiment: q0 = 0, q1 = (0.4, 0.4, z1) on M_h^{e,nh}, h = 0.5, N = 1200.
 #[test]
 fn tightness_long_trajectory() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     let h = 0.5;
     let n = 1200;
     let q0 = [0.0, 0.0, 0.0];
@@ -919,7 +912,7 @@ fn tightness_long_trajectory() {
 
 #[test]
 fn float_jacobian_when_only_the_variational_series_limits_the_step() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     // (x, y, z, u1, u2) = (0, 0, 0, 0, 4), h = 0.5: sqrt(1 + y^2) xd is constant, y = 4 t, so
     // D x(h)/D u1 = asinh(2)/4 and D z(h)/D u1 = (sqrt(5) - 1)/4.
     // (the derivatives with respect to u = (u1, u2): column 0 is D / D u1)

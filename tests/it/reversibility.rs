@@ -23,20 +23,11 @@
 //! - particle (`y' = v`, `v' = 0`, `sqrt(1 + y^2) xd` conserved): `D y / D v0 = T`,
 //!   `D xd / D xd0 = sqrt(1 + y0^2) / sqrt(1 + y^2)`, `D v / D v0 = 1`.
 
+use crate::common::model;
 use dalembert::enclosure::{flow_set, FlowOptions, LohnerSet};
 use dalembert::flow::flow_c1;
 use dalembert::scalar::{point, Scalar};
-use dalembert::{AnyScene, Model};
 use inari::Interval;
-
-fn model(name: &str) -> Model {
-    let params = if name == "knife-eps" {
-        vec![("eps".to_string(), 0.1)]
-    } else {
-        vec![]
-    };
-    Model::new(&AnyScene::new(name, &params).unwrap()).unwrap()
-}
 
 /// `R(set)`: the components `n..` (the quasi-velocities) change sign.
 fn reverse(set: &LohnerSet, n: usize) -> LohnerSet {
@@ -56,7 +47,12 @@ fn reverse(set: &LohnerSet, n: usize) -> LohnerSet {
 /// `start` flowed forward by T, reversed, flowed again and reversed back: every point of
 /// `inside` must lie in the result. Returns the result's widest component.
 fn round_trip_of(name: &str, start: LohnerSet, t: f64, inside: &[Vec<f64>]) -> f64 {
-    let m = model(name);
+    let params: &[(&str, f64)] = if name == "knife-eps" {
+        &[("eps", 0.1)]
+    } else {
+        &[]
+    };
+    let m = model(name, params);
     let opts = FlowOptions::default();
     let (fwd, _) = flow_set(m.dynamics(), start, t, &opts).unwrap();
     let (back, _) = flow_set(m.dynamics(), reverse(&fwd, m.n()), t, &opts).unwrap();
@@ -106,7 +102,7 @@ fn meets(x: Interval, r: Interval) -> bool {
 
 #[test]
 fn knife_jacobian_contains_its_closed_form() {
-    let m = model("knife");
+    let m = model("knife", &[]);
     for (q, u, t) in [
         ([0.0, 0.0, 0.0], [0.8, 0.8], 50.0),
         ([1.0, -2.0, 0.7], [-0.5, 1.25], 3.0),
@@ -150,7 +146,7 @@ fn knife_jacobian_contains_its_closed_form() {
 
 #[test]
 fn particle_jacobian_contains_its_closed_form() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     let (q, u, t) = ([0.25, -0.5, 1.0], [0.75, 0.5], 40.0);
     let (_, j) = flow_c1(&m, &q, &u, t, &FlowOptions::default()).unwrap();
     let (y0, v, tt) = (point(q[1]), point(u[1]), point(t));
@@ -182,7 +178,7 @@ fn particle_jacobian_contains_its_closed_form() {
 fn both_bases_contain_the_knife_closed_form() {
     use dalembert::enclosure::Basis;
     use dalembert::flow;
-    let m = model("knife");
+    let m = model("knife", &[]);
     let (q, u, t) = ([0.5, -1.0, 0.25], [0.8, 0.8], 60.0);
     let (phi0, w, tt) = (point(q[2]), point(u[1]), point(t));
     let phi = phi0 + w * tt;

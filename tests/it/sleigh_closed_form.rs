@@ -15,9 +15,7 @@
 // Index loops mirror the formulas (components i, j).
 #![allow(clippy::needless_range_loop)]
 
-mod common;
-
-use common::{describe, model, rk4, run, show, SplitMix64};
+use crate::common::{describe, model, rk4, run, show, SplitMix64};
 use dalembert::elementary::asinh;
 use dalembert::scalar::{point as pt, Scalar};
 use dalembert::{FlowEnclosure, Model};

@@ -10,9 +10,7 @@ use std::ffi::OsString;
 use std::os::unix::ffi::OsStringExt;
 use std::time::Duration;
 
-#[path = "binary/mod.rs"]
-mod binary;
-use binary::{run_binary, Run};
+use crate::common::{run_binary, Run};
 
 /// A hang guard only (no assertion here is about time): far above any run below.
 const HANG: Duration = Duration::from_secs(300);

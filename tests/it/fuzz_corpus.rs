@@ -1,12 +1,21 @@
 //! Replays the committed fuzz corpus and regressions through the fuzz targets' checks
 //! (`dalembert::fuzzing`) on the stable toolchain: every input must pass its target's
-//! invariant (a panic fails the test and names the file).
+//! invariant (a panic fails the test and names the file). Without `fuzz/` (a copy of the
+//! crate that does not ship it) the tests say so and pass.
 
 use dalembert::fuzzing::Tally;
 use std::io::Write;
 use std::path::Path;
 
 fn replay(target: &str, check: fn(&[u8]) -> Tally) -> Tally {
+    let fuzz = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz");
+    if !fuzz.is_dir() {
+        eprintln!(
+            "skipped {target}: no {} (the fuzz corpus is not here)",
+            fuzz.display()
+        );
+        return Tally::default();
+    }
     let mut n = 0;
     let mut tally = Tally::default();
     for dir in ["corpus", "regressions"] {

@@ -3,21 +3,18 @@
 //! particle's leading term vanishing at y0 = 0, where it is O(h^4)) and the elementary
 //! error of the central difference (O(h^2) for q2 = 2 q1 - q0 when q'' != 0).
 
+use crate::common::model;
 use dalembert::schemes::{Scheme, SchemeKind};
 use dalembert::testing::{
     check_stepper, check_stepper_from_state, global_order, local_order, observed_order, Stepper,
 };
-use dalembert::{scalar::iv, AnyScene, Error, FlowOptions, Model};
-
-fn model(name: &str) -> Model {
-    Model::new(&AnyScene::new(name, &[]).unwrap()).unwrap()
-}
+use dalembert::{scalar::iv, Error, FlowOptions};
 
 const HS: [f64; 5] = [0.125, 0.0625, 0.03125, 0.015625, 0.0078125];
 
 #[test]
 fn dla_local_order_is_three_in_general_and_four_where_the_leading_term_vanishes() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     let dla = Scheme::new(&m, SchemeKind::Dla);
     let opts = FlowOptions::default();
     let general = local_order(&m, &dla, &[0.0, 0.5, 0.0], &[0.8, 0.8], &HS, &opts).unwrap();
@@ -44,7 +41,7 @@ impl Stepper for CentralDifference {
 
 #[test]
 fn a_planted_order_bug_is_caught_with_a_certified_order() {
-    let m = model("knife");
+    let m = model("knife", &[]);
     let l = local_order(
         &m,
         &CentralDifference,
@@ -78,7 +75,7 @@ impl Stepper for Failing {
 
 #[test]
 fn bad_ladders_and_failing_steppers_are_typed_errors() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     let opts = FlowOptions::default();
     let q = [0.0; 3];
     let e = local_order(&m, &Failing, &q, &[0.8, 0.8], &HS, &opts).unwrap_err();
@@ -128,7 +125,7 @@ fn dla_and_mla_are_second_order_globally() {
         ("particle", [0.0, 0.5, 0.0], [0.8, 0.8]),
         ("knife", [0.0, 0.0, 0.3], [0.8, 0.5]),
     ] {
-        let m = model(scene);
+        let m = model(scene, &[]);
         for kind in [SchemeKind::Dla, SchemeKind::Mla] {
             let s = Scheme::new(&m, kind);
             let l = global_order(&m, &s, &q0, &u0, 1.0, &hs, &FlowOptions::default()).unwrap();
@@ -139,7 +136,7 @@ fn dla_and_mla_are_second_order_globally() {
             );
         }
     }
-    let m = model("particle");
+    let m = model("particle", &[]);
     let s = Scheme::new(&m, SchemeKind::Dla);
     let e = global_order(
         &m,
@@ -164,7 +161,7 @@ fn dla_and_mla_are_second_order_globally() {
 /// (q0, u0) the error at t = 1 halves with h (ratio 2, not 4).
 #[test]
 fn a_first_order_start_shows_against_the_continuous_flow_only() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     let mla = Scheme::new(&m, SchemeKind::Mla);
     let (q0, u0) = ([0.0, 0.5, 0.0], [0.8, 0.8]);
     let mut at_t1 = Vec::new();
@@ -249,7 +246,7 @@ fn the_order_command_prints_certified_ladders() {
 #[test]
 fn quickcheck_producers_give_certified_starts() {
     use dalembert::testing::gen::{pair_near, pair_on_manifold};
-    let m = model("knife");
+    let m = model("knife", &[]);
     for seed in 0..4u64 {
         let mut g = quickcheck::Gen::from_size_and_seed(100, seed);
         let p = pair_on_manifold(&mut g, &m, 1.0, 1.0, (0.05, 0.2)).unwrap();

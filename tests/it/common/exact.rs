@@ -4,7 +4,7 @@
 //!
 //! Nothing here calls the library's mathematics; only `point`/`iv` are borrowed to build
 //! intervals, and the interval elementary functions (`dalembert::elementary`, through the
-//! `Scalar` trait: inari is built without MPFR), which tests/elementary.rs checks on its own.
+//! `Scalar` trait: inari is built without MPFR), which tests/it/elementary.rs checks on its own.
 #![allow(dead_code)]
 
 use dalembert::elementary::asinh;

@@ -1,6 +1,6 @@
 //! Running the built binary from an integration test: arguments as OS strings, bytes on
 //! stdin, stdout and stderr drained on threads (a large output cannot block the child), and
-//! a hang guard. Shared by the command-line tests (`#[path = "binary/mod.rs"] mod binary;`).
+//! a hang guard. Shared by the command-line tests (through `crate::common`).
 
 #![allow(dead_code)]
 

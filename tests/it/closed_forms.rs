@@ -53,9 +53,7 @@
 //! `Gen::from_size_and_seed` (available in quickcheck 1.1) and its inputs are derived from
 //! generated u64 words mapped into the intended ranges, so every run sees the same cases.
 
-mod common;
-
-use common::{describe, hex, model, rk4, run, show, SplitMix64};
+use crate::common::{describe, hex, model, rk4, run, show, SplitMix64};
 use dalembert::elementary::asinh;
 use dalembert::scalar::{iv, point as pt, Scalar};
 use dalembert::{Error, FlowEnclosure, Model};
@@ -678,7 +676,7 @@ fn qc_coord(g: &mut Gen) -> f64 {
                 -1e-300
             }
         }
-        _ => common::from_bits_in(u64::arbitrary(g), -10.0, 10.0),
+        _ => crate::common::from_bits_in(u64::arbitrary(g), -10.0, 10.0),
     }
 }
 
@@ -687,7 +685,7 @@ impl Arbitrary for QcState {
         QcState {
             q: [qc_coord(g), qc_coord(g), qc_coord(g)],
             u: [qc_coord(g), qc_coord(g)],
-            t: common::from_bits_in(u64::arbitrary(g), 0.0, 1.0),
+            t: crate::common::from_bits_in(u64::arbitrary(g), 0.0, 1.0),
         }
     }
     /// Simpler states: a component set to 0 or truncated to an integer, or half the time.

@@ -3,19 +3,16 @@
 //! non-finite and mis-sized answers claimed converged are caught; failures are not findings.
 //! Also the template of `examples/fuzz_newton/` (its solver and its replay test).
 
+use crate::common::model;
 use dalembert::schemes::{Scheme, SchemeKind};
 use dalembert::testing::fuzz::{
     check_answer, fuzz_solver, fuzz_solver_with, Claimed, FuzzOptions, FuzzOutcome, InputSpace,
     PairKind, SolverAnswer, SolverInput, Tally, Unstructured,
 };
-use dalembert::{AnyScene, Model};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::Instant;
 
-#[path = "../examples/fuzz_newton/my_solver.rs"]
-mod my_solver;
-#[path = "../examples/fuzz_newton/replay.rs"]
-mod replay;
+use crate::my_solver;
 
 /// `count` byte strings of `len` bytes from a xorshift generator (deterministic).
 fn inputs(seed: u64, count: usize, len: usize) -> Vec<Vec<u8>> {
@@ -32,10 +29,6 @@ fn inputs(seed: u64, count: usize, len: usize) -> Vec<Vec<u8>> {
                 .collect()
         })
         .collect()
-}
-
-fn model(name: &str) -> Model {
-    Model::new(&AnyScene::new(name, &[]).unwrap()).unwrap()
 }
 
 fn dla_tolerance(i: &SolverInput) -> f64 {
@@ -72,7 +65,7 @@ fn finding<R>(f: impl FnOnce() -> R) -> Result<R, String> {
 #[test]
 fn dla_passes_the_harness_with_most_steps_certified() {
     for (scene, count) in [("particle", 300), ("knife", 60)] {
-        let model = model(scene);
+        let model = model(scene, &[]);
         let dla = Scheme::new(&model, SchemeKind::Dla);
         let mut tally = Tally::default();
         let t = Instant::now();
@@ -91,7 +84,7 @@ fn dla_passes_the_harness_with_most_steps_certified() {
 
 #[test]
 fn decoding_is_total_and_deterministic() {
-    let model = model("knife");
+    let model = model("knife", &[]);
     let opts = FuzzOptions::default();
     let mut kinds = [0usize; 3];
     let mut extreme = 0;
@@ -140,7 +133,7 @@ fn small_steps() -> FuzzOptions {
 
 #[test]
 fn a_wrong_answer_claimed_converged_is_caught() {
-    let model = model("particle");
+    let model = model("particle", &[]);
     let dla = Scheme::new(&model, SchemeKind::Dla);
     // DLA's answer moved by 1e-3 in every component, claimed converged
     let wrong = |q0: &[f64], q1: &[f64], h: f64| {
@@ -189,7 +182,7 @@ fn a_wrong_answer_claimed_converged_is_caught() {
 
 #[test]
 fn non_finite_or_missized_answers_claimed_converged_are_caught() {
-    let model = model("particle");
+    let model = model("particle", &[]);
     let nan = |_: &[f64], _: &[f64], _: f64| {
         Ok::<_, String>(SolverAnswer {
             q2: vec![0.0, f64::NAN, 1.0],
@@ -226,7 +219,7 @@ fn non_finite_or_missized_answers_claimed_converged_are_caught() {
 
 #[test]
 fn failures_and_unconverged_answers_are_not_findings() {
-    let model = model("particle");
+    let model = model("particle", &[]);
     let fails = |_: &[f64], _: &[f64], _: f64| Err::<SolverAnswer, _>("singular Jacobian");
     // a last iterate handed back, not claimed converged: its NaN is not a finding
     let gave_up = |_: &[f64], _: &[f64], _: f64| {
@@ -249,7 +242,7 @@ fn failures_and_unconverged_answers_are_not_findings() {
 
 #[test]
 fn a_stepper_claimed_converged_is_a_solver() {
-    let model = model("particle");
+    let model = model("particle", &[]);
     let dla = Claimed(Scheme::new(&model, SchemeKind::Dla));
     let mut tally = Tally::default();
     for data in inputs(29, 20, 64) {
@@ -264,7 +257,7 @@ fn a_stepper_claimed_converged_is_a_solver() {
 
 #[test]
 fn a_nan_tolerance_is_a_finding_and_an_infinite_one_claims_nothing() {
-    let model = model("particle");
+    let model = model("particle", &[]);
     let dla = Scheme::new(&model, SchemeKind::Dla);
     let input = SolverInput {
         q0: vec![0.0; 3],

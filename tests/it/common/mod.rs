@@ -1,9 +1,16 @@
 //! Helpers shared by the integration tests: scenes, a fixed-seed generator of states and
 //! failure messages that print every input as a hex float so a failure can be replayed
-//! bit for bit.
+//! bit for bit; the closed forms of the particle and the knife in interval arithmetic
+//! (`exact`); running the built binary (`binary`).
 
-// Each test binary uses a different subset of these helpers.
+// Each module of the tests uses a different subset of these helpers.
 #![allow(dead_code)]
+
+mod binary;
+mod exact;
+
+pub use binary::*;
+pub use exact::*;
 
 use dalembert::scalar::point;
 use dalembert::schemes::{NewtonOptions, Scheme, SchemeKind, Trajectory};

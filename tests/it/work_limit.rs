@@ -2,14 +2,11 @@
 //! work a call needs changes nothing in its answer, and a smaller one is the typed budget
 //! refusal, never a partial answer.
 
+use crate::common::model;
 use dalembert::protocol::{Query, Session};
-use dalembert::{exact, flow, work_done, AnyScene, Error, FlowOptions, Model, Reason};
+use dalembert::{exact, flow, work_done, Error, FlowOptions, Reason};
 use inari::Interval;
 use serde_json::{json, Value};
-
-fn model(name: &str) -> Model {
-    Model::new(&AnyScene::new(name, &[]).unwrap()).unwrap()
-}
 
 fn bits(v: &[Interval]) -> Vec<(u64, u64)> {
     v.iter()
@@ -32,7 +29,7 @@ fn is_work_refusal(e: &Error) -> bool {
 
 #[test]
 fn the_flows_work_replays_and_a_limit_decides_only_whether_it_answers() {
-    let m = model("knife");
+    let m = model("knife", &[]);
     let run = |opts: &FlowOptions| flow(&m, &[0.0; 3], &[0.8, 0.8], 50.0, opts);
     let w0 = work_done();
     let plain = run(&FlowOptions::default()).unwrap();
@@ -62,7 +59,7 @@ fn the_flows_work_replays_and_a_limit_decides_only_whether_it_answers() {
 
 #[test]
 fn a_retraction_within_its_work_is_the_same_and_below_it_is_refused() {
-    let m = model("knife");
+    let m = model("knife", &[]);
     let pts = |v: &[f64]| {
         v.iter()
             .map(|x| Interval::try_from((*x, *x)).unwrap())
@@ -117,7 +114,7 @@ fn a_sessions_work_is_per_query() {
 /// 75 000-128 000 and 200 000-346 000: two steps near 0.22, each with eight slices.
 #[test]
 fn a_short_flow_takes_unsliced_steps_within_its_work() {
-    let m = model("particle");
+    let m = model("particle", &[]);
     let opts = FlowOptions::default();
     let point = |v: &[f64]| {
         v.iter()

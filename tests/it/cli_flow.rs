@@ -6,9 +6,7 @@ use inari::Interval;
 use serde_json::Value;
 use std::time::Duration;
 
-#[path = "binary/mod.rs"]
-mod binary;
-use binary::{run_binary, Run};
+use crate::common::{run_binary, Run};
 
 /// No run of the binary in this file may take longer than this (a hang is a failure).
 const TIME_LIMIT: Duration = Duration::from_secs(30);

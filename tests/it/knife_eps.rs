@@ -40,6 +40,7 @@
 //! singularities of 1/D; its accuracy is verified in the test itself (step halving,
 //! energy, closed form).
 
+use crate::common::model;
 use dalembert::{flow, AnyScene, FlowEnclosure, FlowOptions, Model};
 use inari::Interval;
 use mp::Float;
@@ -460,10 +461,6 @@ fn contains(x: &Interval, r: &Float) -> bool {
     !x.is_empty() && fl(x.inf()) <= *r && *r <= fl(x.sup())
 }
 
-fn model(eps: f64) -> Model {
-    Model::new(&AnyScene::new("knife-eps", &[("eps".to_string(), eps)]).unwrap()).unwrap()
-}
-
 fn enclose(model: &Model, q: [f64; 3], u: [f64; 2], t: f64) -> FlowEnclosure {
     flow(model, &q, &u, t, &FlowOptions::default())
         .unwrap_or_else(|e| panic!("flow failed for q = {q:?}, u = {u:?}, t = {t}: {e}"))
@@ -545,7 +542,7 @@ fn max_width(e: &FlowEnclosure) -> f64 {
 
 fn check_eps(eps: f64, states: &[([f64; 3], [f64; 2])]) {
     let start = Instant::now();
-    let model = model(eps);
+    let model = model("knife-eps", &[("eps", eps)]);
     for &(q, u) in states {
         let t0 = Instant::now();
         let refs = verified_reference(eps, q, u);
@@ -651,7 +648,7 @@ fn contains_reference_random_states() {
         let m = step_exponent(eps, u[1]);
         let coarse = reference(eps, q, u, &times, m);
         let refs = reference(eps, q, u, &times, m + 1);
-        let model = model(eps);
+        let model = model("knife-eps", &[("eps", eps)]);
         for ((t, r), rc) in times.iter().zip(&refs).zip(&coarse) {
             let diff = max_abs_diff(r, rc);
             assert!(diff < 1e-25, "reference not converged: {diff}");
@@ -695,7 +692,7 @@ fn gap(a: &Interval, b: &Interval) -> f64 {
 fn eps_zero_is_the_knife() {
     let k = knife_model();
     for eps0 in [0.0, -0.0] {
-        let e0 = model(eps0);
+        let e0 = model("knife-eps", &[("eps", eps0)]);
         for (q, u) in STATES {
             for t in [0.5, 1.0, 5.0, 20.0] {
                 let a = components(&enclose(&k, q, u, t));
@@ -729,7 +726,7 @@ fn continuity_in_eps() {
         let kc = components(&ek);
 
         let tiny = 1e-300;
-        let et = enclose(&model(tiny), q, u, 1.0);
+        let et = enclose(&model("knife-eps", &[("eps", tiny)]), q, u, 1.0);
         let rt = &reference(tiny, q, u, &[1.0], step_exponent(tiny, u[1]))[0];
         check_containment(tiny, q, u, 1.0, &et, rt);
         for (i, (x, y)) in kc.iter().zip(components(&et)).enumerate() {
@@ -740,7 +737,7 @@ fn continuity_in_eps() {
         }
 
         let small = 1e-12;
-        let es = enclose(&model(small), q, u, 1.0);
+        let es = enclose(&model("knife-eps", &[("eps", small)]), q, u, 1.0);
         let rs = &reference(small, q, u, &[1.0], step_exponent(small, u[1]))[0];
         check_containment(small, q, u, 1.0, &es, rs);
         let sc = components(&es);

@@ -22,9 +22,7 @@
 // Index loops mirror the formulas (components i, j), as in the library.
 #![allow(clippy::needless_range_loop)]
 
-mod common;
-
-use common::{describe, model, rk4, run, show, SplitMix64};
+use crate::common::{describe, model, rk4, run, show, SplitMix64};
 use dalembert::dynamics::Geometry;
 use dalembert::elementary::asinh;
 use dalembert::scalar::{iv, point as pt, Scalar};

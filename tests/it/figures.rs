@@ -444,14 +444,14 @@ fn stability_names_every_outcome() {
 /// `tests/readme_own_scheme.rs`, verbatim (so they compile and pass), and the README embeds every figure that `figures` writes.
 #[test]
 fn readme_shows_the_tested_example_and_the_figures() {
-    let readme = include_str!("../README.md");
+    let readme = include_str!("../../README.md");
     assert!(
         readme.contains(include_str!("readme_proptest.rs")),
-        "README.md does not contain tests/readme_proptest.rs verbatim"
+        "README.md does not contain tests/it/readme_proptest.rs verbatim"
     );
     assert!(
         readme.contains(include_str!("readme_own_scheme.rs")),
-        "README.md does not contain tests/readme_own_scheme.rs verbatim"
+        "README.md does not contain tests/it/readme_own_scheme.rs verbatim"
     );
     for name in SVGS {
         let link = format!("(docs/figures/{name}.svg)");
