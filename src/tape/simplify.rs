@@ -18,7 +18,8 @@
 //!   cancelled away: a node whose normal form would lose one is left alone, so every domain
 //!   check of the original tape is still made (a tape never becomes defined where it was not).
 
-use super::{push, Op, Tracer};
+use super::program::{args, remap, Op};
+use super::record::{constant_of, push, Tracer};
 use crate::scalar::{point, Scalar};
 use std::collections::BTreeMap;
 
@@ -221,7 +222,7 @@ fn emit(p: &Poly) -> Tracer {
         let mut t: Option<Tracer> = None;
         for &(a, k) in m {
             let x = match a {
-                Atom::Node(i) => Tracer(i),
+                Atom::Node(i) => Tracer::at(i),
                 Atom::Const(bits) => Tracer::cst(f64::from_bits(bits)),
             };
             for _ in 0..k {
@@ -288,7 +289,7 @@ pub(super) fn rerecord(ops: &[Op], fold_zeros: bool) -> (Vec<Tracer>, Vec<u32>) 
                 // a factor cancelled to 0 keeps a partial factor (as `0 * y` scaled, not
                 // the constant 0 that recording makes of it): (iii)
                 let zero_times_partial = |x: Tracer, y: Tracer| {
-                    super::constant_of(x) == Some(0.0) && atoms.partial(y.index())
+                    constant_of(x) == Some(0.0) && atoms.partial(y.index())
                 };
                 let node = if zero_times_partial(t(a), t(b)) || zero_times_partial(t(b), t(a)) {
                     push(Op::Mul(t(a).index(), t(b).index()))
@@ -313,10 +314,10 @@ pub(super) fn rerecord(ops: &[Op], fold_zeros: bool) -> (Vec<Tracer>, Vec<u32>) 
             Op::Scale(a, c) => {
                 let form = f(a)
                     .and_then(|x| x.mul(&constant_form(c), &mut atoms));
-                (super::push(Op::Scale(t(a).index(), c)), form)
+                (push(Op::Scale(t(a).index(), c)), form)
             }
             other => {
-                let node = push(super::remap(&other, &indices(&new)));
+                let node = push(remap(&other, &indices(&new)));
                 (node, None)
             }
         };
@@ -334,7 +335,7 @@ pub(super) fn rerecord(ops: &[Op], fold_zeros: bool) -> (Vec<Tracer>, Vec<u32>) 
             // (a nonzero constant divisor has no check to keep)
             if let Op::Div(_, b) = *op {
                 let d = new[b as usize];
-                if super::constant_of(d).is_none_or(|c| c == 0.0) {
+                if constant_of(d).is_none_or(|c| c == 0.0) {
                     folded_divisors.push(d.index());
                 }
             }
@@ -346,7 +347,7 @@ pub(super) fn rerecord(ops: &[Op], fold_zeros: bool) -> (Vec<Tracer>, Vec<u32>) 
         // (a folded quotient is the constant 0: its check is the caller's to keep)
         let by_constant = matches!(*op, Op::Div(_, b) if matches!(ops[b as usize], Op::Const(c) if c != 0.0) || (matches!(forms[b as usize].as_ref().map(|y| y.0.len()), Some(1)) && forms[b as usize].as_ref().is_some_and(|y| y.0.contains_key(&Vec::new()))));
         let partial_op = matches!(op, Op::Sqrt(_) | Op::Ln(_)) || (matches!(op, Op::Div(..)) && !by_constant);
-        let on_partial = super::args(op)
+        let on_partial = args(op)
             .iter()
             .any(|a| atoms.partial(new[*a as usize].index()));
         atoms.note(node, (partial_op || on_partial) && !folded);
@@ -366,7 +367,8 @@ fn indices(new: &[Tracer]) -> Vec<u32> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{Op, Tape, Tracer};
+    use crate::tape::program::Op;
+    use crate::tape::{Tape, Tracer};
     use crate::scalar::{iv, point, Scalar};
     use inari::Interval;
 

@@ -1,0 +1,225 @@
+//! Replaying a tape: over any [`Scalar`] (one value per node, spec eq. (2.1)), and over
+//! truncated Taylor series for the solutions of `x' = F(x)` (spec eqs. (2.2)-(2.8)).
+
+use super::program::Op;
+use super::series::{Coef, Series};
+use super::work::{charge, terms};
+use super::{Coeffs, Rows, Tape};
+use crate::scalar::Scalar;
+
+impl Tape {
+    /// Replay over any scalar: the outputs at `x` (spec eq. (2.1)).
+    pub fn eval<S: Scalar>(&self, x: &[S]) -> Vec<S> {
+        let mut v: Vec<S> = Vec::with_capacity(self.ops.len());
+        for op in &self.ops {
+            let g = |i: &u32| v[*i as usize].clone();
+            let r = match op {
+                Op::Input(i) => x[*i].clone(),
+                Op::Const(c) => S::cst(*c),
+                Op::Add(a, b) => g(a) + g(b),
+                Op::Sub(a, b) => g(a) - g(b),
+                Op::Mul(a, b) => g(a) * g(b),
+                Op::Div(a, b) => g(a) / g(b),
+                Op::Neg(a) => -g(a),
+                Op::Scale(a, c) => g(a) * S::cst(*c),
+                Op::Sin(a) => g(a).sin(),
+                Op::Cos(a) => g(a).cos(),
+                Op::Sqrt(a) => g(a).sqrt(),
+                Op::Exp(a) => g(a).exp(),
+                Op::Ln(a) => g(a).ln(),
+                Op::Atan(a) => g(a).atan(),
+                Op::Sinh(a) => g(a).sinh(),
+                Op::Cosh(a) => g(a).cosh(),
+                Op::Pi => S::pi(),
+            };
+            v.push(r);
+        }
+        self.outputs
+            .iter()
+            .map(|o| v[*o as usize].clone())
+            .collect()
+    }
+
+    /// Taylor coefficients `x_0 .. x_order` at t = 0 of every solution of `x' = F(x)` with
+    /// `x(0)` in the box `x0`, where F is this tape (inputs and outputs of equal number):
+    /// for every such solution, its k-th coefficient `x^(k)(0)/k!` lies in `result[k]`
+    /// (spec eqs. (2.2)-(2.7)). Division by an interval containing 0 yields a non-finite or
+    /// empty coefficient, which the caller must treat as failure.
+    ///
+    /// Returns `None` when the tape is not proved smooth on the box: a divisor enclosure
+    /// containing 0, a square root of an enclosure not in (0, inf), or a non-finite
+    /// coefficient (spec eq. (2.8)).
+    pub fn ode_taylor<T: Coef>(&self, x0: &[T], order: usize) -> Option<Coeffs<T>> {
+        self.ode_taylor_until(x0, order, order, |_| true)
+    }
+
+    /// [`Tape::ode_taylor`] to `order`, then on to `more` unless `enough`, shown the
+    /// coefficients to `order`, says they suffice (the recurrences go on from where they
+    /// stopped: the coefficients to `more` are those of `ode_taylor(x0, more)`). Should a
+    /// coefficient past `order` not be finite (or a check of (2.8) fail there), the
+    /// coefficients to `order` are returned: going on is a choice, and never costs the
+    /// series it started from.
+    pub fn ode_taylor_until<T: Coef>(
+        &self,
+        x0: &[T],
+        order: usize,
+        more: usize,
+        enough: impl FnOnce(Rows<'_, T>) -> bool,
+    ) -> Option<Coeffs<T>> {
+        let d = self.n_inputs;
+        let top = order.max(more);
+        charge(terms(self.ops.len(), order));
+        let mut s = Series::new(self.ops.len(), order + 1);
+        let mut flat: Vec<T> = Vec::with_capacity((order + 1) * d);
+        flat.extend_from_slice(x0);
+        let mut target = order;
+        let mut enough = Some(enough);
+        let mut k = 0;
+        loop {
+            if k == target && target < top {
+                if let Some(enough) = enough.take() {
+                    let rows = Rows {
+                        width: d,
+                        len: k + 1,
+                        flat: &flat,
+                    };
+                    if !enough(rows) {
+                        let ops = self.ops.len();
+                        charge(terms(ops, top) - terms(ops, order));
+                        s.widen(top + 1);
+                        target = top;
+                    }
+                }
+            }
+            // Coefficient `target` of the nodes is not needed (only x_0 .. x_target are
+            // returned); step 0 always runs, since it carries the domain checks (2.8).
+            if k == target && k > 0 {
+                break;
+            }
+            s.step(&self.ops, k, &flat[k * d..(k + 1) * d]);
+            let mut failed = !s.ok;
+            if !failed && k < target {
+                let kk = T::cst((k + 1) as f64);
+                for i in 0..d {
+                    let next = s.get(self.outputs[i], k).quot(kk);
+                    failed |= !next.is_finite_coef();
+                    flat.push(next);
+                }
+            }
+            if failed {
+                // steps 0 .. order - 1 make the coefficients to `order`, step 0 the domain
+                // checks (2.8): a failure there fails the series
+                if k < order || k == 0 {
+                    return None;
+                }
+                // past `order`: the series to `order` stands
+                flat.truncate((order + 1) * d);
+                target = order;
+                break;
+            }
+            if k == target {
+                break;
+            }
+            k += 1;
+        }
+        Some(Coeffs {
+            width: d,
+            len: target + 1,
+            flat,
+        })
+    }
+
+    /// Rigorous evaluation over intervals, with the same smoothness checks as
+    /// [`Tape::ode_taylor`]: `None` unless every output is a finite enclosure of the exact
+    /// value at every point of the box (spec eq. (2.8)).
+    pub fn eval_checked<T: Coef>(&self, x: &[T]) -> Option<Vec<T>> {
+        let mut s = Series::new(self.ops.len(), 1);
+        s.step(&self.ops, 0, x);
+        let out: Vec<T> = self.outputs.iter().map(|o| s.get(*o, 0)).collect();
+        (s.ok && out.iter().all(|x| x.is_finite_coef())).then_some(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scalar::{point, Scalar};
+    use crate::tape::{work_done, Coeffs, Tape, Tracer};
+    use inari::Interval;
+
+    #[test]
+    fn replay_matches_direct_evaluation() {
+        let tape = Tape::record(2, |x| {
+            let (a, b) = (x[0], x[1]);
+            vec![a * b + a.sin() / (Tracer::one() + b.sqr()), (a * a).sqrt()]
+        });
+        let v = tape.eval(&[0.7f64, -1.3]);
+        let direct = 0.7 * -1.3 + 0.7f64.sin() / (1.0 + 1.69);
+        assert_eq!(v[0], direct);
+        assert_eq!(v[1], 0.7);
+    }
+
+    #[test]
+    fn singular_operations_are_failures_not_numbers() {
+        let tape = Tape::record(1, |x| vec![(Tracer::one() / x[0]) * x[0]]);
+        assert!(tape.eval_checked(&[crate::scalar::iv(-1.0, 1.0)]).is_none());
+        assert!(tape.eval_checked(&[point(2.0)]).is_some());
+        let tape = Tape::record(1, |x| vec![x[0].sqrt()]);
+        assert!(tape.eval_checked(&[crate::scalar::iv(-1.0, 4.0)]).is_none());
+        assert!(tape.ode_taylor(&[point(0.0)], 3).is_none());
+    }
+
+    /// `ode_taylor_until`: stopped at `order`, the coefficients of `ode_taylor(x0, order)`;
+    /// carried on, those of `ode_taylor(x0, more)`, bit for bit (the recurrences go on from
+    /// where they stopped); and `enough` is shown the rows to `order`. On the field of the
+    /// particle's velocity (with a quotient, whose recurrence reads its own coefficients)
+    /// and a sine (with its companion series).
+    #[test]
+    fn a_series_carried_on_is_the_series_of_the_higher_order() {
+        let tape = Tape::record(3, |x| {
+            let (y, u1, u2) = (x[0], x[1], x[2]);
+            vec![u2, -(y * u1 * u2) / (Tracer::one() + y * y) + y.sin(), Tracer::zero()]
+        });
+        let x0 = [point(0.4), crate::scalar::iv(0.8, 0.8000000000000002), point(0.8)];
+        let same = |a: &Coeffs<Interval>, b: &Coeffs<Interval>| {
+            a.len() == b.len()
+                && a.iter()
+                    .zip(b.iter())
+                    .all(|(r, s)| r.iter().zip(s).all(|(x, y)| x.inf() == y.inf() && x.sup() == y.sup()))
+        };
+        let mut seen = 0;
+        let stopped = tape
+            .ode_taylor_until(&x0, 12, 20, |rows| {
+                seen = rows.len();
+                true
+            })
+            .unwrap();
+        assert_eq!(seen, 13);
+        assert!(same(&stopped, &tape.ode_taylor(&x0, 12).unwrap()));
+        let carried = tape.ode_taylor_until(&x0, 12, 20, |_| false).unwrap();
+        assert!(same(&carried, &tape.ode_taylor(&x0, 20).unwrap()));
+        // the work counter charges the work of the order reached
+        let before = work_done();
+        tape.ode_taylor_until(&x0, 12, 20, |_| false).unwrap();
+        let carried_work = work_done() - before;
+        tape.ode_taylor(&x0, 20).unwrap();
+        assert_eq!(work_done() - before - carried_work, carried_work);
+    }
+
+    /// A series carried on past a coefficient that overflows stops at `order`, with the
+    /// coefficients to `order`: `x' = x^2` from `x0 = 10^12` has `x_k = x0^(k+1)`, finite to
+    /// k = 24 and not at 25. Failures up to `order` still fail the series.
+    #[test]
+    fn a_series_carried_into_overflow_keeps_its_order() {
+        let tape = Tape::record(1, |x| vec![x[0] * x[0]]);
+        let x0 = [1e12f64];
+        let c = tape.ode_taylor_until(&x0, 22, 28, |_| false).unwrap();
+        assert_eq!(c.len(), 23);
+        assert_eq!(c.iter().collect::<Vec<_>>(), tape.ode_taylor(&x0, 22).unwrap().iter().collect::<Vec<_>>());
+        assert!(tape.ode_taylor(&x0, 28).is_none());
+        assert!(tape.ode_taylor_until(&x0, 26, 28, |_| false).is_none());
+        // the domain checks of step 0 fail a series of order 0 too
+        let tape = Tape::record(1, |x| vec![x[0].sqrt()]);
+        assert!(tape.ode_taylor_until(&[point(-1.0)], 0, 4, |_| false).is_none());
+        assert!(tape.ode_taylor(&[point(-1.0)], 0).is_none());
+    }
+}

@@ -1,0 +1,539 @@
+//! Taylor-series arithmetic: the coefficients of every node of a tape, computed order by
+//! order by the recurrences of automatic differentiation (spec eqs. (2.3)-(2.12)), over a
+//! coefficient type ([`Coef`]: intervals, rigorous; or f64, to choose things).
+
+use super::program::Op;
+use crate::scalar::Scalar;
+use inari::Interval;
+use std::cell::RefCell;
+use std::thread::LocalKey;
+
+/// Storage of the Taylor coefficients of every node, node-major. The storage (and the
+/// record of non-zero coefficients) is per-thread scratch, reused from one evaluation to the
+/// next (it is reset first).
+pub(super) struct Series<T: Coef> {
+    n: usize,
+    /// False once a singular operation (divisor or sqrt argument not proved safe) was met.
+    pub(super) ok: bool,
+    /// The coefficients of node i at `i n ..`, then the companion series (cos for a Sin
+    /// node, sin for a Cos node, cosh for Sinh, sinh for Cosh, 1 + a^2 for Atan(a)) of
+    /// node i at `(nodes + i) n ..`.
+    c: Vec<T>,
+    aux_at: usize,
+    /// Per node, the first and last index of a coefficient (or companion) not exactly 0
+    /// so far; `(usize::MAX, 0)` while all are 0.
+    nz: Vec<(usize, usize)>,
+}
+
+impl<T: Coef> Series<T> {
+    pub(super) fn new(nodes: usize, n: usize) -> Self {
+        let mut c = T::scratch().with(|s| s.take());
+        c.clear();
+        c.resize(2 * nodes * n, T::zero());
+        let mut nz = SCRATCH_NZ.with(|s| s.take());
+        nz.clear();
+        nz.resize(nodes, (usize::MAX, 0));
+        Series {
+            n,
+            ok: true,
+            c,
+            aux_at: nodes * n,
+            nz,
+        }
+    }
+    /// Room for `n` coefficients per node (and companion), those computed kept.
+    pub(super) fn widen(&mut self, n: usize) {
+        if n <= self.n {
+            return;
+        }
+        let rows = 2 * self.aux_at / self.n;
+        let mut c = vec![T::zero(); rows * n];
+        for (to, from) in c.chunks_mut(n).zip(self.c.chunks(self.n)) {
+            to[..self.n].copy_from_slice(from);
+        }
+        self.c = c;
+        self.aux_at = rows / 2 * n;
+        self.n = n;
+    }
+    pub(super) fn get(&self, node: u32, k: usize) -> T {
+        self.c[node as usize * self.n + k]
+    }
+    fn aux(&self, node: u32, k: usize) -> T {
+        self.c[self.aux_at + node as usize * self.n + k]
+    }
+
+    /// Coefficient k of every node, given all coefficients below k (spec eq. (2.3)-(2.7)).
+    pub(super) fn step(&mut self, ops: &[Op], k: usize, input_k: &[T]) {
+        let zero = T::zero();
+        let kf = T::cst(k as f64);
+        for (idx, op) in ops.iter().enumerate() {
+            let (val, aux) = match *op {
+                Op::Input(i) => (input_k[i], None),
+                // a constant's coefficients past 0 are 0, as `new` and `widen` left them
+                Op::Const(_) | Op::Pi if k > 0 => continue,
+                Op::Const(c) => (T::cst(c), None),
+                Op::Pi => (T::pi(), None),
+                Op::Add(a, b) => (self.get(a, k) + self.get(b, k), None),
+                Op::Sub(a, b) => (self.get(a, k) - self.get(b, k), None),
+                Op::Neg(a) => (-self.get(a, k), None),
+                Op::Scale(a, c) => (self.get(a, k) * T::cst(c), None),
+                Op::Mul(a, b) => {
+                    // (2.3) w_k = sum_{j=0..k} a_j b_{k-j}
+                    (self.conv(zero, false, a, b, self.terms(a, b, k, 0, k), k), None)
+                }
+                Op::Div(a, b) => {
+                    // (2.4) w_k = (a_k - sum_{j=1..k} b_j w_{k-j}) / b_0
+                    let me = idx as u32;
+                    let acc = self.conv(self.get(a, k), true, b, me, self.terms(b, me, k, 1, k), k);
+                    let b0 = self.get(b, 0);
+                    if !b0.safe_divisor() {
+                        self.ok = false;
+                    }
+                    (acc.quot(b0), None)
+                }
+                Op::Sqrt(a) => {
+                    // (2.5) w_0 = sqrt(a_0); w_k = (a_k - sum_{j=1..k-1} w_j w_{k-j}) / (2 w_0)
+                    if k == 0 {
+                        let a0 = self.get(a, 0);
+                        if !a0.safe_sqrt_arg() {
+                            self.ok = false;
+                        }
+                        (a0.sqrt(), None)
+                    } else {
+                        let me = idx as u32;
+                        let terms = self.terms(me, me, k, 1, k - 1);
+                        let acc = self.conv(self.get(a, k), true, me, me, terms, k);
+                        let w0 = self.get(me, 0);
+                        (acc.quot(w0 + w0), None)
+                    }
+                }
+                Op::Sin(a) | Op::Cos(a) => {
+                    // (2.6)-(2.7) s_k = (1/k) sum j u_j c_{k-j}, c_k = -(1/k) sum j u_j s_{k-j}
+                    let me = idx as u32;
+                    let is_sin = matches!(op, Op::Sin(_));
+                    let (s, c) = if k == 0 {
+                        let u0 = self.get(a, 0);
+                        (u0.sin(), u0.cos())
+                    } else {
+                        let (mut s, mut c) = (zero, zero);
+                        let (lo, hi) = self.nz[a as usize];
+                        for j in lo.max(1)..=hi.min(k) {
+                            let ju = T::cst(j as f64) * self.get(a, j);
+                            let (sp, cp) = if is_sin {
+                                (self.get(me, k - j), self.aux(me, k - j))
+                            } else {
+                                (self.aux(me, k - j), self.get(me, k - j))
+                            };
+                            s = s.mul_acc(ju, cp);
+                            c = c.mul_acc(-ju, sp);
+                        }
+                        (s.quot(kf), c.quot(kf))
+                    };
+                    if is_sin {
+                        (s, Some(c))
+                    } else {
+                        (c, Some(s))
+                    }
+                }
+                Op::Exp(a) => {
+                    // (2.9) w_0 = exp(a_0); w_k = (1/k) sum_{j=1..k} j a_j w_{k-j}
+                    let me = idx as u32;
+                    if k == 0 {
+                        (self.get(a, 0).exp(), None)
+                    } else {
+                        let mut acc = zero;
+                        let (lo, hi) = self.nz[a as usize];
+                        for j in lo.max(1)..=hi.min(k) {
+                            acc =
+                                acc.mul_acc(T::cst(j as f64) * self.get(a, j), self.get(me, k - j));
+                        }
+                        (acc.quot(kf), None)
+                    }
+                }
+                Op::Ln(a) => {
+                    // (2.10) w_0 = ln(a_0), a_0 > 0;
+                    // w_k = (a_k - (1/k) sum_{j=1..k-1} j w_j a_{k-j}) / a_0
+                    let me = idx as u32;
+                    let a0 = self.get(a, 0);
+                    if k == 0 {
+                        if !a0.safe_sqrt_arg() {
+                            self.ok = false;
+                        }
+                        (a0.ln(), None)
+                    } else {
+                        let mut acc = zero;
+                        for j in 1..k {
+                            acc =
+                                acc.mul_acc(T::cst(j as f64) * self.get(me, j), self.get(a, k - j));
+                        }
+                        ((self.get(a, k) - acc.quot(kf)).quot(a0), None)
+                    }
+                }
+                Op::Atan(a) => {
+                    // (2.11) g = 1 + a^2 (companion); w_0 = atan(a_0);
+                    // w_k = (a_k - (1/k) sum_{j=1..k-1} j w_j g_{k-j}) / g_0
+                    let me = idx as u32;
+                    let mut g = if k == 0 { T::one() } else { zero };
+                    for j in 0..=k {
+                        g = g.mul_acc(self.get(a, j), self.get(a, k - j));
+                    }
+                    if k == 0 {
+                        (self.get(a, 0).atan(), Some(g))
+                    } else {
+                        let mut acc = zero;
+                        for j in 1..k {
+                            acc = acc
+                                .mul_acc(T::cst(j as f64) * self.get(me, j), self.aux(me, k - j));
+                        }
+                        ((self.get(a, k) - acc.quot(kf)).quot(self.aux(me, 0)), Some(g))
+                    }
+                }
+                Op::Sinh(a) | Op::Cosh(a) => {
+                    // (2.12) s_k = (1/k) sum j a_j c_{k-j}, c_k = (1/k) sum j a_j s_{k-j}
+                    let me = idx as u32;
+                    let is_sinh = matches!(op, Op::Sinh(_));
+                    let (s, c) = if k == 0 {
+                        let u0 = self.get(a, 0);
+                        (u0.sinh(), u0.cosh())
+                    } else {
+                        let (mut s, mut c) = (zero, zero);
+                        let (lo, hi) = self.nz[a as usize];
+                        for j in lo.max(1)..=hi.min(k) {
+                            let ju = T::cst(j as f64) * self.get(a, j);
+                            let (sp, cp) = if is_sinh {
+                                (self.get(me, k - j), self.aux(me, k - j))
+                            } else {
+                                (self.aux(me, k - j), self.get(me, k - j))
+                            };
+                            s = s.mul_acc(ju, cp);
+                            c = c.mul_acc(ju, sp);
+                        }
+                        (s.quot(kf), c.quot(kf))
+                    };
+                    if is_sinh {
+                        (s, Some(c))
+                    } else {
+                        (c, Some(s))
+                    }
+                }
+            };
+            // companions are stored for the operations that have one; the others' stay 0
+            // from `new`
+            self.c[idx * self.n + k] = val;
+            let mut nonzero = !val.is_exact_zero();
+            if let Some(aux) = aux {
+                self.c[self.aux_at + idx * self.n + k] = aux;
+                nonzero |= !aux.is_exact_zero();
+            }
+            if nonzero {
+                let e = &mut self.nz[idx];
+                e.0 = e.0.min(k);
+                e.1 = k;
+            }
+        }
+    }
+
+    /// `acc + sum_{j in terms} a_j b_{k-j}` (`acc - ...` when `neg`).
+    fn conv(
+        &self,
+        acc: T,
+        neg: bool,
+        a: u32,
+        b: u32,
+        terms: std::ops::RangeInclusive<usize>,
+        k: usize,
+    ) -> T {
+        if terms.is_empty() {
+            return acc;
+        }
+        let (lo, hi) = (*terms.start(), *terms.end());
+        let (a, b) = (a as usize * self.n, b as usize * self.n);
+        T::conv(acc, neg, &self.c[a + lo..=a + hi], &self.c[b + k - hi..=b + k - lo])
+    }
+
+    /// The indices j in [from, to] for which both a_j and b_{k-j} may be non-zero: terms
+    /// with an exactly zero factor are zero and are skipped (spec eq. (2.3)).
+    fn terms(
+        &self,
+        a: u32,
+        b: u32,
+        k: usize,
+        from: usize,
+        to: usize,
+    ) -> std::ops::RangeInclusive<usize> {
+        let (la, ha) = self.nz[a as usize];
+        let (lb, hb) = self.nz[b as usize];
+        if la > ha || lb > hb || k < lb {
+            #[allow(clippy::reversed_empty_ranges)]
+            return 1..=0;
+        }
+        from.max(la).max(k.saturating_sub(hb))..=to.min(ha).min(k - lb)
+    }
+}
+
+impl<T: Coef> Drop for Series<T> {
+    fn drop(&mut self) {
+        let c = std::mem::take(&mut self.c);
+        T::scratch().with(|s| s.replace(c));
+        let nz = std::mem::take(&mut self.nz);
+        SCRATCH_NZ.with(|s| s.replace(nz));
+    }
+}
+
+thread_local! {
+    static SCRATCH_INTERVAL: RefCell<Vec<Interval>> = const { RefCell::new(Vec::new()) };
+    static SCRATCH_F64: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
+    static SCRATCH_NZ: RefCell<Vec<(usize, usize)>> = const { RefCell::new(Vec::new()) };
+}
+
+/// A coefficient type for the Taylor recurrences: intervals (rigorous, with the domain
+/// checks of spec eq. (2.8)) or f64 (only to *choose* things, e.g. Newton guesses).
+pub trait Coef: Scalar + Copy + 'static {
+    /// The per-thread storage reused by the Taylor series of this coefficient type.
+    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>>;
+    /// Exactly 0 (terms with such a factor are skipped).
+    fn is_exact_zero(&self) -> bool;
+    /// Proved non-zero (Interval: 0 not in it).
+    fn safe_divisor(&self) -> bool;
+    /// Proved positive.
+    fn safe_sqrt_arg(&self) -> bool;
+    /// Finite (intervals: non-empty with finite ends).
+    fn is_finite_coef(&self) -> bool;
+    /// `self + a b`; for intervals fused (one outward rounding, inari's `mul_add`), which
+    /// encloses the exact value as the unfused form does, and is tighter and faster.
+    fn mul_acc(self, a: Self, b: Self) -> Self;
+    /// `acc + sum_j x_j y_{n-1-j}` (`acc - ...` when `neg`), `n = x.len() = y.len()`: the
+    /// convolutions of (2.3)-(2.5). Intervals: spec (1.4); f64: four partial sums.
+    fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self;
+    /// `self / b`, with `b` proved non-zero where the recurrences divide (intervals: spec
+    /// (1.4), inari's quotient).
+    fn quot(self, b: Self) -> Self;
+}
+
+impl Coef for Interval {
+    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>> {
+        &SCRATCH_INTERVAL
+    }
+    fn is_exact_zero(&self) -> bool {
+        self.inf() == 0.0 && self.sup() == 0.0
+    }
+    fn safe_divisor(&self) -> bool {
+        !self.is_empty() && !self.contains(0.0)
+    }
+    fn safe_sqrt_arg(&self) -> bool {
+        !self.is_empty() && self.inf() > 0.0
+    }
+    fn is_finite_coef(&self) -> bool {
+        finite(*self)
+    }
+    fn mul_acc(self, a: Self, b: Self) -> Self {
+        a.mul_add(b, self)
+    }
+    fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self {
+        crate::dot::dot(acc, neg, x, y, true)
+    }
+    fn quot(self, b: Self) -> Self {
+        crate::dot::quotient(self, b)
+    }
+}
+
+impl Coef for f64 {
+    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>> {
+        &SCRATCH_F64
+    }
+    fn is_exact_zero(&self) -> bool {
+        *self == 0.0
+    }
+    fn safe_divisor(&self) -> bool {
+        *self != 0.0 && self.is_finite()
+    }
+    fn safe_sqrt_arg(&self) -> bool {
+        *self > 0.0
+    }
+    fn is_finite_coef(&self) -> bool {
+        self.is_finite()
+    }
+    fn mul_acc(self, a: Self, b: Self) -> Self {
+        self + a * b
+    }
+    fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self {
+        // Four partial sums of every fourth term, added at the end: four chains of additions
+        // run side by side, where one chain waits for each addition before the next. The
+        // float series only choose (steps, the Newton guess), so the order of the sum is free.
+        let n = x.len();
+        let mut part = [0.0f64; 4];
+        let mut rest = 0.0;
+        let mut j = 0;
+        while j + 4 <= n {
+            for (l, p) in part.iter_mut().enumerate() {
+                *p += x[j + l] * y[n - 1 - j - l];
+            }
+            j += 4;
+        }
+        for i in j..n {
+            rest += x[i] * y[n - 1 - i];
+        }
+        let sum = (part[0] + part[1]) + (part[2] + part[3]) + rest;
+        if neg {
+            acc - sum
+        } else {
+            acc + sum
+        }
+    }
+    fn quot(self, b: Self) -> Self {
+        self / b
+    }
+}
+
+/// A non-empty interval with finite endpoints.
+pub fn finite(x: Interval) -> bool {
+    !x.is_empty() && x.inf().is_finite() && x.sup().is_finite()
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scalar::{point, Scalar};
+    use crate::tape::{Tape, Tracer};
+
+    /// A constant's coefficients past 0 are exactly 0 (the recurrences skip them): for
+    /// `x' = x + (3 + pi)`, `x_k = x_{k-1} / k` exactly from k = 2 on, in a series that
+    /// reuses the storage of an earlier one and in one carried on to a higher order.
+    #[test]
+    fn constants_have_no_coefficients_past_zero() {
+        let dirty = Tape::record(1, |x| vec![x[0] * x[0] + Tracer::cst(5.0)]);
+        let tape = Tape::record(1, |x| vec![x[0] + (Tracer::cst(3.0) + Tracer::pi())]);
+        for _ in 0..2 {
+            dirty.ode_taylor(&[0.5f64], 20).unwrap();
+            let plain = tape.ode_taylor(&[0.25f64], 12).unwrap();
+            let carried = tape.ode_taylor_until(&[0.25f64], 8, 16, |_| false).unwrap();
+            for c in [&plain, &carried] {
+                let x: Vec<f64> = c.iter().map(|r| r[0]).collect();
+                assert_eq!(x[1], 0.25 + (3.0 + std::f64::consts::PI));
+                for k in 2..x.len() {
+                    assert_eq!(x[k], x[k - 1] / k as f64, "k = {k}");
+                }
+            }
+            let iv = tape.ode_taylor(&[point(0.25)], 12).unwrap();
+            for k in 2..iv.len() {
+                let q = crate::dot::quotient(iv[k - 1][0], point(k as f64));
+                assert!(iv[k][0].inf() == q.inf() && iv[k][0].sup() == q.sup());
+            }
+        }
+    }
+
+    #[test]
+    fn taylor_coefficients_of_exp_and_rotation() {
+        // x' = x from x(0) = 1: coefficients 1/k!
+        let tape = Tape::record(1, |x| vec![x[0]]);
+        let c = tape.ode_taylor(&[point(1.0)], 10).unwrap();
+        let mut f = 1.0f64;
+        for (k, ck) in c.iter().enumerate() {
+            if k > 0 {
+                f *= k as f64;
+            }
+            assert!(ck[0].contains(1.0 / f) || (ck[0].inf() - 1.0 / f).abs() < 1e-16);
+            assert!(ck[0].wid() < 1e-15);
+        }
+        // phi' = 1, s' = cos(phi): s(t) = sin(t), coefficients of sin
+        let tape = Tape::record(2, |x| vec![Tracer::one(), x[0].cos()]);
+        let c = tape.ode_taylor(&[point(0.0), point(0.0)], 7).unwrap();
+        assert!(c[1][1].contains(1.0));
+        assert!(c[3][1].contains(-1.0 / 6.0) || (c[3][1].mid() + 1.0 / 6.0).abs() < 1e-16);
+        assert!(c[2][1].contains(0.0) && c[2][1].wid() < 1e-16);
+        assert!((c[5][1].mid() - 1.0 / 120.0).abs() < 1e-16);
+    }
+
+    /// The recurrences (2.9)-(2.12) against series known in closed form: with t' = 1 and
+    /// y' = f(t), y_k = [t^{k-1}] f / k.
+    #[test]
+    fn taylor_coefficients_of_exp_ln_atan_sinh_cosh_pi() {
+        type Coeffs = fn(usize) -> f64;
+        type Case = (&'static str, fn(Tracer) -> Tracer, Coeffs);
+        let cases: [Case; 6] = [
+            (
+                "exp",
+                |t| t.exp(),
+                |j| 1.0 / (1..=j).fold(1.0, |a, i| a * i as f64),
+            ),
+            (
+                "ln(1+t)",
+                |t| (Tracer::one() + t).ln(),
+                |j| {
+                    if j == 0 {
+                        0.0
+                    } else if j % 2 == 1 {
+                        1.0 / j as f64
+                    } else {
+                        -1.0 / j as f64
+                    }
+                },
+            ),
+            (
+                "atan",
+                |t| t.atan(),
+                |j| {
+                    if j % 2 == 0 {
+                        0.0
+                    } else if j % 4 == 1 {
+                        1.0 / j as f64
+                    } else {
+                        -1.0 / j as f64
+                    }
+                },
+            ),
+            (
+                "sinh",
+                |t| t.sinh(),
+                |j| {
+                    if j % 2 == 1 {
+                        1.0 / (1..=j).fold(1.0, |a, i| a * i as f64)
+                    } else {
+                        0.0
+                    }
+                },
+            ),
+            (
+                "cosh",
+                |t| t.cosh(),
+                |j| {
+                    if j % 2 == 0 {
+                        1.0 / (1..=j).fold(1.0, |a, i| a * i as f64)
+                    } else {
+                        0.0
+                    }
+                },
+            ),
+            (
+                "pi*t",
+                |t| Tracer::pi() * t,
+                |j| if j == 1 { std::f64::consts::PI } else { 0.0 },
+            ),
+        ];
+        for (name, f, coef) in cases {
+            let tape = Tape::record(2, |x| vec![Tracer::one(), f(x[0])]);
+            let c = tape.ode_taylor(&[point(0.0), point(0.0)], 12).unwrap();
+            for k in 1..=12 {
+                let want = coef(k - 1) / k as f64;
+                let got = c[k][1];
+                assert!(
+                    got.inf() - 1e-15 * want.abs() <= want
+                        && want <= got.sup() + 1e-15 * want.abs(),
+                    "{name}: y_{k} = [{}, {}], want {want}",
+                    got.inf(),
+                    got.sup()
+                );
+                assert!(got.wid() <= 1e-14, "{name}: width");
+            }
+        }
+        // ln refuses an argument not proved positive (2.10), as sqrt does
+        let tape = Tape::record(1, |x| vec![x[0].ln()]);
+        assert!(tape
+            .ode_taylor(&[crate::scalar::iv(-0.5, 1.0)], 3)
+            .is_none());
+        // pi is enclosed, not rounded
+        let p = Tape::record(1, |_| vec![Tracer::pi()])
+            .eval_checked(&[point(0.0)])
+            .unwrap()[0];
+        assert!(p.inf() < p.sup() && p.contains(std::f64::consts::PI));
+    }
+}
