@@ -1,6 +1,6 @@
 //! `dalembert`: a verified reference implementation of exact discrete nonholonomic
 //! mechanics (Anahory Simoes, Marrero, Martin de Diego, *Exact discrete Lagrangian mechanics
-//! for nonholonomic mechanics*) with interval arithmetic ([`inari`]).
+//! for nonholonomic mechanics*) with interval arithmetic ([inari](https://docs.rs/inari)).
 //!
 //! It encloses the exact nonholonomic flow ([`flow()`]), the exact retractions, the defect of
 //! a pair with respect to the exact discrete constraint submanifold `M_h^{e,nh}`, the exact
