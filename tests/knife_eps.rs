@@ -461,7 +461,7 @@ fn contains(x: &Interval, r: &Float) -> bool {
 }
 
 fn model(eps: f64) -> Model {
-    Model::new(&AnyScene::new("knife-eps", &[("eps".to_string(), eps)]).unwrap()).unwrap()
+    Model::new(&AnyScene::new("knife-eps", &[("eps", eps)]).unwrap()).unwrap()
 }
 
 fn enclose(model: &Model, q: [f64; 3], u: [f64; 2], t: f64) -> FlowEnclosure {

@@ -31,7 +31,7 @@ use inari::Interval;
 
 fn model(name: &str) -> Model {
     let params = if name == "knife-eps" {
-        vec![("eps".to_string(), 0.1)]
+        vec![("eps", 0.1)]
     } else {
         vec![]
     };
@@ -189,10 +189,7 @@ fn both_bases_contain_the_knife_closed_form() {
     let s = point(u[0]) + (phi.sin() - phi0.sin()) / (point(2.0) * w);
     let mut widths = vec![];
     for basis in [Basis::Parallelepiped, Basis::Orthogonal] {
-        let opts = FlowOptions {
-            basis,
-            ..FlowOptions::default()
-        };
+        let opts = FlowOptions::default().with_basis(basis);
         let e = flow(&m, &q, &u, t, &opts).unwrap();
         assert!(meets(e.q[2], phi), "{basis:?}: phi");
         assert!(meets(e.u[0], s), "{basis:?}: s");

@@ -34,7 +34,7 @@ use std::time::{Duration, Instant};
 const EPS: f64 = f64::EPSILON;
 
 fn model(name: &str, eps: Option<f64>) -> Model {
-    let params: Vec<(String, f64)> = eps.map(|e| vec![("eps".into(), e)]).unwrap_or_default();
+    let params: Vec<(&str, f64)> = eps.map(|e| vec![("eps", e)]).unwrap_or_default();
     Model::new(&AnyScene::new(name, &params).unwrap()).unwrap()
 }
 
@@ -1225,11 +1225,11 @@ fn integrate_with_one_step_returns_nan_momenta() {
 fn input_errors_are_named() {
     for eps in [1.0, -1.0, 1.5, f64::NAN] {
         assert!(
-            AnyScene::new("knife-eps", &[("eps".into(), eps)]).is_err(),
+            AnyScene::new("knife-eps", &[("eps", eps)]).is_err(),
             "eps = {eps}"
         );
     }
-    assert!(AnyScene::new("knife-eps", &[("eps".into(), 0.999_999)]).is_ok());
+    assert!(AnyScene::new("knife-eps", &[("eps", 0.999_999)]).is_ok());
     let m = model("knife", None);
     let s = Scheme::new(&m, SchemeKind::Mla);
     let opts = NewtonOptions::default();

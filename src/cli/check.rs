@@ -4,7 +4,7 @@ use super::integrate::io;
 use super::progress::Bar;
 use super::spool::Spool;
 use super::SceneArgs;
-use crate::oracle::{check_each, check_each_at, CheckOptions, RowVerdict};
+use crate::oracle::{check_rows, CheckOptions, RowVerdict};
 use crate::protocol::{self, CheckRows, Session, STEP_DEADLINE};
 use crate::scene::Scene;
 use crate::Error;
@@ -41,7 +41,7 @@ pub fn run(
             .map(|t| protocol::parse_num("--defect-tol", t))
             .transpose()?,
     };
-    tols.check(!no_pairs)?;
+    tols.require_pairs(!no_pairs)?;
     let deadline = deadline
         .map(|d| protocol::parse_seconds("--deadline", d))
         .transpose()?;
@@ -72,7 +72,10 @@ pub fn run(
             .map_err(io)
     };
     let summary = match h {
-        Some(h) => check_each(&model, h, rows.map(|r| r.map(|(_, q)| q)), &opts, sink)?,
+        Some(h) => {
+            let rows = rows.map(|r| r.map(|(_, q)| (None, q)));
+            check_rows(&model, Some(h), rows, &opts, sink)?
+        }
         None => {
             let untimed = || {
                 Error::input(format!(
@@ -80,12 +83,12 @@ pub fn run(
                      column `t`, or a JSON key \"t\"); or give --h"
                 ))
             };
-            let rows = rows.map(|r| r.and_then(|(t, q)| Ok((t.ok_or_else(untimed)?, q))));
-            check_each_at(&model, rows, &opts, sink)?
+            let rows = rows.map(|r| r.and_then(|(t, q)| Ok((Some(t.ok_or_else(untimed)?), q))));
+            check_rows(&model, None, rows, &opts, sink)?
         }
     };
     bar.clear();
-    let passed = tols.decide(summary.max_distance, summary.max_defect)?;
+    let passed = tols.passes(summary.max_distance, summary.max_defect)?;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     table
