@@ -8,9 +8,9 @@
 //! # use dalembert::schemes::{Scheme, SchemeKind};
 //! # use dalembert::testing::local_order;
 //! let model = Model::new(&AnyScene::new("knife", &[]).unwrap()).unwrap();
-//! let dla = Scheme::new(&model, SchemeKind::Dla);
+//! let mut dla = Scheme::new(&model, SchemeKind::Dla);
 //! let hs = [0.2, 0.1, 0.05, 0.025];
-//! let ladder = local_order(&model, &dla, &[0.0, 0.0, 0.3], &[0.8, 0.5], &hs, &FlowOptions::default()).unwrap();
+//! let ladder = local_order(&model, &mut dla, &[0.0, 0.0, 0.3], &[0.8, 0.5], &hs, &FlowOptions::default()).unwrap();
 //! // every rung's error is a certified interval; so is the order between rungs
 //! assert!(ladder.orders[2].inf() > 2.5); // proved: the local error shrinks faster than h^2.5 here
 //! ```
