@@ -56,9 +56,9 @@ use inari::Interval;
 pub trait Stepper {
     /// The stepper's own failure: any type that prints (`String`, an error type,
     /// [`std::convert::Infallible`]); its `Display` text goes into the
-    /// [`Error::Input`](crate::Error::Input) of kind
+    /// [`Error::Input`] of kind
     /// [`InputKind::Stepper`](crate::InputKind::Stepper) that names the step. The same bound
-    /// as [`fuzz::NewtonSolver::Error`](crate::testing::fuzz::NewtonSolver::Error).
+    /// as `testing::fuzz::NewtonSolver::Error` (feature `fuzzing`).
     type Error: std::fmt::Display + std::fmt::Debug;
     /// Write `q_{k+1}` into `q_next` (as many numbers as `q` has) from `q_prev = q_{k-1}`,
     /// `q = q_k` and the step `h`; `Err` with the stepper's own failure. `q_next` holds
