@@ -236,6 +236,14 @@ impl Error {
     pub fn input_key(key: &str, msg: impl Into<String>) -> Self {
         Error::input_at(InputKind::Key(key.to_string()), msg)
     }
+    /// The same error, an input error now of kind `kind` (a reader that knows more about
+    /// where the value came from than the parser it called); other errors unchanged.
+    pub(crate) fn of_kind(self, kind: InputKind) -> Self {
+        match self {
+            Error::Input(e) => Error::Input(InputError { kind, ..e }),
+            other => other,
+        }
+    }
     /// A failed proof ([`Reason::NoProof`]).
     pub fn uncertified(msg: impl Into<String>) -> Self {
         Error::refused(Reason::NoProof, msg)
