@@ -8,45 +8,162 @@ pub const OVER_BUDGET: &str = "not certified within the budget (the deadline pas
 /// The message of [`Error::over_work`].
 pub const OVER_WORK: &str = "not certified within the budget (the work limit was reached)";
 
-/// Why a request was not answered. `Input` maps to exit status 2, `Uncertified` and
-/// `Internal` to 3.
+/// Why a request was not answered (spec 0.3 "Failure").
+///
+/// Each variant carries a struct with a message in words and a kind a program can match:
+/// [`InputError::kind`] says which part of the request is at fault, [`Refusal::reason`]
+/// (and [`Refusal::limit`]) why a proof was not completed, [`InternalError::invariant`]
+/// which of the crate's own invariants failed. Decide on the kinds, never on the message
+/// text. The enum and its structs are `#[non_exhaustive]`: variants, kinds and fields may
+/// be added without a breaking release.
 ///
 /// ```
-/// use dalembert::{AnyScene, Error, FlowOptions, Model, Reason};
-/// let model = Model::new(&AnyScene::new("knife", &[]).unwrap()).unwrap();
-/// // a step budget of 3 cannot reach t = 600
-/// let opts = FlowOptions { max_steps: 3, ..FlowOptions::default() };
+/// use dalembert::{AnyScene, Error, FlowOptions, Limit, Model, Reason};
+/// let model = Model::new(&AnyScene::new("knife", &[])?)?;
+/// // a budget of 3 Taylor steps cannot reach t = 600
+/// let opts = FlowOptions::default().with_max_taylor_steps(3);
 /// match dalembert::flow(&model, &[0.0; 3], &[0.8, 0.8], 600.0, &opts) {
 ///     Err(Error::Uncertified(r)) => {
 ///         assert_eq!(r.reason, Reason::Budget);
+///         assert_eq!(r.limit, Some(Limit::TaylorSteps));
 ///         assert!(r.reached.is_some_and(|t| t > 0.0 && t < 600.0));
 ///     }
 ///     other => panic!("{other:?}"),
 /// }
+/// # Ok::<(), Box<dyn std::error::Error + Send + Sync>>(())
 /// ```
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Error {
     /// The request is malformed: unknown scene or parameter, wrong dimension, non-finite
     /// number, negative time, ...
-    Input(String),
+    Input(InputError),
     /// The request is well formed but no enclosure could be proved; nothing is returned.
     Uncertified(Refusal),
     /// A fault of this crate, not of the request and not a failed proof (a bug to report);
-    /// nothing is returned. Exit status 3, like every answer that certifies nothing.
-    Internal(String),
+    /// nothing is returned.
+    Internal(InternalError),
+}
+
+/// A malformed request: which part of it ([`InputKind`]) and what is wrong, in words.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct InputError {
+    /// Which part of the request is at fault, for a program to match.
+    pub kind: InputKind,
+    /// What is wrong, in words (printed after `invalid input:`).
+    pub message: String,
+}
+
+/// Which part of a request an [`InputError`] is about.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum InputKind {
+    /// Not classified further: the message says what.
+    Other,
+    /// A key of a batch request, or an option of the command line: its name (`"h"`,
+    /// `"q0"`, `"--tol"`).
+    Key(String),
+    /// One element of a list given under a key: the key and the 0-based index.
+    Element {
+        /// The key the list was given under.
+        key: String,
+        /// The element's 0-based index in the list.
+        index: usize,
+    },
+    /// The scene: an unknown name, or a scene file or description that is malformed.
+    Scene(String),
+    /// A parameter of the scene: its name.
+    Parameter(String),
+    /// A vector with the wrong number of components.
+    Dimension {
+        /// What the vector is (`"q"`, `"u"`, `"q0"`).
+        what: String,
+        /// The number of components given.
+        got: usize,
+        /// The number of components the scene needs.
+        expected: usize,
+    },
+    /// A number that is not finite (or not > 0, or out of range) where one is needed: what
+    /// it is (`"t"`, `"h"`, `"state"`).
+    Number(String),
+    /// A row of a candidate trajectory (0-based `k` of `q_k`), and the column at fault
+    /// when one is.
+    Row {
+        /// The row's index `k`.
+        row: usize,
+        /// The 0-based column, when one column is at fault.
+        column: Option<usize>,
+    },
+    /// The times of a dense or non-uniform request (not increasing, not finite, a step
+    /// that is not a float).
+    Times,
+    /// A user's stepper failed (testing kit): the step at which it did, when known.
+    Stepper {
+        /// The step `k` whose `q_{k+1}` was asked for, when it is known.
+        step: Option<usize>,
+    },
+}
+
+/// A fault of the crate: which invariant did not hold ([`Invariant`]) and, in words, where.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct InternalError {
+    /// The invariant that did not hold.
+    pub invariant: Invariant,
+    /// Where and how, in words (printed after `internal error (a bug of dalembert):`).
+    pub message: String,
+}
+
+/// The invariant of the crate an [`InternalError`] reports broken.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Invariant {
+    /// Not classified further: the message says what.
+    Other,
+    /// Two enclosures of the same exact quantity were disjoint (a self-check of the
+    /// interval arithmetic or of a Krawczyk refinement).
+    DisjointEnclosures,
+    /// A value the code had just computed was missing (an empty answer, a lost point).
+    Missing,
+    /// A scene read a parameter it had not declared.
+    UndeclaredParameter,
+    /// The output of a running command closed before the answers were written.
+    Output,
 }
 
 /// A proof that was not completed: why, in words and as a kind a program can match, and
 /// how far a flow had got.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Refusal {
     /// The kind of refusal, for a program to match (spec 0.3).
     pub reason: Reason,
+    /// For a [`Reason::Budget`] refusal: which budget was spent (`None` for the other
+    /// reasons).
+    pub limit: Option<Limit>,
     /// What was not proved, in words (printed after `could not certify:`).
     pub message: String,
     /// For a validated flow: the time up to which the enclosure had been proved when the
     /// work stopped (`None` when no flow was under way, or it had not started).
     pub reached: Option<f64>,
+}
+
+/// Which budget a [`Reason::Budget`] refusal spent.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Limit {
+    /// The deadline passed ([`crate::FlowOptions::deadline`]).
+    Deadline,
+    /// The work limit was reached ([`crate::FlowOptions::work_limit`]).
+    Work,
+    /// More accepted steps of the validated Taylor integrator than
+    /// [`crate::FlowOptions::max_taylor_steps`] would be needed.
+    TaylorSteps,
+    /// A retraction spent its work budget: the float Taylor steps of its Newton guess or
+    /// the validated steps of its Krawczyk boxes' flows (each a multiple of
+    /// [`crate::FlowOptions::max_taylor_steps`]).
+    RetractionWork,
 }
 
 /// The kind of a [`Refusal`] (spec 0.3).
@@ -55,8 +172,8 @@ pub struct Refusal {
 pub enum Reason {
     /// A budget was spent: the deadline passed ([`crate::FlowOptions::deadline`]), the
     /// work limit was reached ([`crate::FlowOptions::work_limit`]), or more
-    /// steps than [`crate::FlowOptions::max_steps`] (or the retraction's Newton work)
-    /// would be needed. A larger budget may answer.
+    /// steps than [`crate::FlowOptions::max_taylor_steps`] (or the retraction's Newton
+    /// work) would be needed; [`Refusal::limit`] says which. A larger budget may answer.
     Budget,
     /// The proof failed: no a priori enclosure even for tiny steps, a Krawczyk test or a
     /// Newton iteration that did not succeed, a singular Jacobian, an undecided comparison.
@@ -86,10 +203,46 @@ impl fmt::Display for Refusal {
     }
 }
 
+impl fmt::Display for InputError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl fmt::Display for InternalError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for Refusal {}
+impl std::error::Error for InputError {}
+impl std::error::Error for InternalError {}
+
 impl Error {
-    /// An input error ([`Error::Input`], exit 2): the request is malformed.
+    /// An input error ([`Error::Input`]) of kind [`InputKind::Other`]: the request is
+    /// malformed.
     pub fn input(msg: impl Into<String>) -> Self {
-        Error::Input(msg.into())
+        Error::input_at(InputKind::Other, msg)
+    }
+    /// An input error about the part `kind` of the request.
+    pub fn input_at(kind: InputKind, msg: impl Into<String>) -> Self {
+        Error::Input(InputError {
+            kind,
+            message: msg.into(),
+        })
+    }
+    /// An input error about the value under the key or option `key`.
+    pub fn input_key(key: &str, msg: impl Into<String>) -> Self {
+        Error::input_at(InputKind::Key(key.to_string()), msg)
+    }
+    /// The same error, an input error now of kind `kind` (a reader that knows more about
+    /// where the value came from than the parser it called); other errors unchanged.
+    pub(crate) fn of_kind(self, kind: InputKind) -> Self {
+        match self {
+            Error::Input(e) => Error::Input(InputError { kind, ..e }),
+            other => other,
+        }
     }
     /// A failed proof ([`Reason::NoProof`]).
     pub fn uncertified(msg: impl Into<String>) -> Self {
@@ -99,25 +252,42 @@ impl Error {
     pub fn refused(reason: Reason, msg: impl Into<String>) -> Self {
         Error::Uncertified(Refusal {
             reason,
+            limit: None,
             message: msg.into(),
             reached: None,
         })
     }
-    /// A fault of the crate itself ([`Error::Internal`], exit 3): an invariant of the code
-    /// that did not hold.
+    /// A [`Reason::Budget`] refusal that spent the budget `limit`.
+    pub fn over_limit(limit: Limit, msg: impl Into<String>) -> Self {
+        Error::Uncertified(Refusal {
+            reason: Reason::Budget,
+            limit: Some(limit),
+            message: msg.into(),
+            reached: None,
+        })
+    }
+    /// A fault of the crate itself ([`Error::Internal`], [`Invariant::Other`]): an
+    /// invariant of the code that did not hold.
     pub fn internal(msg: impl Into<String>) -> Self {
-        Error::Internal(msg.into())
+        Error::internal_at(Invariant::Other, msg)
     }
-    /// The refusal of work that ran past its time budget (exit 3, [`Reason::Budget`]). Its
-    /// message starts with `not certified within the budget`.
+    /// A fault of the crate itself: the invariant `invariant` did not hold.
+    pub fn internal_at(invariant: Invariant, msg: impl Into<String>) -> Self {
+        Error::Internal(InternalError {
+            invariant,
+            message: msg.into(),
+        })
+    }
+    /// The refusal of work that ran past its time budget ([`Reason::Budget`],
+    /// [`Limit::Deadline`]). Its message starts with `not certified within the budget`.
     pub fn over_budget() -> Self {
-        Error::refused(Reason::Budget, OVER_BUDGET)
+        Error::over_limit(Limit::Deadline, OVER_BUDGET)
     }
-    /// The refusal of work that reached its work limit (exit 3, [`Reason::Budget`],
+    /// The refusal of work that reached its work limit ([`Reason::Budget`], [`Limit::Work`],
     /// [`crate::FlowOptions::work_limit`]). Its message starts with `not certified within
     /// the budget`.
     pub fn over_work() -> Self {
-        Error::refused(Reason::Budget, OVER_WORK)
+        Error::over_limit(Limit::Work, OVER_WORK)
     }
     /// `Err(over_budget())` once `deadline` has passed; `Ok` when there is none.
     pub fn check_deadline(deadline: Option<std::time::Instant>) -> Result<(), Error> {
@@ -143,21 +313,29 @@ impl Error {
             _ => None,
         }
     }
+    /// The budget a [`Reason::Budget`] refusal spent; `None` otherwise.
+    pub fn limit(&self) -> Option<Limit> {
+        match self {
+            Error::Uncertified(r) => r.limit,
+            _ => None,
+        }
+    }
+    /// Which part of the request an input error is about; `None` for the other variants.
+    pub fn input_kind(&self) -> Option<&InputKind> {
+        match self {
+            Error::Input(e) => Some(&e.kind),
+            _ => None,
+        }
+    }
     /// Whether a budget was spent ([`Reason::Budget`]): the request may succeed with more.
     pub fn is_budget(&self) -> bool {
         self.reason() == Some(Reason::Budget)
     }
-    /// The command line's exit status for this error.
-    pub fn code(&self) -> i32 {
-        match self {
-            Error::Input(_) => 2,
-            Error::Uncertified(_) | Error::Internal(_) => 3,
-        }
-    }
     /// The message alone, without the prefix that `Display` adds.
     pub fn message(&self) -> &str {
         match self {
-            Error::Input(m) | Error::Internal(m) => m,
+            Error::Input(e) => &e.message,
+            Error::Internal(e) => &e.message,
             Error::Uncertified(r) => &r.message,
         }
     }
@@ -166,11 +344,51 @@ impl Error {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Error::Input(m) => write!(f, "invalid input: {m}"),
+            Error::Input(e) => write!(f, "invalid input: {}", e.message),
             Error::Uncertified(r) => write!(f, "could not certify: {}", r.message),
-            Error::Internal(m) => write!(f, "internal error (a bug of dalembert): {m}"),
+            Error::Internal(e) => write!(f, "internal error (a bug of dalembert): {}", e.message),
         }
     }
 }
 
 impl std::error::Error for Error {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn composes<E: std::error::Error + Send + Sync + 'static>() {}
+
+    #[test]
+    fn every_error_type_composes() {
+        composes::<Error>();
+        composes::<InputError>();
+        composes::<InternalError>();
+        composes::<Refusal>();
+        composes::<crate::schemes::SchemeError>();
+        composes::<crate::newton::NewtonFailure>();
+    }
+
+    #[test]
+    fn kinds_are_kept_and_the_text_is_unchanged() {
+        let e = Error::input_key("h", "`h` must be > 0");
+        assert_eq!(e.input_kind(), Some(&InputKind::Key("h".into())));
+        assert_eq!(e.to_string(), "invalid input: `h` must be > 0");
+        let e = Error::over_work().reached(2.5);
+        assert_eq!(
+            (e.limit(), e.reason()),
+            (Some(Limit::Work), Some(Reason::Budget))
+        );
+        assert!(matches!(&e, Error::Uncertified(r) if r.reached == Some(2.5)));
+        let e = Error::internal_at(Invariant::Missing, "gone");
+        assert_eq!(e.to_string(), "internal error (a bug of dalembert): gone");
+        assert!(matches!(
+            e,
+            Error::Internal(InternalError {
+                invariant: Invariant::Missing,
+                ..
+            })
+        ));
+        assert_eq!(Error::uncertified("x").limit(), None);
+    }
+}

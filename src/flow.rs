@@ -10,7 +10,7 @@ use crate::interval::{wrap, wrap_rows};
 use crate::model::Model;
 use crate::progress::Progress;
 use crate::scalar::point;
-use crate::{Error, Interval, Reason};
+use crate::{Error, InputKind, Interval, Limit, Reason};
 
 /// The certified state at time t.
 #[derive(Clone, Debug, PartialEq)]
@@ -56,7 +56,7 @@ pub fn flow(
 ) -> Result<FlowEnclosure, Error> {
     let mut at = flow_at(model, q, u, &[t], opts)?;
     at.pop()
-        .ok_or_else(|| Error::internal("flow_at answered no time"))
+        .ok_or_else(|| Error::internal_at(crate::Invariant::Missing, "flow_at answered no time"))
 }
 
 /// Dense output: enclosures of the exact nonholonomic state at each of the increasing
@@ -77,19 +77,22 @@ pub fn flow_at(
     times: &[f64],
     opts: &FlowOptions,
 ) -> Result<Vec<FlowEnclosure>, Error> {
-    let last = *times
-        .last()
-        .ok_or_else(|| Error::input("no time given: at least one is needed"))?;
+    let last = *times.last().ok_or_else(|| {
+        Error::input_at(InputKind::Times, "no time given: at least one is needed")
+    })?;
     let x = flow_query(model, q, u, times[0])?;
     for (i, w) in times.windows(2).enumerate() {
         if !w[1].is_finite() || w[1] <= w[0] {
-            return Err(Error::input(format!(
-                "times must be finite and strictly increasing (t_{} = {}, t_{} = {})",
-                i + 1,
-                w[0],
-                i + 2,
-                w[1]
-            )));
+            return Err(Error::input_at(
+                InputKind::Times,
+                format!(
+                    "times must be finite and strictly increasing (t_{} = {}, t_{} = {})",
+                    i + 1,
+                    w[0],
+                    i + 2,
+                    w[1]
+                ),
+            ));
         }
     }
     let mut set = LohnerSet::point(&x);
@@ -110,7 +113,7 @@ pub fn flow_at(
                     p.tell(what, from + f * (t - from), last)
                 })
             },
-            max_steps: opts.max_steps.saturating_sub(total.steps),
+            max_taylor_steps: opts.max_taylor_steps.saturating_sub(total.steps),
             ..opts.clone()
         };
         // the exact span t - from, enclosed (exact when Sterbenz's lemma applies)
@@ -121,8 +124,8 @@ pub fn flow_at(
                 Error::Uncertified(r) => {
                     let reached = (point(from) + point(r.reached.unwrap_or(0.0))).inf();
                     // the step limit is the whole integration's: say so with its end
-                    let e = if r.reason == Reason::Budget && r.message.starts_with("more than") {
-                        too_many(opts.max_steps, last)
+                    let e = if r.limit == Some(Limit::TaylorSteps) {
+                        too_many(opts.max_taylor_steps, last)
                     } else {
                         e
                     };
@@ -160,9 +163,10 @@ fn flow_query(model: &Model, q: &[f64], u: &[f64], t: f64) -> Result<Vec<f64>, E
             .collect::<Vec<_>>(),
     )?;
     if !t.is_finite() || t < 0.0 {
-        return Err(Error::input(format!(
-            "time must be finite and >= 0 (got {t})"
-        )));
+        return Err(Error::input_at(
+            InputKind::Number("t".into()),
+            format!("time must be finite and >= 0 (got {t})"),
+        ));
     }
     Ok(q.iter().chain(u).copied().collect())
 }
@@ -171,21 +175,40 @@ fn flow_query(model: &Model, q: &[f64], u: &[f64], t: f64) -> Result<Vec<f64>, E
 pub fn check_state(model: &Model, q: &[f64], u: &[f64]) -> Result<(), Error> {
     let (n, m) = (model.n, model.n - model.k);
     if q.len() != n {
-        return Err(Error::input(format!(
-            "q has {} components, scene `{}` needs {n}",
-            q.len(),
-            model.name()
-        )));
+        let at = InputKind::Dimension {
+            what: "q".into(),
+            got: q.len(),
+            expected: n,
+        };
+        return Err(Error::input_at(
+            at,
+            format!(
+                "q has {} components, scene `{}` needs {n}",
+                q.len(),
+                model.name()
+            ),
+        ));
     }
     if u.len() != m {
-        return Err(Error::input(format!(
-            "u has {} components, scene `{}` needs {m}",
-            u.len(),
-            model.name()
-        )));
+        let at = InputKind::Dimension {
+            what: "u".into(),
+            got: u.len(),
+            expected: m,
+        };
+        return Err(Error::input_at(
+            at,
+            format!(
+                "u has {} components, scene `{}` needs {m}",
+                u.len(),
+                model.name()
+            ),
+        ));
     }
     if let Some(x) = q.iter().chain(u).find(|x| !x.is_finite()) {
-        return Err(Error::input(format!("non-finite number {x} in the state")));
+        return Err(Error::input_at(
+            InputKind::Number("state".into()),
+            format!("non-finite number {x} in the state"),
+        ));
     }
     Ok(())
 }
@@ -273,9 +296,9 @@ mod tests {
         // width tolerances of (5.8) are off, so only the finiteness check stands between
         // this and an answer with an infinite endpoint.
         let model = Model::new(&AnyScene::new("knife", &[]).unwrap()).unwrap();
-        for step in [0.0, 1.0] {
+        for fixed_h in [None, Some(1.0)] {
             let opts = FlowOptions {
-                step,
+                fixed_h,
                 ..FlowOptions::default()
             };
             let r = flow(&model, &[f64::MAX, 0.0, 0.0], &[1e300, 0.0], 1.0, &opts);

@@ -32,7 +32,7 @@ const FUZZ_WORK: u64 = 2_000_000;
 
 fn budget() -> FlowOptions {
     FlowOptions {
-        max_steps: 8,
+        max_taylor_steps: 8,
         ..FlowOptions::default()
     }
     .allow_work(FUZZ_WORK)

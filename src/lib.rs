@@ -128,7 +128,7 @@ mod error;
 mod readable;
 
 pub use enclosure::{Basis, FlowOptions, FlowStats};
-pub use error::{Error, Reason, Refusal};
+pub use error::{Error, InputError, InputKind, InternalError, Invariant, Limit, Reason, Refusal};
 pub use flow::{flow, FlowEnclosure};
 pub use interval::Interval;
 pub use model::Model;

@@ -7,7 +7,7 @@ use crate::enclosure::System;
 use crate::scalar::{point, Scalar};
 use crate::scene::{Description, Mat, Scene};
 use crate::tape::{finite, Tape, Tracer};
-use crate::Error;
+use crate::{Error, InputKind};
 use inari::Interval;
 
 /// The reduced field with the Lagrangian appended (spec eq. (6.8)).
@@ -155,9 +155,10 @@ impl CompiledScene {
         let name = description.name.clone();
         let n = sc.dim();
         if n == 0 || n > MAX_DIM {
-            return Err(Error::input(format!(
-                "scene `{name}`: {n} coordinates (1 to {MAX_DIM} allowed)"
-            )));
+            return Err(Error::input_at(
+                InputKind::Scene(name.clone()),
+                format!("scene `{name}`: {n} coordinates (1 to {MAX_DIM} allowed)"),
+            ));
         }
         let mut sizes_ok = Ok(());
         let mut k = 0;
@@ -173,7 +174,12 @@ impl CompiledScene {
             }
             mu.into_iter().flatten().collect()
         });
-        let size_error = |m: String| Error::input(format!("scene `{name}`: {m}"));
+        let size_error = |m: String| {
+            Error::input_at(
+                InputKind::Scene(name.clone()),
+                format!("scene `{name}`: {m}"),
+            )
+        };
         sizes_ok.map_err(size_error)?;
         if k == 0 || k >= n {
             return Err(size_error(format!(
@@ -505,12 +511,20 @@ impl Model {
     /// rank not proved at `q` are uncertified (the motion may still be fine elsewhere).
     pub fn check_at(&self, q: &[Interval]) -> Result<(), Error> {
         if q.len() != self.n {
-            return Err(Error::input(format!(
-                "q has {} components, scene `{}` needs {}",
-                q.len(),
-                self.scene.description.name,
-                self.n
-            )));
+            let at = InputKind::Dimension {
+                what: "q".into(),
+                got: q.len(),
+                expected: self.n,
+            };
+            return Err(Error::input_at(
+                at,
+                format!(
+                    "q has {} components, scene `{}` needs {}",
+                    q.len(),
+                    self.scene.description.name,
+                    self.n
+                ),
+            ));
         }
         let mirror: Vec<(usize, usize)> = (0..self.n)
             .flat_map(|i| (i + 1..self.n).map(move |j| (i, j)))
@@ -518,7 +532,10 @@ impl Model {
         let name = &self.scene.description.name;
         match self.scene.violation_at(q, &mirror, true) {
             None => Ok(()),
-            Some(Violation::Input(m)) => Err(Error::input(format!("scene `{name}`: {m}"))),
+            Some(Violation::Input(m)) => Err(Error::input_at(
+                InputKind::Scene(name.clone()),
+                format!("scene `{name}`: {m}"),
+            )),
             Some(Violation::Undefined(m) | Violation::Rank(m)) => Err(Error::refused(
                 crate::Reason::Undefined,
                 format!("scene `{name}`: {m}"),

@@ -40,9 +40,13 @@ impl std::fmt::Display for NewtonFailure {
     }
 }
 
+impl std::error::Error for NewtonFailure {}
+
 /// Settings: at most `max_iter` iterations; converged when the Newton step is below
 /// `4 eps max(1, |x|)` or the residual is below `tol`.
+/// Build them with `NewtonOptions::default()` and the `with_*` setters.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct NewtonOptions {
     /// At most this many iterations (default 50); then `IterationLimit`.
     pub max_iter: usize,
@@ -59,6 +63,24 @@ impl Default for NewtonOptions {
             tol: 0.0,
             max_backtracks: 33,
         }
+    }
+}
+
+impl NewtonOptions {
+    /// With at most `n` iterations.
+    pub fn with_max_iter(mut self, n: usize) -> Self {
+        self.max_iter = n;
+        self
+    }
+    /// With convergence once `|R(x)|_inf <= tol`.
+    pub fn with_tol(mut self, tol: f64) -> Self {
+        self.tol = tol;
+        self
+    }
+    /// With at most `n` halvings of the step in one line search.
+    pub fn with_max_backtracks(mut self, n: u32) -> Self {
+        self.max_backtracks = n;
+        self
     }
 }
 

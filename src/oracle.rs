@@ -13,11 +13,13 @@ use crate::exact::{self, ExactFlow, ExactTrajectory, Iterate};
 use crate::interval::unwrap;
 use crate::scalar::point;
 use crate::tape::finite;
-use crate::{Error, FlowOptions, Interval, Model, Reason};
+use crate::{Error, FlowOptions, InputKind, Interval, Model, Reason};
 use inari::Interval as Inari;
 
-/// What to compute besides the distances.
+/// What to compute besides the distances: `CheckOptions::default()` and the `with_*`
+/// setters.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct CheckOptions {
     /// Also certify, for every consecutive pair, its defect w.r.t. M_h^{e,nh} and the energy
     /// of the exact trajectory through it (one retraction per pair).
@@ -25,6 +27,19 @@ pub struct CheckOptions {
     /// Settings of every validated flow and retraction the check runs (order, step budget,
     /// deadline).
     pub flow: FlowOptions,
+}
+
+impl CheckOptions {
+    /// With or without the pair figures ([`CheckOptions::pairs`]).
+    pub fn with_pairs(mut self, on: bool) -> Self {
+        self.pairs = on;
+        self
+    }
+    /// With the settings `flow` of every validated flow and retraction.
+    pub fn with_flow(mut self, flow: FlowOptions) -> Self {
+        self.flow = flow;
+        self
+    }
 }
 
 impl Default for CheckOptions {
@@ -76,16 +91,24 @@ pub(crate) fn energy(model: &Model, q: &[Inari], v: &[Inari]) -> Result<Inari, E
         .ok_or_else(|| Error::refused(Reason::Unbounded, "energy enclosure not finite"))
 }
 
-/// Check a candidate trajectory of step `h` against the exact discrete flow.
+/// Check a candidate trajectory `q_0 .. q_N` against the exact discrete flow from
+/// `(q_0, q_1)`: with a uniform step `h` (`steps` an `f64` or [`Steps::Uniform`]), or at
+/// times `t_0 < t_1 < .. < t_N`, one per row ([`Steps::Times`], a `Vec<f64>` or `&[f64]`;
+/// non-uniform steps, spec eq. (8.4)). The rows are anything that is a slice of f64
+/// (`Vec<f64>`, `[f64; n]`, `&[f64]`).
 ///
 /// # Containment
-/// If `Ok(v)`: for every k, `|q_k - q^e_k|_inf ∈ v.distance[k]`, where `q^e_k = q(kh)` on the
-/// trajectory from `q_0` with `u_0` the unique solution of spec eq. (6.2) for `(q_0, q_1)` in
-/// the Krawczyk box (the exact discrete flow through `(q_0, q_1 + N(q_1) s)`); so
-/// `v.max_distance.sup() <= e` proves "every iterate is within e of the exact discrete
-/// flow". The pair figures are proved likewise (Theorems 6.1, 6.2). `Error::Input` for
-/// malformed candidates, `Error::Uncertified` when the oracle itself cannot conclude.
-/// The rows of [`check_each`], collected.
+/// If `Ok(v)`: for every k, `|q_k - q^e_k|_inf ∈ v.distance[k]`, where `q^e_k = q(t_k - t_0)`
+/// (`t_k = k h` for a uniform step) on the trajectory from `q_0` with `u_0` the unique
+/// solution of spec eq. (6.2) for `(q_0, q_1)` with `h_0 = t_1 - t_0` in the Krawczyk box
+/// (the exact discrete flow through `(q_0, q_1 + N(q_1) s)`); so `v.max_distance.sup() <= e`
+/// proves "every iterate is within e of the exact discrete flow". The pair figures of
+/// `(q_k, q_{k+1})`, with `h_k = t_{k+1} - t_k`, are proved likewise (Theorems 6.1, 6.2).
+/// `Error::Input` for malformed candidates (also: times not finite and strictly
+/// increasing, not one per row, or a step `h_k` that a retraction needs that is not a
+/// float: `t_{k+1} - t_k` is exact in f64 whenever `t_{k+1} <= 2 t_k`, by Sterbenz's
+/// lemma), `Error::Uncertified` when the oracle itself cannot conclude. The rows of
+/// [`check_rows`], collected.
 ///
 /// # Example
 /// ```
@@ -102,48 +125,52 @@ pub(crate) fn energy(model: &Model, q: &[Inari], v: &[Inari]) -> Result<Inari, E
 /// assert!(v.max_distance.sup() < 1e-3);
 /// // and every pair's defect w.r.t. M_h^{e,nh}, |s_k|_inf, is below 1e-4
 /// assert!(v.max_defect.is_some_and(|d| d.sup() < 1e-4));
-/// # Ok::<(), dalembert::Error>(())
+/// // the same candidate at its times t_k = k h: the same verdict
+/// let times: Vec<f64> = (0..=8).map(|k| k as f64 * h).collect();
+/// let w = check_trajectory(&model, times, &candidate.q, &CheckOptions::default())?;
+/// assert_eq!(w.max_distance, v.max_distance);
+/// # Ok::<(), Box<dyn std::error::Error + Send + Sync>>(())
 /// ```
-pub fn check_trajectory(
+pub fn check_trajectory<R: AsRef<[f64]>>(
     model: &Model,
-    h: f64,
-    q: &[Vec<f64>],
+    steps: impl Into<Steps>,
+    q: &[R],
     opts: &CheckOptions,
 ) -> Result<Verdict, Error> {
-    collect(q, |rows, sink| check_each(model, h, rows, opts, sink))
-}
-
-/// [`check_trajectory`] for a candidate given at times `t_0 < t_1 < .. < t_N`
-/// (non-uniform steps, spec eq. (8.4)): `q^e_k = q(t_k - t_0)` on the trajectory from
-/// `q_0` with `u_0` the solution of spec eq. (6.2) for `(q_0, q_1)` with
-/// `h_0 = t_1 - t_0`, and the pair figures of `(q_k, q_{k+1})` with
-/// `h_k = t_{k+1} - t_k`. `times` has one time per row.
-///
-/// # Containment
-/// As [`check_trajectory`], with those `q^e_k` and `h_k`. `Error::Input` also when the
-/// times are not finite and strictly increasing, or when a step `h_k` that a retraction
-/// needs (`h_0`, and every `h_k` with pair figures) is not a float (`t_{k+1} - t_k` not
-/// exact in f64; by Sterbenz's lemma it is whenever `t_{k+1} <= 2 t_k`).
-pub fn check_trajectory_at(
-    model: &Model,
-    times: &[f64],
-    q: &[Vec<f64>],
-    opts: &CheckOptions,
-) -> Result<Verdict, Error> {
-    if times.len() != q.len() {
-        return Err(Error::input(format!(
-            "{} times for {} rows: give one time per row",
-            times.len(),
-            q.len()
-        )));
+    match steps.into() {
+        Steps::Uniform(h) => collect(q, |rows, sink| {
+            check_rows(
+                model,
+                Some(h),
+                rows.map(|r| r.map(|q| (None, q))),
+                opts,
+                sink,
+            )
+        }),
+        Steps::Times(times) => {
+            if times.len() != q.len() {
+                return Err(Error::input_at(
+                    InputKind::Times,
+                    format!(
+                        "{} times for {} rows: give one time per row",
+                        times.len(),
+                        q.len()
+                    ),
+                ));
+            }
+            collect(q, |rows, sink| {
+                let rows = times
+                    .iter()
+                    .zip(rows)
+                    .map(|(t, r)| r.map(|r| (Some(*t), r)));
+                check_rows(model, None, rows, opts, sink)
+            })
+        }
     }
-    collect(q, |rows, sink| {
-        let rows = times.iter().zip(rows).map(|(t, r)| r.map(|r| (*t, r)));
-        check_each_at(model, rows, opts, sink)
-    })
 }
 
-/// The steps of a candidate trajectory: uniform of size `h`, or at the given times.
+/// The steps of a candidate trajectory: uniform of size `h`, or at the given times. An
+/// `f64` converts to `Uniform`, a list of times to `Times`.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Steps {
     /// The same step `h > 0` between all consecutive rows.
@@ -152,16 +179,33 @@ pub enum Steps {
     Times(Vec<f64>),
 }
 
-/// [`check_trajectory`] or [`check_trajectory_at`], by `steps`.
-pub fn check_steps(
-    model: &Model,
-    steps: &Steps,
-    q: &[Vec<f64>],
-    opts: &CheckOptions,
-) -> Result<Verdict, Error> {
-    match steps {
-        Steps::Uniform(h) => check_trajectory(model, *h, q, opts),
-        Steps::Times(t) => check_trajectory_at(model, t, q, opts),
+impl From<f64> for Steps {
+    fn from(h: f64) -> Steps {
+        Steps::Uniform(h)
+    }
+}
+
+impl From<Vec<f64>> for Steps {
+    fn from(t: Vec<f64>) -> Steps {
+        Steps::Times(t)
+    }
+}
+
+impl From<&Vec<f64>> for Steps {
+    fn from(t: &Vec<f64>) -> Steps {
+        Steps::Times(t.clone())
+    }
+}
+
+impl From<&[f64]> for Steps {
+    fn from(t: &[f64]) -> Steps {
+        Steps::Times(t.to_vec())
+    }
+}
+
+impl From<&Steps> for Steps {
+    fn from(s: &Steps) -> Steps {
+        s.clone()
     }
 }
 
@@ -169,8 +213,8 @@ type Sink<'a> = &'a mut dyn FnMut(RowVerdict) -> Result<(), Error>;
 type RowIter<'a> = Box<dyn Iterator<Item = Result<Vec<f64>, Error>> + 'a>;
 
 /// The rows of a streaming check, collected into a [`Verdict`].
-fn collect<'q>(
-    q: &'q [Vec<f64>],
+fn collect<'q, R: AsRef<[f64]>>(
+    q: &'q [R],
     check: impl FnOnce(RowIter<'q>, Sink) -> Result<CheckSummary, Error>,
 ) -> Result<Verdict, Error> {
     let mut distance = Vec::with_capacity(q.len());
@@ -187,7 +231,10 @@ fn collect<'q>(
         ep.push(row.exact.p);
         Ok(())
     };
-    let summary = check(Box::new(q.iter().map(|r| Ok(r.clone()))), &mut sink)?;
+    let summary = check(
+        Box::new(q.iter().map(|r| Ok(r.as_ref().to_vec()))),
+        &mut sink,
+    )?;
     let max_defect = summary.max_defect;
     Ok(Verdict {
         distance,
@@ -230,7 +277,7 @@ pub struct RowVerdict {
     pub exact: Iterate,
 }
 
-/// What [`check_each`] returns once every row is checked.
+/// What [`check_rows`] returns once every row is checked.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
@@ -245,38 +292,6 @@ pub struct CheckSummary {
     pub max_defect: Option<Interval>,
 }
 
-/// [`check_trajectory`] one row at a time, in memory independent of the number of rows:
-/// `rows` is read as needed, and `sink` is given each row's verdict as soon as it is
-/// proved (row k once `q_{k+1}` is read, for its pair figures). An error from `rows` or
-/// `sink` stops the check and is returned as it is.
-///
-/// # Containment
-/// As [`check_trajectory`], row by row.
-pub fn check_each(
-    model: &Model,
-    h: f64,
-    rows: impl IntoIterator<Item = Result<Vec<f64>, Error>>,
-    opts: &CheckOptions,
-    sink: impl FnMut(RowVerdict) -> Result<(), Error>,
-) -> Result<CheckSummary, Error> {
-    let rows = rows.into_iter().map(|r| r.map(|q| (None, q)));
-    check_rows(model, Some(h), rows, opts, sink)
-}
-
-/// [`check_each`] for rows `(t_k, q_k)` at increasing times (non-uniform steps): row by
-/// row as [`check_trajectory_at`].
-///
-/// # Containment
-/// As [`check_trajectory_at`], row by row.
-pub fn check_each_at(
-    model: &Model,
-    rows: impl IntoIterator<Item = Result<(f64, Vec<f64>), Error>>,
-    opts: &CheckOptions,
-    sink: impl FnMut(RowVerdict) -> Result<(), Error>,
-) -> Result<CheckSummary, Error> {
-    let rows = rows.into_iter().map(|r| r.map(|(t, q)| (Some(t), q)));
-    check_rows(model, None, rows, opts, sink)
-}
 
 /// `t_{k+1} - t_k` as a float, when it is one: a retraction's step (spec eq. (8.4)).
 fn exact_step(k: usize, t0: f64, t1: f64) -> Result<f64, Error> {
@@ -284,57 +299,95 @@ fn exact_step(k: usize, t0: f64, t1: f64) -> Result<f64, Error> {
     if d.inf() == d.sup() && d.inf() > 0.0 {
         Ok(d.inf())
     } else {
-        Err(Error::input(format!(
-            "t_{} - t_{k} = {t1} - {t0} is not a float: the retraction of the pair needs an \
+        Err(Error::input_at(
+            InputKind::Times,
+            format!(
+                "t_{} - t_{k} = {t1} - {t0} is not a float: the retraction of the pair needs an \
              exact step (it is exact when t_{} <= 2 t_{k}, e.g. for t_k = k h)",
-            k + 1,
-            k + 1
-        )))
+                k + 1,
+                k + 1
+            ),
+        ))
     }
 }
 
-/// The streaming check: uniform steps `h`, or (`h = None`) the rows' own times.
-fn check_rows(
+/// [`check_trajectory`] one row at a time, in memory independent of the number of rows:
+/// `rows` (`(t_k, q_k)`) is read as needed, and `sink` is given each row's verdict as soon
+/// as it is proved (row k once `q_{k+1}` is read, for its pair figures). With `h =
+/// Some(h)` the steps are uniform and the rows' times are not read (give `None`); with `h =
+/// None` every row carries its time `Some(t_k)` (non-uniform steps, spec eq. (8.4)), and a
+/// row without one is an input error. An error from `rows` or `sink` stops the check and
+/// is returned as it is.
+///
+/// # Containment
+/// As [`check_trajectory`], row by row.
+pub fn check_rows(
     model: &Model,
     h: Option<f64>,
-    rows: impl Iterator<Item = Result<(Option<f64>, Vec<f64>), Error>>,
+    rows: impl IntoIterator<Item = Result<(Option<f64>, Vec<f64>), Error>>,
     opts: &CheckOptions,
     mut sink: impl FnMut(RowVerdict) -> Result<(), Error>,
 ) -> Result<CheckSummary, Error> {
+    let rows = rows.into_iter();
     let n = model.n;
     let mut last_t = f64::NEG_INFINITY;
     let mut rows = rows.enumerate().map(|(k, row)| {
         let (t, row) = row?;
         if row.len() != n {
-            return Err(Error::input(format!(
-                "q_{k} has {} components, scene `{}` needs {n}",
-                row.len(),
-                model.name()
-            )));
+            return Err(Error::input_at(
+                InputKind::Row {
+                    row: k,
+                    column: None,
+                },
+                format!(
+                    "q_{k} has {} components, scene `{}` needs {n}",
+                    row.len(),
+                    model.name()
+                ),
+            ));
         }
-        if row.iter().any(|x| !x.is_finite()) {
-            return Err(Error::input(format!(
-                "non-finite number in the trajectory (q_{k})"
-            )));
+        if let Some(column) = row.iter().position(|x| !x.is_finite()) {
+            return Err(Error::input_at(
+                InputKind::Row {
+                    row: k,
+                    column: Some(column),
+                },
+                format!("non-finite number in the trajectory (q_{k})"),
+            ));
         }
         if let Some(t) = t {
             if !t.is_finite() || t <= last_t {
-                return Err(Error::input(format!(
-                    "t_{k} = {t}: times must be finite and strictly increasing"
-                )));
+                return Err(Error::input_at(
+                    InputKind::Times,
+                    format!("t_{k} = {t}: times must be finite and strictly increasing"),
+                ));
             }
             last_t = t;
         }
         Ok((t, row))
     });
-    let too_short = || Error::input("a trajectory needs at least q_0 and q_1");
+    let too_short = || {
+        Error::input_at(
+            InputKind::Row {
+                row: 1,
+                column: None,
+            },
+            "a trajectory needs at least q_0 and q_1",
+        )
+    };
     let (t0, q0) = rows.next().ok_or_else(too_short)??;
     let (t1, q1) = rows.next().ok_or_else(too_short)??;
     // the step of the pair (q_k, q_{k+1}), and the span from t_k to t_{k+1}
     let step = |k: usize, a: Option<f64>, b: Option<f64>| match (h, a, b) {
         (Some(h), _, _) => Ok(h),
         (None, Some(a), Some(b)) => exact_step(k, a, b),
-        _ => Err(Error::internal("a row without its time")),
+        _ => Err(Error::input_at(
+            InputKind::Times,
+            format!(
+                "q_{k} or q_{} has no time: without `h`, every row needs one",
+                k + 1
+            ),
+        )),
     };
     let span = |a: Option<f64>, b: Option<f64>| match (h, a, b) {
         (None, Some(a), Some(b)) => point(b) - point(a),
@@ -417,8 +470,10 @@ fn check_rows(
 }
 
 /// The tolerances of a `check`: on the distance (`tol`, spec (8.3)) and on the pairs'
-/// defects (`defect_tol`, spec (8.5)).
+/// defects (`defect_tol`, spec (8.5)). `Tolerances::default()` (none) and the `with_*`
+/// setters.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct Tolerances {
     /// Tolerance on `max_k |q_k - q^e_k|_inf` (spec (8.3)); `None`: not decided.
     pub tol: Option<f64>,
@@ -427,8 +482,19 @@ pub struct Tolerances {
 }
 
 impl Tolerances {
+    /// With the tolerance `tol` on the distance.
+    pub fn with_tol(mut self, tol: f64) -> Self {
+        self.tol = Some(tol);
+        self
+    }
+    /// With the tolerance `tol` on the pairs' defects.
+    pub fn with_defect_tol(mut self, tol: f64) -> Self {
+        self.defect_tol = Some(tol);
+        self
+    }
+
     /// `Error::Input` for a defect tolerance without the pair figures it is decided on.
-    pub fn check(&self, pairs: bool) -> Result<(), Error> {
+    pub(crate) fn require_pairs(&self, pairs: bool) -> Result<(), Error> {
         if self.defect_tol.is_some() && !pairs {
             return Err(Error::input(
                 "a defect tolerance needs the pairs' defects: drop --no-pairs (`pairs`: false)",
@@ -441,7 +507,7 @@ impl Tolerances {
     /// one is proved met (`sup <= tol`), `false` when one is proved exceeded (`inf > tol`),
     /// else undecided and refused (`Error::Uncertified`, exit 3). `max_defect` is the
     /// enclosure of `max_k |s_k|_inf` (`None` without pair figures).
-    pub fn decide(
+    pub fn passes(
         &self,
         max_distance: Interval,
         max_defect: Option<Interval>,
@@ -505,7 +571,7 @@ pub fn check_step(
         pairs: false,
         flow: opts.clone(),
     };
-    let v = check_trajectory(model, h, &[q0.to_vec(), q1.to_vec(), q2.to_vec()], &o)?;
+    let v = check_trajectory(model, h, &[q0, q1, q2], &o)?;
     Ok(StepVerdict {
         distance: v.distance[2],
         defect: v.exact.retraction.s.clone(),

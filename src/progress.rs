@@ -13,10 +13,8 @@ use std::sync::Arc;
 /// let model = Model::new(&dalembert::AnyScene::new("knife", &[]).unwrap()).unwrap();
 /// let seen = Arc::new(Mutex::new(0.0));
 /// let s = seen.clone();
-/// let opts = FlowOptions {
-///     progress: Progress::new(move |_what, done, total| *s.lock().unwrap() = done / total),
-///     ..FlowOptions::default()
-/// };
+/// let opts = FlowOptions::default()
+///     .with_progress(Progress::new(move |_what, done, total| *s.lock().unwrap() = done / total));
 /// flow(&model, &[0.0, 0.0, 0.0], &[0.8, 0.8], 1.0, &opts).unwrap();
 /// assert_eq!(*seen.lock().unwrap(), 1.0);
 /// ```

@@ -282,17 +282,39 @@ pub enum SchemeError {
     },
 }
 
+impl std::fmt::Display for SchemeError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SchemeError::Input(m) => f.write_str(m),
+            SchemeError::Newton { step, failure } => {
+                write!(f, "Newton solver failed at step {step}: {failure}")
+            }
+            SchemeError::NonFinite { step } => {
+                write!(f, "momentum or energy not finite at step {step} (overflow)")
+            }
+        }
+    }
+}
+
+impl std::error::Error for SchemeError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            SchemeError::Newton { failure, .. } => Some(failure),
+            _ => None,
+        }
+    }
+}
+
+/// An input error keeps its message; a Newton failure is a failed proof
+/// ([`crate::Reason::NoProof`]); a non-finite momentum or energy is
+/// [`crate::Reason::Unbounded`]. The message is this error's `Display`.
 impl From<SchemeError> for Error {
     fn from(e: SchemeError) -> Error {
+        let message = e.to_string();
         match e {
-            SchemeError::Input(m) => Error::Input(m),
-            SchemeError::Newton { step, failure } => {
-                Error::uncertified(format!("Newton solver failed at step {step}: {failure}"))
-            }
-            SchemeError::NonFinite { step } => Error::refused(
-                crate::Reason::Unbounded,
-                format!("momentum or energy not finite at step {step} (overflow)"),
-            ),
+            SchemeError::Input(_) => Error::input(message),
+            SchemeError::Newton { .. } => Error::uncertified(message),
+            SchemeError::NonFinite { .. } => Error::refused(crate::Reason::Unbounded, message),
         }
     }
 }

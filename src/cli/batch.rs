@@ -110,7 +110,10 @@ pub fn run(jobs: &str, deadline: Option<&str>) -> Result<(), Error> {
     }
     let printed = match printer.join() {
         Ok(r) => r,
-        Err(_) => Err(Error::internal("the batch printer stopped")),
+        Err(_) => Err(Error::internal_at(
+            crate::Invariant::Output,
+            "the batch printer stopped",
+        )),
     };
     printed.and(failed.map_or(Ok(()), Err))
 }

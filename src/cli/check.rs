@@ -4,10 +4,10 @@ use super::integrate::io;
 use super::progress::Bar;
 use super::spool::Spool;
 use super::SceneArgs;
-use crate::oracle::{check_each, check_each_at, CheckOptions, RowVerdict};
+use crate::oracle::{check_rows, CheckOptions, RowVerdict};
 use crate::protocol::{self, CheckRows, Session, STEP_DEADLINE};
 use crate::scene::Scene;
-use crate::Error;
+use crate::{Error, InputKind};
 use serde_json::Value;
 use std::fs::File;
 use std::io::{BufRead, BufReader, Write};
@@ -41,7 +41,7 @@ pub fn run(
             .map(|t| protocol::parse_num("--defect-tol", t))
             .transpose()?,
     };
-    tols.check(!no_pairs)?;
+    tols.require_pairs(!no_pairs)?;
     let deadline = deadline
         .map(|d| protocol::parse_seconds("--deadline", d))
         .transpose()?;
@@ -72,7 +72,10 @@ pub fn run(
             .map_err(io)
     };
     let summary = match h {
-        Some(h) => check_each(&model, h, rows.map(|r| r.map(|(_, q)| q)), &opts, sink)?,
+        Some(h) => {
+            let rows = rows.map(|r| r.map(|(_, q)| (None, q)));
+            check_rows(&model, Some(h), rows, &opts, sink)?
+        }
         None => {
             let untimed = || {
                 Error::input(format!(
@@ -80,12 +83,12 @@ pub fn run(
                      column `t`, or a JSON key \"t\"); or give --h"
                 ))
             };
-            let rows = rows.map(|r| r.and_then(|(t, q)| Ok((t.ok_or_else(untimed)?, q))));
-            check_each_at(&model, rows, &opts, sink)?
+            let rows = rows.map(|r| r.and_then(|(t, q)| Ok((Some(t.ok_or_else(untimed)?), q))));
+            check_rows(&model, None, rows, &opts, sink)?
         }
     };
     bar.clear();
-    let passed = tols.decide(summary.max_distance, summary.max_defect)?;
+    let passed = tols.passes(summary.max_distance, summary.max_defect)?;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     table
@@ -212,18 +215,29 @@ fn json_trajectory(file: &str, text: &str, n: usize, h: Option<f64>) -> Result<V
     rows.iter()
         .enumerate()
         .map(|(k, r)| {
-            let q = protocol::json_numbers(&format!("{at}: q[{k}]"), r)?;
+            let row = |column| InputKind::Row { row: k, column };
+            let q = protocol::json_numbers(&format!("{at}: q[{k}]"), r).map_err(|e| {
+                let column = e.input_kind().and_then(|kind| match kind {
+                    InputKind::Element { index, .. } => Some(*index),
+                    _ => None,
+                });
+                e.of_kind(row(column))
+            })?;
             let t = times.as_ref().map(|t| t[k]);
             if let (Some(t), Some(h)) = (t, h) {
-                time_is_kh(t, k, h).map_err(|e| Error::input(format!("{at}: {e}")))?;
+                time_is_kh(t, k, h)
+                    .map_err(|e| Error::input_at(InputKind::Times, format!("{at}: {e}")))?;
             }
             if q.len() == n {
                 Ok((t, q))
             } else {
-                Err(Error::input(format!(
-                    "{at}: q[{k}] has {} numbers, the scene has {n} coordinates",
-                    q.len()
-                )))
+                Err(Error::input_at(
+                    row(None),
+                    format!(
+                        "{at}: q[{k}] has {} numbers, the scene has {n} coordinates",
+                        q.len()
+                    ),
+                ))
             }
         })
         .collect()
@@ -312,21 +326,28 @@ impl CsvRows {
             }
             let cols = self.columns.as_deref().unwrap_or_default();
             if cells.len() != cols.len() {
-                return Err(Error::input(format!(
-                    "{}: {} cells, expected {} ({}){}",
-                    self.at(),
-                    cells.len(),
-                    cols.len(),
-                    cols.iter()
-                        .map(|c| c.1.as_str())
-                        .collect::<Vec<_>>()
-                        .join(","),
-                    if self.k == 0 && cols.len() == n {
-                        "; without a header line the columns are the coordinates in order"
-                    } else {
-                        ""
-                    }
-                )));
+                let at = InputKind::Row {
+                    row: self.k,
+                    column: None,
+                };
+                return Err(Error::input_at(
+                    at,
+                    format!(
+                        "{}: {} cells, expected {} ({}){}",
+                        self.at(),
+                        cells.len(),
+                        cols.len(),
+                        cols.iter()
+                            .map(|c| c.1.as_str())
+                            .collect::<Vec<_>>()
+                            .join(","),
+                        if self.k == 0 && cols.len() == n {
+                            "; without a header line the columns are the coordinates in order"
+                        } else {
+                            ""
+                        }
+                    ),
+                ));
             }
             let (k, h) = (self.k, self.h);
             let mut q = vec![f64::NAN; n];
@@ -335,19 +356,26 @@ impl CsvRows {
                 let x = protocol::parse_num(
                     &format!("{}, column {} (`{name}`)", self.at(), c + 1),
                     cell,
-                )?;
+                )
+                .map_err(|e| {
+                    e.of_kind(InputKind::Row {
+                        row: k,
+                        column: Some(c),
+                    })
+                })?;
                 match what {
                     Column::Coordinate(i) => q[*i] = x,
                     Column::K if x != k as f64 => {
-                        return Err(Error::input(format!(
+                        return Err(Error::input_at(InputKind::Row { row: k, column: Some(c) }, format!(
                             "{}: k = {x}, but this is row {k} of the data (rows must be q_0, q_1, .. in order)",
                             self.at()
                         )))
                     }
                     Column::T => {
                         if let Some(h) = h {
-                            time_is_kh(x, k, h)
-                                .map_err(|e| Error::input(format!("{}: {e}", self.at())))?;
+                            time_is_kh(x, k, h).map_err(|e| {
+                                Error::input_at(InputKind::Times, format!("{}: {e}", self.at()))
+                            })?;
                         }
                         time = Some(x);
                     }

@@ -233,7 +233,7 @@ pub fn run_os(args: Vec<std::ffi::OsString>) -> i32 {
         Ok(args) => run(args),
         Err(e) => {
             eprintln!("error: {e}");
-            e.code()
+            crate::protocol::exit_code(&e)
         }
     }
 }
@@ -351,7 +351,7 @@ pub(crate) fn run(args: Vec<String>) -> i32 {
         Ok(None) => 0,
         Err(e) => {
             eprintln!("error: {}", e.to_string().replace('\n', " "));
-            e.code()
+            crate::protocol::exit_code(&e)
         }
     }
 }

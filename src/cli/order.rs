@@ -31,15 +31,15 @@ pub fn run(
         _ => return Err(Error::input("--rungs: expected an integer in 2..=12")),
     };
     let model = Session::default().model(&spec)?;
-    let s = Scheme::new(&model, kind);
+    let mut s = Scheme::new(&model, kind);
     let opts = FlowOptions::default();
     // powers of two below h0: exact halvings, and T = 1 a whole number of steps when h0 is
     // a power of two
     let local_h: Vec<f64> = (0..rungs).map(|i| h0 / f64::powi(2.0, i as i32)).collect();
     let global_h: Vec<f64> = (1..4).map(|i| h0 / f64::powi(2.0, i)).collect();
     let t_end = global_h[0] * (1.0 / global_h[0]).round().max(1.0);
-    let local = local_order(&model, &s, &q, &u, &local_h, &opts)?;
-    let global = global_order(&model, &s, &q, &u, t_end, &global_h, &opts)?;
+    let local = local_order(&model, &mut s, &q, &u, &local_h, &opts)?;
+    let global = global_order(&model, &mut s, &q, &u, t_end, &global_h, &opts)?;
     fn ladder(l: &Ladder) -> LadderView<'_> {
         LadderView {
             h: &l.h,

@@ -37,13 +37,9 @@ pub(super) fn flow_set_general(
     let precise = c1_mode == C1::Precise;
     let mut total_jac: Option<JacobianSet> = None;
     let d = set.m.len();
-    let mut p = if opts.order == 0 {
-        DEFAULT_ORDER
-    } else {
-        opts.order
-    };
+    let mut p = opts.given_order().unwrap_or(DEFAULT_ORDER);
     // (5.8) (e) whether the order of a short span is still to be chosen (at the first step)
-    let mut choose_order = opts.order == 0 && opts.step <= 0.0;
+    let mut choose_order = opts.given_order().is_none() && opts.given_h().is_none();
     let mut stats = FlowStats {
         order: p,
         steps: 0,
@@ -64,8 +60,8 @@ pub(super) fn flow_set_general(
     while !reached {
         // the work is the steps taken and tried: rejected tries count too (a hard start can
         // reject dozens of tries per step)
-        if stats.steps >= opts.max_steps || stats.steps + stats.rejected >= 2 * opts.max_steps {
-            return Err(too_many(opts.max_steps, t).reached(done.inf()));
+        if stats.steps >= opts.max_taylor_steps || stats.steps + stats.rejected >= 2 * opts.max_taylor_steps {
+            return Err(too_many(opts.max_taylor_steps, t).reached(done.inf()));
         }
         opts.check_budget().map_err(|e| e.reached(done.inf()))?;
         let rem = (total - done).intersection(iv(0.0, f64::MAX));
@@ -102,7 +98,7 @@ pub(super) fn flow_set_general(
             stats.order = p;
         }
         // A fixed step (spec eq. (5.13)) or the rule of (5.8).
-        let fixed = opts.step > 0.0;
+        let fixed = opts.given_h().is_some();
         // the coefficients' midpoints, for the rules (5.8) and (5.8') (choices only)
         let mid: Coeffs<f64> = if fixed {
             Coeffs::from_rows(0, [])
@@ -110,7 +106,7 @@ pub(super) fn flow_set_general(
             c.map(|x| x.mid())
         };
         let mut h = if fixed {
-            round_step(opts.step)
+            round_step(opts.given_h().unwrap_or(0.0))
         } else {
             rule_at(mid.rows(), p)
         }
@@ -124,7 +120,7 @@ pub(super) fn flow_set_general(
         // such as a retraction's over a small h, costs a fraction of order p. Should its
         // remainder not meet the tolerance, the step is tried again at order p.
         let mut p_step = p;
-        if last && !fixed && opts.order == 0 {
+        if last && !fixed && opts.given_order().is_none() {
             p_step = LOW_ORDERS
                 .into_iter()
                 .find(|&q| q < p && step_size(mid.rows().first(q + 1), q, &set.m) >= rem.sup())
@@ -190,8 +186,8 @@ pub(super) fn flow_set_general(
                         .tell("flow", if last { t } else { done.sup().min(t) }, t);
                     // refuse early when the steps now taken would not reach t in time
                     let left = (t - done.sup()) / hi.sup();
-                    if !last && stats.steps as f64 + left > 4.0 * opts.max_steps as f64 {
-                        return Err(too_many(opts.max_steps, t).reached(done.inf()));
+                    if !last && stats.steps as f64 + left > 4.0 * opts.max_taylor_steps as f64 {
+                        return Err(too_many(opts.max_taylor_steps, t).reached(done.inf()));
                     }
                     break;
                 }
@@ -221,8 +217,8 @@ pub(super) fn flow_set_general(
                         round_step_fine(h * cut)
                     };
                     last = false;
-                    if stats.steps + stats.rejected >= 2 * opts.max_steps {
-                        return Err(too_many(opts.max_steps, t).reached(done.inf()));
+                    if stats.steps + stats.rejected >= 2 * opts.max_taylor_steps {
+                        return Err(too_many(opts.max_taylor_steps, t).reached(done.inf()));
                     }
                     if tries > 60 || h.is_nan() || h <= 0.0 || h < t * 1e-14 {
                         return Err(Error::uncertified(format!(
@@ -286,8 +282,8 @@ pub(super) const REMAINDER_TARGET: f64 = 0.15;
 const CEILING_GROWTH: f64 = 0.002;
 
 pub(crate) fn too_many(max: usize, t: f64) -> Error {
-    Error::refused(
-        Reason::Budget,
+    Error::over_limit(
+        crate::Limit::TaylorSteps,
         format!("more than {max} steps would be needed to reach t = {t}"),
     )
 }

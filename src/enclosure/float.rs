@@ -43,14 +43,10 @@ pub(super) fn float_flow_var(
     opts: &FlowOptions,
 ) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
     let (d, cols) = (x0.len(), w0.ncols());
-    let mut p = if opts.order == 0 {
-        DEFAULT_ORDER
-    } else {
-        opts.order
-    };
+    let mut p = opts.given_order().unwrap_or(DEFAULT_ORDER);
     // (5.8) (e) as in the validated flows: a span of two or three steps at order p runs at
     // SHORT_ORDER (the series of the first step goes on from p)
-    let mut choose_order = opts.order == 0;
+    let mut choose_order = opts.given_order().is_none();
     let mut xw: Vec<f64> = x0.to_vec();
     xw.extend(
         (0..d)
@@ -58,7 +54,7 @@ pub(super) fn float_flow_var(
             .map(|(i, j)| w0[(i, j)]),
     );
     let mut done = 0.0;
-    for steps in 0..opts.max_steps {
+    for steps in 0..opts.max_taylor_steps {
         if done >= t {
             let w = DMatrix::from_fn(d, cols, |i, j| xw[d + i * cols + j]);
             return Some((xw[..d].to_vec(), w, steps));

@@ -23,20 +23,25 @@ use control::{flow_set_general, C1};
 use inari::Interval;
 use linalg::IMat;
 
-/// Settings of the validated integrator. `order = 0` chooses automatically.
+/// Settings of the validated integrator: `FlowOptions::default()` and the `with_*` setters,
+/// e.g. `FlowOptions::default().with_order(28).with_max_taylor_steps(500)`. `#[non_exhaustive]`:
+/// settings may be added; build them with the setters (or assign fields of a default).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct FlowOptions {
-    /// Taylor order `p` of the steps. `0` (default): `p = 22` (`DEFAULT_ORDER`), or 28 for
-    /// a span of two or three steps (spec (5.8) (e)), and a step that reaches the end may
-    /// take a lower order that also reaches it (spec eqs. (5.8), (5.8')); a given order is
-    /// used for every step.
-    pub order: usize,
-    /// Refuse (exit 3) rather than take more steps than this.
-    pub max_steps: usize,
-    /// `0` (default): step sizes chosen by spec eq. (5.8). `> 0`: every step tries this size
-    /// (rounded down to three significant bits) without the width tolerances of (5.8); a
-    /// step whose a priori enclosure fails is retried smaller as in (5.8) (spec eq. (5.13)).
-    pub step: f64,
+    /// Taylor order `p` of the steps. `None` (default): `p = 22` (`DEFAULT_ORDER`), or 28
+    /// for a span of two or three steps (spec (5.8) (e)), and a step that reaches the end
+    /// may take a lower order that also reaches it (spec eqs. (5.8), (5.8')); `Some(p)`:
+    /// `p` for every step (`Some(0)` is taken as `None`).
+    pub order: Option<usize>,
+    /// Refuse ([`crate::Reason::Budget`], [`crate::Limit::TaylorSteps`]) rather than take
+    /// more accepted steps of the validated Taylor integrator than this (default 20000).
+    pub max_taylor_steps: usize,
+    /// `None` (default): step sizes chosen by spec eq. (5.8). `Some(h)`, `h > 0`: every step
+    /// tries the size `h` (rounded down to three significant bits) without the width
+    /// tolerances of (5.8); a step whose a priori enclosure fails is retried smaller as in
+    /// (5.8) (spec eq. (5.13)). `Some(h)` with `h` not > 0 is taken as `None`.
+    pub fixed_h: Option<f64>,
     /// Told `("flow", reached, t)` after each accepted step (for a progress display; it
     /// sees nothing else and cannot change the result). Silent by default.
     pub progress: Progress,
@@ -72,6 +77,58 @@ pub enum Basis {
 }
 
 impl FlowOptions {
+    /// With the Taylor order `p` for every step ([`FlowOptions::order`]).
+    pub fn with_order(mut self, p: usize) -> Self {
+        self.order = Some(p);
+        self
+    }
+    /// With at most `n` accepted Taylor steps ([`FlowOptions::max_taylor_steps`]).
+    pub fn with_max_taylor_steps(mut self, n: usize) -> Self {
+        self.max_taylor_steps = n;
+        self
+    }
+    /// With every step trying the size `h` ([`FlowOptions::fixed_h`]).
+    pub fn with_fixed_h(mut self, h: f64) -> Self {
+        self.fixed_h = Some(h);
+        self
+    }
+    /// With `progress` told of each accepted step ([`FlowOptions::progress`]).
+    pub fn with_progress(mut self, progress: Progress) -> Self {
+        self.progress = progress;
+        self
+    }
+    /// With the deadline `d` ([`FlowOptions::deadline`]; `None`: no time limit).
+    pub fn with_deadline(mut self, d: Option<std::time::Instant>) -> Self {
+        self.deadline = d;
+        self
+    }
+    /// With the work limit `w` ([`FlowOptions::work_limit`]; `None`: no work limit). See
+    /// also [`FlowOptions::allow_work`].
+    pub fn with_work_limit(mut self, w: Option<u64>) -> Self {
+        self.work_limit = w;
+        self
+    }
+    /// With the basis renewal `basis` ([`FlowOptions::basis`]).
+    pub fn with_basis(mut self, basis: Basis) -> Self {
+        self.basis = basis;
+        self
+    }
+    /// With the doubleton's reorganisation on or off ([`FlowOptions::reorganise`]).
+    pub fn with_reorganise(mut self, on: bool) -> Self {
+        self.reorganise = on;
+        self
+    }
+
+    /// The Taylor order given, `None` when it is to be chosen (spec (5.8)).
+    pub(crate) fn given_order(&self) -> Option<usize> {
+        self.order.filter(|&p| p > 0)
+    }
+
+    /// The step size every step tries, `None` when (5.8) chooses them.
+    pub(crate) fn given_h(&self) -> Option<f64> {
+        self.fixed_h.filter(|&h| h > 0.0)
+    }
+
     /// These options with the work `w` allowed from now (spec (5.8''')): `work_limit`
     /// becomes [`crate::work_done`]` + w`, or stays where it is if that is lower.
     pub fn allow_work(mut self, w: u64) -> Self {
@@ -94,9 +151,9 @@ impl FlowOptions {
 impl Default for FlowOptions {
     fn default() -> Self {
         FlowOptions {
-            order: 0,
-            max_steps: 20_000,
-            step: 0.0,
+            order: None,
+            max_taylor_steps: 20_000,
+            fixed_h: None,
             progress: Progress::default(),
             deadline: None,
             work_limit: None,

@@ -164,7 +164,8 @@ fn refine(
             .map(|(k, y)| k.intersection(*y))
             .collect();
         if next.iter().any(|x| x.is_empty()) {
-            return Err(Error::internal(
+            return Err(Error::internal_at(
+                crate::Invariant::DisjointEnclosures,
                 "self-check failed: a Krawczyk refinement lost the proved zero",
             ));
         }

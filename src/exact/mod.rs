@@ -192,36 +192,41 @@ fn retract_in(
     let at_guess: Vec<Inari> = guess.iter().map(|x| point(*x)).collect();
     let marked = x0_of(&at_guess[..m]);
     let ns_guess = linalg::mul_vec(&nq1, &at_guess[m..]);
-    // The validated flows of all Krawczyk boxes share KRAWCZYK_WORK * max_steps steps, so
+    // The validated flows of all Krawczyk boxes share KRAWCZYK_WORK * max_taylor_steps steps, so
     // that a hard pair costs a bounded amount of work whatever the inflations do.
     let work = std::cell::Cell::new(0usize);
-    let work_budget = KRAWCZYK_WORK * opts.max_steps;
+    let work_budget = KRAWCZYK_WORK * opts.max_taylor_steps;
     let gd = |z: &[Inari]| -> Result<(Vec<Inari>, Vec<Vec<Inari>>), Error> {
         let left = work_budget.saturating_sub(work.get());
         if left == 0 {
-            return Err(Error::refused(
-                Reason::Budget,
+            return Err(Error::over_limit(
+                crate::Limit::RetractionWork,
                 format!(
                     "the Krawczyk boxes' flows spent their work budget ({work_budget} \
-                     validated steps, {KRAWCZYK_WORK} FlowOptions::max_steps)"
+                     validated steps, {KRAWCZYK_WORK} FlowOptions::max_taylor_steps)"
                 ),
             ));
         }
         // no reorganisation (5.10'): the set at h keeps the initial box's coordinates in
         // its propagated part, so that it can be restricted to K(X) below (spec (6.4'))
         let capped = FlowOptions {
-            max_steps: left.min(opts.max_steps),
+            max_taylor_steps: left.min(opts.max_taylor_steps),
             reorganise: false,
             ..opts.clone()
         };
         let set = LohnerSet::with_subset(&centre, &x0_of(&z[..m]), &marked);
         let flown = flow_set_c1(&model.dynamics, set, h, &capped);
         // a failed flow is charged all the steps it was allowed
-        work.set(work.get() + flown.as_ref().map_or(capped.max_steps, |f| f.2.steps));
+        work.set(
+            work.get()
+                + flown
+                    .as_ref()
+                    .map_or(capped.max_taylor_steps, |f| f.2.steps),
+        );
         let (set, jac, _) = flown?;
-        let qh = set
-            .sub_hull()
-            .ok_or_else(|| Error::internal("the marked point was lost"))?;
+        let qh = set.sub_hull().ok_or_else(|| {
+            Error::internal_at(crate::Invariant::Missing, "the marked point was lost")
+        })?;
         let g = (0..n).map(|i| qh[i] - q1[i] - ns_guess[i]).collect();
         let dg = (0..n)
             .map(|i| {
@@ -246,9 +251,12 @@ fn retract_in(
     let z = krawczyk(&guess, &c, &rad, scale, gd)?;
     let (u0, s) = (z[..m].to_vec(), z[m..].to_vec());
     let v0 = velocity(model, &x0_of(&u0))?;
-    let mut set = last_set
-        .into_inner()
-        .ok_or_else(|| Error::internal("no state set from the Krawczyk box"))?;
+    let mut set = last_set.into_inner().ok_or_else(|| {
+        Error::internal_at(
+            crate::Invariant::Missing,
+            "no state set from the Krawczyk box",
+        )
+    })?;
     set.sub = None;
     // (6.4') The set at h is the flow of the whole box X; the solution's u0 lies in
     // K(X) ⊂ X. Without reorganisations the states from x0 = centre + a lie in
@@ -286,7 +294,8 @@ fn intersect(a: &[Inari], b: &[Inari]) -> Result<Vec<Inari>, Error> {
     let r: Vec<Inari> = a.iter().zip(b).map(|(x, y)| x.intersection(*y)).collect();
     if r.iter().any(|x| x.is_empty()) {
         // both enclose the same exact value: disjoint only through a fault of the crate
-        return Err(Error::internal(
+        return Err(Error::internal_at(
+            crate::Invariant::DisjointEnclosures,
             "self-check failed: two enclosures of the same quantity are disjoint",
         ));
     }
@@ -314,11 +323,11 @@ fn check_pair(model: &Model, q0: &[Inari], q1: &[Inari], h: f64) -> Result<(), E
 /// The float Newton's point, the float Jacobian of G there and the float residual G.
 type NewtonGuess = (Vec<f64>, DMatrix<f64>, DVector<f64>);
 
-/// Work bound of the retraction's float Newton, in multiples of `FlowOptions::max_steps`.
+/// Work bound of the retraction's float Newton, in multiples of `FlowOptions::max_taylor_steps`.
 const NEWTON_WORK: usize = 4;
 
 /// Work bound of the validated flows of all Krawczyk boxes of one retraction, in multiples
-/// of `FlowOptions::max_steps` (spec (6.3)).
+/// of `FlowOptions::max_taylor_steps` (spec (6.3)).
 const KRAWCZYK_WORK: usize = 3;
 
 /// A float Newton iteration for (u0, s), started from the least-squares velocity
@@ -357,16 +366,16 @@ fn newton_guess(
         .ok_or_else(|| Error::refused(Reason::Undefined, "basis of D is degenerate at q0"))?;
     let mu = model.constraints.eval::<f64>(&b);
     // The total number of float Taylor steps over all evaluations is bounded by
-    // NEWTON_WORK * max_steps, so that no input makes the retraction slow (a fuzz finding:
-    // a far sleigh pair took 13 s in 180 evaluations of up to max_steps steps each).
+    // NEWTON_WORK * max_taylor_steps, so that no input makes the retraction slow (a fuzz finding:
+    // a far sleigh pair took 13 s in 180 evaluations of up to max_taylor_steps steps each).
     let work = std::cell::Cell::new(0usize);
-    let budget = NEWTON_WORK * opts.max_steps;
+    let budget = NEWTON_WORK * opts.max_taylor_steps;
     // Work left for one more float integration, or None when the budget is spent.
     let capped = || -> Option<FlowOptions> {
         opts.check_budget().ok()?;
         let left = budget.checked_sub(work.get()).filter(|l| *l > 0)?;
         Some(FlowOptions {
-            max_steps: left.min(opts.max_steps),
+            max_taylor_steps: left.min(opts.max_taylor_steps),
             ..opts.clone()
         })
     };
@@ -463,11 +472,11 @@ fn newton_guess(
     // a failure once the work budget is spent is the budget's, not the proof's
     answer.map_err(|e| {
         if work.get() >= budget {
-            Error::refused(
-                Reason::Budget,
+            Error::over_limit(
+                crate::Limit::RetractionWork,
                 format!(
                     "the retraction's Newton iteration spent its work budget ({budget} float \
-                     Taylor steps, 4 FlowOptions::max_steps): {}",
+                     Taylor steps, 4 FlowOptions::max_taylor_steps): {}",
                     e.message()
                 ),
             )
@@ -623,7 +632,7 @@ pub struct Iterate {
 /// The exact discrete flow from `(Q0, Q1)` one iterate at a time, in memory independent of
 /// the number of iterates (spec eq. (6.6)): the state is the trajectory's Lohner set at
 /// the last iterate. [`trajectory`] and the oracle's streaming check
-/// ([`crate::oracle::check_each`]) are built on it.
+/// ([`crate::oracle::check_rows`]) are built on it.
 ///
 /// # Containment
 /// As [`trajectory`]: the `k`-th call of [`ExactFlow::next_iterate`] (from 0) encloses

@@ -322,12 +322,23 @@ pub fn stats(s: &FlowStats) -> Value {
     value(s)
 }
 
+/// The exit status of the command line for an error, which is also the batch error object's
+/// `code` (contract): 2 for a malformed request ([`Error::Input`]), 3 for everything that
+/// certifies nothing (a refusal, an internal fault). A command-line convention, kept out of
+/// the library's error type.
+pub fn exit_code(e: &Error) -> i32 {
+    match e {
+        Error::Input(_) => 2,
+        Error::Uncertified(_) | Error::Internal(_) => 3,
+    }
+}
+
 /// The batch error object (contract, E10): `code` and `message`; for a refusal also its
 /// `reason` (`budget`, `no_proof`, `unbounded`, `undefined`) and, when a flow was under
 /// way, `reached` (the time up to which it was proved); `reason` `internal` for a fault of
 /// the crate.
 pub fn error_object(e: &Error) -> Value {
-    let mut o = json!({"code": e.code(), "message": e.message()});
+    let mut o = json!({"code": exit_code(e), "message": e.message()});
     match e {
         Error::Uncertified(r) => {
             o["reason"] = json!(r.reason.name());

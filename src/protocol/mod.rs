@@ -11,7 +11,8 @@ mod parse;
 mod rows;
 
 pub use answer::{
-    description, error_object, interval, intervals, scenes, stats, trajectory, verdict, Answer,
+    description, error_object, exit_code, interval, intervals, scenes, stats, trajectory, verdict,
+    Answer,
 };
 pub use parse::{
     check_keys, deadline_from_json, json_number, json_numbers, parse_json, parse_num, parse_order,
@@ -149,7 +150,7 @@ pub const MAX_STEPS: usize = 10_000_000;
 pub struct Session {
     models: HashMap<String, Rc<Model>>,
     schemes: HashMap<(String, bool), Rc<Scheme>>,
-    /// Settings of the validated integrator for every query (a fuzzer lowers `max_steps`).
+    /// Settings of the validated integrator for every query (a fuzzer lowers `max_taylor_steps`).
     pub flow: FlowOptions,
     /// Refuse `integrate` queries with more steps than this (0: the contract's maximum).
     pub max_integrate_steps: usize,
@@ -183,7 +184,7 @@ impl std::fmt::Debug for Session {
 pub const STEP_DEADLINE: f64 = 5.0;
 
 /// The documented default budget of a query, in seconds: [`STEP_DEADLINE`] for the
-/// single-step queries, none for `flow` (bounded by `FlowOptions::max_steps`) and
+/// single-step queries, none for `flow` (bounded by `FlowOptions::max_taylor_steps`) and
 /// `integrate` (bounded by its `steps`).
 pub fn default_deadline(q: &Query) -> Option<f64> {
     match q {
@@ -234,7 +235,7 @@ impl Session {
             return Ok(m.clone());
         }
         let m = Rc::new(match &s.definition {
-            None => Model::new(&AnyScene::new(&s.name, &s.params)?)?,
+            None => Model::new(&AnyScene::new(&s.name, &borrowed(&s.params))?)?,
             Some(d) => Model::new(&SceneFile::clone(d).with_params(&s.params)?)?,
         });
         self.models.insert(key, m.clone());
@@ -279,14 +280,15 @@ impl Session {
             } => {
                 let model = self.model(scene)?;
                 let o = FlowOptions {
-                    order: *order,
+                    order: (*order > 0).then_some(*order),
                     ..opts
                 };
                 let t = match t {
                     At::One(t) => *t,
                     At::Many(times) => {
                         if *jacobian {
-                            return Err(Error::input(
+                            return Err(Error::input_key(
+                                "jacobian",
                                 "`jacobian` is given only at one time `t`, not with `times`",
                             ));
                         }
@@ -337,13 +339,13 @@ impl Session {
                     tol: *tol,
                     defect_tol: *defect_tol,
                 };
-                tols.check(*pairs)?;
+                tols.require_pairs(*pairs)?;
                 let o = crate::oracle::CheckOptions {
                     pairs: *pairs,
                     flow: opts,
                 };
-                let verdict = crate::oracle::check_steps(&model, steps, q, &o)?;
-                let passed = tols.decide(verdict.max_distance, verdict.max_defect)?;
+                let verdict = crate::oracle::check_trajectory(&model, steps, q, &o)?;
+                let passed = tols.passes(verdict.max_distance, verdict.max_defect)?;
                 Ok(Answer::Check {
                     verdict,
                     tolerances: tols,
@@ -389,10 +391,13 @@ impl Session {
         mut row: impl FnMut(Row) -> Result<(), Error>,
     ) -> Result<f64, Error> {
         if self.max_integrate_steps > 0 && steps > self.max_integrate_steps {
-            return Err(Error::input(format!(
-                "steps: at most {} in this session",
-                self.max_integrate_steps
-            )));
+            return Err(Error::input_key(
+                "steps",
+                format!(
+                    "steps: at most {} in this session",
+                    self.max_integrate_steps
+                ),
+            ));
         }
         let deadline = earlier(
             self.flow.deadline,
@@ -515,7 +520,12 @@ pub fn tolerance_decision(max_distance: Interval, tol: Option<f64>) -> Result<bo
         tol,
         defect_tol: None,
     }
-    .decide(max_distance, None)
+    .passes(max_distance, None)
+}
+
+/// Parameters with owned names, borrowed as [`AnyScene::new`] takes them.
+pub(crate) fn borrowed(params: &[(String, f64)]) -> Vec<(&str, f64)> {
+    params.iter().map(|(k, v)| (k.as_str(), *v)).collect()
 }
 
 #[cfg(test)]

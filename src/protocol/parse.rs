@@ -3,7 +3,7 @@
 
 use super::{At, Pair, Query, SceneSpec, Steps, MAX_STEPS};
 use crate::scene::SceneFile;
-use crate::Error;
+use crate::{Error, InputKind};
 use serde_json::{Map, Value};
 
 /// Longest batch line read, in bytes (without its newline): 1 MiB. A longer line is not
@@ -83,15 +83,18 @@ pub fn parse_num(name: &str, s: &str) -> Result<f64, Error> {
         && t.chars()
             .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-'));
     let x: f64 = if ok_chars { t.parse().ok() } else { None }
-        .ok_or_else(|| Error::input(format!("{name}: `{s}` is not a decimal number")))?;
-    finite(name, x)
+        .ok_or_else(|| Error::input_key(name, format!("{name}: `{s}` is not a decimal number")))?;
+    finite(InputKind::Key(name.to_string()), name, x)
 }
 
-fn finite(name: &str, x: f64) -> Result<f64, Error> {
+fn finite(kind: InputKind, name: &str, x: f64) -> Result<f64, Error> {
     if x.is_finite() {
         Ok(x)
     } else {
-        Err(Error::input(format!("{name}: not a finite number")))
+        Err(Error::input_at(
+            kind,
+            format!("{name}: not a finite number"),
+        ))
     }
 }
 
@@ -102,9 +105,9 @@ pub fn parse_vec(name: &str, s: &str) -> Result<Vec<f64>, Error> {
 
 /// `name=value`.
 pub fn parse_param(s: &str) -> Result<(String, f64), Error> {
-    let (k, v) = s
-        .split_once('=')
-        .ok_or_else(|| Error::input(format!("param: expected name=value, got `{s}`")))?;
+    let (k, v) = s.split_once('=').ok_or_else(|| {
+        Error::input_key("param", format!("param: expected name=value, got `{s}`"))
+    })?;
     Ok((k.to_string(), parse_num("param", v)?))
 }
 
@@ -112,9 +115,10 @@ pub fn parse_param(s: &str) -> Result<(String, f64), Error> {
 pub fn parse_steps(s: &str) -> Result<usize, Error> {
     match s.trim().parse::<usize>() {
         Ok(n) if n <= MAX_STEPS => Ok(n),
-        _ => Err(Error::input(format!(
-            "steps: expected an integer in 0..={MAX_STEPS}, got `{s}`"
-        ))),
+        _ => Err(Error::input_key(
+            "steps",
+            format!("steps: expected an integer in 0..={MAX_STEPS}, got `{s}`"),
+        )),
     }
 }
 
@@ -122,9 +126,10 @@ pub fn parse_steps(s: &str) -> Result<usize, Error> {
 pub fn parse_order(s: &str) -> Result<usize, Error> {
     match s.trim().parse::<usize>() {
         Ok(p) if (2..=60).contains(&p) => Ok(p),
-        _ => Err(Error::input(format!(
-            "order: expected an integer in 2..=60, got `{s}`"
-        ))),
+        _ => Err(Error::input_key(
+            "order",
+            format!("order: expected an integer in 2..=60, got `{s}`"),
+        )),
     }
 }
 
@@ -137,9 +142,10 @@ fn check_seconds(name: &str, x: f64) -> Result<f64, Error> {
     if x > 0.0 && x.is_finite() {
         Ok(x)
     } else {
-        Err(Error::input(format!(
-            "{name}: a budget in seconds must be > 0 (got {x})"
-        )))
+        Err(Error::input_key(
+            name,
+            format!("{name}: a budget in seconds must be > 0 (got {x})"),
+        ))
     }
 }
 
@@ -228,7 +234,7 @@ impl<'de> serde::de::Visitor<'de> for StrictVisitor {
 
 fn field<'a>(o: &'a Map<String, Value>, k: &str) -> Result<&'a Value, Error> {
     o.get(k)
-        .ok_or_else(|| Error::input(format!("missing key `{k}`")))
+        .ok_or_else(|| Error::input_key(k, format!("missing key `{k}`")))
 }
 
 /// What a JSON value is, for messages.
@@ -246,44 +252,74 @@ fn kind(v: &Value) -> &'static str {
 /// A JSON number as the f64 it denotes, finite; `what` names it in the message. Strings
 /// (even "0.1"), null and booleans are refused: numbers are JSON numbers.
 pub fn json_number(what: &str, v: &Value) -> Result<f64, Error> {
+    number_at(InputKind::Key(what.to_string()), what, v)
+}
+
+/// [`json_number`], its refusal of kind `at`.
+fn number_at(at: InputKind, what: &str, v: &Value) -> Result<f64, Error> {
     match v {
-        Value::Number(n) => finite(what, n.as_f64().unwrap_or(f64::NAN)),
-        other => Err(Error::input(format!(
-            "{what}: expected a number, got {}",
-            kind(other)
-        ))),
+        Value::Number(n) => finite(at, what, n.as_f64().unwrap_or(f64::NAN)),
+        other => Err(Error::input_at(
+            at,
+            format!("{what}: expected a number, got {}", kind(other)),
+        )),
     }
 }
 
 /// A JSON array of numbers, every element read by [`json_number`]: none dropped,
 /// padded or converted; the refusal names the element.
 pub fn json_numbers(what: &str, v: &Value) -> Result<Vec<f64>, Error> {
+    numbers_at(what, what, v)
+}
+
+/// [`json_numbers`] for the list under the key `key`: a refusal of the list is of kind
+/// [`InputKind::Key`], of one element [`InputKind::Element`].
+fn numbers_at(key: &str, what: &str, v: &Value) -> Result<Vec<f64>, Error> {
+    let list = InputKind::Key(key.to_string());
+    numbers_with(list, what, v, |index| InputKind::Element {
+        key: key.to_string(),
+        index,
+    })
+}
+
+/// A JSON array of numbers: refused as `list` when it is not an array, an element `i` as
+/// `element(i)`.
+fn numbers_with(
+    list: InputKind,
+    what: &str,
+    v: &Value,
+    element: impl Fn(usize) -> InputKind,
+) -> Result<Vec<f64>, Error> {
     v.as_array()
         .ok_or_else(|| {
-            Error::input(format!(
-                "{what}: expected an array of numbers, got {}",
-                kind(v)
-            ))
+            Error::input_at(
+                list,
+                format!("{what}: expected an array of numbers, got {}", kind(v)),
+            )
         })?
         .iter()
         .enumerate()
-        .map(|(i, x)| json_number(&format!("{what}[{i}]"), x))
+        .map(|(i, x)| number_at(element(i), &format!("{what}[{i}]"), x))
         .collect()
 }
 
 fn json_num(o: &Map<String, Value>, k: &str) -> Result<f64, Error> {
-    json_number(&format!("`{k}`"), field(o, k)?)
+    number_at(
+        InputKind::Key(k.to_string()),
+        &format!("`{k}`"),
+        field(o, k)?,
+    )
 }
 
 fn json_vec(o: &Map<String, Value>, k: &str) -> Result<Vec<f64>, Error> {
-    json_numbers(&format!("`{k}`"), field(o, k)?)
+    numbers_at(k, &format!("`{k}`"), field(o, k)?)
 }
 
 fn json_uint(o: &Map<String, Value>, k: &str, lo: u64, hi: u64) -> Result<u64, Error> {
     field(o, k)?
         .as_u64()
         .filter(|n| (lo..=hi).contains(n))
-        .ok_or_else(|| Error::input(format!("`{k}` must be an integer in {lo}..={hi}")))
+        .ok_or_else(|| Error::input_key(k, format!("`{k}` must be an integer in {lo}..={hi}")))
 }
 
 /// Edit distance, for "did you mean".
@@ -316,10 +352,13 @@ pub fn check_keys(o: &Map<String, Value>, known: &[&str], whose: &str) -> Result
             .filter(|(d, c)| *d <= 2.max(c.len() / 3))
             .min();
         let hint = near.map_or(String::new(), |(_, c)| format!("; did you mean `{c}`?"));
-        return Err(Error::input(format!(
-            "unknown key `{k}`{hint} (the keys of {whose}: {})",
-            known.join(", ")
-        )));
+        return Err(Error::input_key(
+            k,
+            format!(
+                "unknown key `{k}`{hint} (the keys of {whose}: {})",
+                known.join(", ")
+            ),
+        ));
     }
     Ok(())
 }
@@ -332,26 +371,30 @@ pub fn scene_spec_from_json(o: &Map<String, Value>) -> Result<SceneSpec, Error> 
     let mut params = Vec::new();
     if let Some(p) = o.get("params") {
         let p = p.as_object().ok_or_else(|| {
-            Error::input(format!(
-                "`params` must be an object of numbers, got {}",
-                kind(p)
-            ))
+            Error::input_key(
+                "params",
+                format!("`params` must be an object of numbers, got {}", kind(p)),
+            )
         })?;
         for (k, v) in p {
-            params.push((k.clone(), json_number(&format!("`params.{k}`"), v)?));
+            let at = InputKind::Parameter(k.clone());
+            params.push((k.clone(), number_at(at, &format!("`params.{k}`"), v)?));
         }
     }
     match field(o, "scene")? {
         Value::String(name) => Ok(SceneSpec::named(name, params)),
         v @ Value::Object(_) => Ok(SceneSpec::defined(
             SceneFile::from_json(v)
-                .map_err(|e| Error::input(format!("`scene`: {}", e.message())))?,
+                .map_err(|e| Error::input_key("scene", format!("`scene`: {}", e.message())))?,
             params,
         )),
-        other => Err(Error::input(format!(
-            "`scene` must be a scene name (a string) or an object defining a scene, got {}",
-            kind(other)
-        ))),
+        other => Err(Error::input_key(
+            "scene",
+            format!(
+                "`scene` must be a scene name (a string) or an object defining a scene, got {}",
+                kind(other)
+            ),
+        )),
     }
 }
 
@@ -389,16 +432,19 @@ impl Query {
         let cmd = match field(o, "cmd")? {
             Value::String(c) => c.as_str(),
             other => {
-                return Err(Error::input(format!(
-                    "`cmd` must be a string, got {}",
-                    kind(other)
-                )))
+                return Err(Error::input_key(
+                    "cmd",
+                    format!("`cmd` must be a string, got {}", kind(other)),
+                ))
             }
         };
         let keys = query_keys(cmd).ok_or_else(|| {
-            Error::input(format!(
+            Error::input_key(
+                "cmd",
+                format!(
                 "unknown cmd `{cmd}` (known: flow, retract, step, integrate, lagrangian, check)"
-            ))
+            ),
+            )
         })?;
         check_keys(o, &keys, &format!("a `{cmd}` query"))?;
         deadline_from_json(v)?;
@@ -419,7 +465,7 @@ impl Query {
                 t: match (o.get("t"), o.get("times")) {
                     (Some(_), None) => At::One(json_num(o, "t")?),
                     (None, Some(_)) => At::Many(json_vec(o, "times")?),
-                    _ => return Err(Error::input("give exactly one of `t` and `times`")),
+                    _ => return Err(Error::input_key("t", "give exactly one of `t` and `times`")),
                 },
                 order: match o.get("order") {
                     None => 0,
@@ -429,10 +475,10 @@ impl Query {
                     None => false,
                     Some(Value::Bool(b)) => *b,
                     Some(other) => {
-                        return Err(Error::input(format!(
-                            "`jacobian` must be true or false, got {}",
-                            kind(other)
-                        )))
+                        return Err(Error::input_key(
+                            "jacobian",
+                            format!("`jacobian` must be true or false, got {}", kind(other)),
+                        ))
                     }
                 },
             }),
@@ -443,31 +489,43 @@ impl Query {
                 let rows = match field(o, "q")? {
                     Value::Array(rows) => rows,
                     other => {
-                        return Err(Error::input(format!(
-                            "`q` must be an array of rows (arrays of numbers), got {}",
-                            kind(other)
-                        )))
+                        return Err(Error::input_key(
+                            "q",
+                            format!(
+                                "`q` must be an array of rows (arrays of numbers), got {}",
+                                kind(other)
+                            ),
+                        ))
                     }
                 };
                 let q = rows
                     .iter()
                     .enumerate()
-                    .map(|(k, r)| json_numbers(&format!("`q`[{k}]"), r))
+                    .map(|(k, r)| {
+                        let row = InputKind::Row {
+                            row: k,
+                            column: None,
+                        };
+                        numbers_with(row, &format!("`q`[{k}]"), r, |i| InputKind::Row {
+                            row: k,
+                            column: Some(i),
+                        })
+                    })
                     .collect::<Result<Vec<_>, _>>()?;
                 let pairs = match o.get("pairs") {
                     None => true,
                     Some(Value::Bool(b)) => *b,
                     Some(other) => {
-                        return Err(Error::input(format!(
-                            "`pairs` must be true or false, got {}",
-                            kind(other)
-                        )))
+                        return Err(Error::input_key(
+                            "pairs",
+                            format!("`pairs` must be true or false, got {}", kind(other)),
+                        ))
                     }
                 };
                 let steps = match (o.get("h"), o.get("t")) {
                     (Some(_), None) => Steps::Uniform(json_num(o, "h")?),
                     (None, Some(_)) => Steps::Times(json_vec(o, "t")?),
-                    _ => return Err(Error::input("give exactly one of `h` and `t`")),
+                    _ => return Err(Error::input_key("h", "give exactly one of `h` and `t`")),
                 };
                 Ok(Query::Check {
                     scene,
@@ -485,10 +543,10 @@ impl Query {
                 let scheme = match field(o, "scheme")? {
                     Value::String(s) => s.parse()?,
                     other => {
-                        return Err(Error::input(format!(
-                            "`scheme` must be a string, got {}",
-                            kind(other)
-                        )))
+                        return Err(Error::input_key(
+                            "scheme",
+                            format!("`scheme` must be a string, got {}", kind(other)),
+                        ))
                     }
                 };
                 let steps = json_uint(o, "steps", 0, MAX_STEPS as u64)? as usize;

@@ -255,7 +255,7 @@ fn short(x: Interval) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::oracle::{check_each, CheckOptions, Steps};
+    use crate::oracle::{check_rows, CheckOptions, Steps};
     use crate::protocol::{Answer, Pair, Query, SceneSpec, Session};
     use crate::schemes::SchemeKind;
 
@@ -337,8 +337,8 @@ mod tests {
                     pairs,
                     ..CheckOptions::default()
                 };
-                let rows = t.q.iter().cloned().map(Ok);
-                let summary = check_each(&model, 0.5, rows, &opts, |r| {
+                let rows = t.q.iter().cloned().map(|q| Ok((None, q)));
+                let summary = check_rows(&model, Some(0.5), rows, &opts, |r| {
                     let pair = r
                         .pair
                         .as_ref()

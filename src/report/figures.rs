@@ -90,7 +90,7 @@ impl Settings {
 const H: f64 = 0.5;
 
 fn model(name: &str, params: &[(String, f64)]) -> Result<Model, Error> {
-    Model::new(&AnyScene::new(name, params)?)
+    Model::new(&AnyScene::new(name, &crate::protocol::borrowed(params))?)
 }
 
 fn run_scheme(
@@ -437,8 +437,8 @@ pub fn work_precision(s: &Settings, progress: &Progress) -> Result<Figure, Error
             progress.count("work-precision: certified flow", done, total);
             done += 1;
             let opts = FlowOptions {
-                order: p,
-                step: h,
+                order: Some(p),
+                fixed_h: (h > 0.0).then_some(h),
                 ..FlowOptions::default()
             };
             let (e, secs) = timed(s.wp_min_seconds, || flow(&m, &q0, &u0, t, &opts));

@@ -82,11 +82,11 @@ pub fn ladders(
         progress.count(&format!("orders: {}", st.scene), i, starts.len());
         let m = Model::new(&AnyScene::new(st.scene, &[])?)?;
         let run = |kind: SchemeKind, global: bool| {
-            let s = Scheme::new(&m, kind);
+            let mut s = Scheme::new(&m, kind);
             if global {
-                global_order(&m, &s, &st.q0, &st.u0, t_end, global_h, &opts)
+                global_order(&m, &mut s, &st.q0, &st.u0, t_end, global_h, &opts)
             } else {
-                local_order(&m, &s, &st.q0, &st.u0, local_h, &opts)
+                local_order(&m, &mut s, &st.q0, &st.u0, local_h, &opts)
             }
         };
         out.push(Orders {

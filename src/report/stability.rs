@@ -94,8 +94,8 @@ fn case(
     h: f64,
     q0: Vec<f64>,
 ) -> Result<Case, Error> {
+    let model = Model::new(&AnyScene::new(scene, params)?)?;
     let params: Vec<(String, f64)> = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    let model = Model::new(&AnyScene::new(scene, &params)?)?;
     let (q0, q1) = pair(&model, h, q0);
     Ok(Case {
         scene: scene.to_string(),
@@ -150,7 +150,7 @@ pub fn cases() -> Result<Vec<Case>, Error> {
 
 fn certified(model: &Model, c: &Case) -> Certified {
     let refused = |e: Error| Certified::Refused {
-        code: e.code(),
+        code: crate::protocol::exit_code(&e),
         reason: e.message().to_string(),
     };
     match exact::step(
@@ -198,7 +198,10 @@ fn solve(model: &Model, kind: SchemeKind, c: &Case) -> Solve {
 /// Run one case.
 pub fn run(c: &Case) -> Result<Row, Error> {
     let start = std::time::Instant::now();
-    let model = Model::new(&AnyScene::new(&c.scene, &c.params)?)?;
+    let model = Model::new(&AnyScene::new(
+        &c.scene,
+        &crate::protocol::borrowed(&c.params),
+    )?)?;
     let (certified, dla, mla) = (
         certified(&model, c),
         solve(&model, SchemeKind::Dla, c),

@@ -32,7 +32,7 @@ pub use rolling_disk::RollingDisk;
 pub use sleigh::Sleigh;
 
 use crate::scalar::Scalar;
-use crate::Error;
+use crate::{Error, InputKind};
 
 /// Dense matrix as rows.
 pub type Mat<S> = Vec<Vec<S>>;
@@ -342,7 +342,7 @@ impl SceneInfo {
 #[derive(Debug)]
 pub struct Params<'a> {
     info: &'static SceneInfo,
-    given: &'a [(String, f64)],
+    given: &'a [(&'a str, f64)],
 }
 
 impl Params<'_> {
@@ -352,7 +352,7 @@ impl Params<'_> {
         self.given
             .iter()
             .rev()
-            .find(|(k, _)| k == name)
+            .find(|(k, _)| *k == name)
             .map(|(_, v)| *v)
             .or_else(|| {
                 self.info
@@ -362,10 +362,13 @@ impl Params<'_> {
                     .map(|p| p.default)
             })
             .ok_or_else(|| {
-                Error::internal(format!(
-                    "scene `{}` reads an undeclared parameter `{name}`",
-                    self.info.name
-                ))
+                Error::internal_at(
+                    crate::Invariant::UndeclaredParameter,
+                    format!(
+                        "scene `{}` reads an undeclared parameter `{name}`",
+                        self.info.name
+                    ),
+                )
             })
     }
 
@@ -375,10 +378,10 @@ impl Params<'_> {
         if v > 0.0 {
             Ok(v)
         } else {
-            Err(Error::input(format!(
-                "{} needs {name} > 0 (got {v})",
-                self.info.name
-            )))
+            Err(Error::input_at(
+                InputKind::Parameter(name.to_string()),
+                format!("{} needs {name} > 0 (got {v})", self.info.name),
+            ))
         }
     }
 }
@@ -424,26 +427,36 @@ pub fn info_of(name: &str) -> Result<&'static SceneInfo, Error> {
         .copied()
         .find(|s| s.name == name)
         .ok_or_else(|| {
-            Error::input(format!(
-                "unknown scene `{name}` (known: {})",
-                scene_names().join(", ")
-            ))
+            Error::input_at(
+                InputKind::Scene(name.to_string()),
+                format!(
+                    "unknown scene `{name}` (known: {})",
+                    scene_names().join(", ")
+                ),
+            )
         })
 }
 
 impl AnyScene {
-    /// The scene `name` with parameters `params` (name, exact f64 value); unknown names,
-    /// unknown parameters, non-finite values and values the scene rejects are input errors.
-    pub fn new(name: &str, params: &[(String, f64)]) -> Result<AnyScene, Error> {
+    /// The scene `name` with parameters `params` (name, exact f64 value; the last one
+    /// given counts): `AnyScene::new("knife-eps", &[("eps", 0.1)])`. Unknown names, unknown
+    /// parameters, non-finite values and values the scene rejects are input errors
+    /// ([`InputKind::Scene`], [`InputKind::Parameter`]).
+    pub fn new(name: &str, params: &[(&str, f64)]) -> Result<AnyScene, Error> {
         let info = info_of(name)?;
-        for (k, v) in params {
+        for &(k, v) in params {
+            let at = || InputKind::Parameter(k.to_string());
             if !info.params.iter().any(|p| p.name == k) {
-                return Err(Error::input(format!(
-                    "scene `{name}` has no parameter `{k}`"
-                )));
+                return Err(Error::input_at(
+                    at(),
+                    format!("scene `{name}` has no parameter `{k}`"),
+                ));
             }
             if !v.is_finite() {
-                return Err(Error::input(format!("parameter `{k}` must be finite")));
+                return Err(Error::input_at(
+                    at(),
+                    format!("parameter `{k}` must be finite"),
+                ));
             }
         }
         (info.build)(&Params {
@@ -589,9 +602,13 @@ mod tests {
     fn unknown_scenes_and_parameters_are_input_errors() {
         let e = AnyScene::new("nope", &[]).unwrap_err();
         assert!(e.message().contains("rolling-disk"), "{e}");
-        assert!(AnyScene::new("knife", &[("eps".into(), 0.1)]).is_err());
-        assert!(AnyScene::new("sleigh", &[("m".into(), f64::NAN)]).is_err());
-        assert!(AnyScene::new("sleigh", &[("m".into(), -1.0)]).is_err());
-        assert!(AnyScene::new("rolling-disk", &[("R".into(), 0.0)]).is_err());
+        assert!(AnyScene::new("knife", &[("eps", 0.1)]).is_err());
+        assert!(AnyScene::new("sleigh", &[("m", f64::NAN)]).is_err());
+        assert!(AnyScene::new("sleigh", &[("m", -1.0)]).is_err());
+        assert!(AnyScene::new("rolling-disk", &[("R", 0.0)]).is_err());
+        let e = AnyScene::new("knife", &[("eps", 0.1)]).unwrap_err();
+        assert_eq!(e.input_kind(), Some(&InputKind::Parameter("eps".into())));
+        let e = AnyScene::new("kinfe", &[]).unwrap_err();
+        assert_eq!(e.input_kind(), Some(&InputKind::Scene("kinfe".into())));
     }
 }

@@ -67,8 +67,9 @@ pub struct SolverAnswer {
 /// [`Claimed`], for every [`Stepper`]. [`Stepper`] itself is not enough here: it has no way
 /// to say "not converged", which is what a Newton solver's caller relies on.
 pub trait NewtonSolver {
-    /// The solver's own failure; any type (its `Debug` text is kept in the outcome).
-    type Error: std::fmt::Debug;
+    /// The solver's own failure: any type that prints (`String`, an error type), the same
+    /// bound as [`Stepper::Error`]; its `Debug` text is kept in the outcome.
+    type Error: std::fmt::Display + std::fmt::Debug;
     /// `q2` from the pair `(q0, q1)` and the step `h`, with the claim `converged`; or the
     /// solver's own failure.
     fn solve(&self, q0: &[f64], q1: &[f64], h: f64) -> Result<SolverAnswer, Self::Error>;
@@ -77,7 +78,7 @@ pub trait NewtonSolver {
 impl<F, E> NewtonSolver for F
 where
     F: Fn(&[f64], &[f64], f64) -> Result<SolverAnswer, E>,
-    E: std::fmt::Debug,
+    E: std::fmt::Display + std::fmt::Debug,
 {
     type Error = E;
     fn solve(&self, q0: &[f64], q1: &[f64], h: f64) -> Result<SolverAnswer, E> {
@@ -98,14 +99,28 @@ impl NewtonSolver for Scheme {
     }
 }
 
-/// A [`Stepper`] as a solver: every `Ok` answer is claimed converged.
+/// A [`Stepper`] as a solver: every `Ok` answer is claimed converged. The stepper takes
+/// `&mut self` and a solver `&self`: it is held in a `RefCell`.
 #[derive(Debug)]
-pub struct Claimed<S>(pub S);
+pub struct Claimed<S>(std::cell::RefCell<S>);
+
+impl<S> Claimed<S> {
+    /// `stepper` as a solver.
+    pub fn new(stepper: S) -> Self {
+        Claimed(std::cell::RefCell::new(stepper))
+    }
+    /// The stepper back.
+    pub fn into_inner(self) -> S {
+        self.0.into_inner()
+    }
+}
 
 impl<S: Stepper> NewtonSolver for Claimed<S> {
-    type Error = String;
-    fn solve(&self, q0: &[f64], q1: &[f64], h: f64) -> Result<SolverAnswer, String> {
-        self.0.step(q0, q1, h).map(|q2| SolverAnswer {
+    type Error = S::Error;
+    fn solve(&self, q0: &[f64], q1: &[f64], h: f64) -> Result<SolverAnswer, S::Error> {
+        let mut q2 = vec![f64::NAN; q1.len()];
+        self.0.borrow_mut().step(q0, q1, h, &mut q2)?;
+        Ok(SolverAnswer {
             q2,
             converged: true,
         })
@@ -250,8 +265,10 @@ fn max_abs(v: impl Iterator<Item = f64>) -> f64 {
     v.fold(0.0f64, |a, x| a.max(x.abs()))
 }
 
-/// Where inputs are drawn (see [`SolverInput::decode`]).
+/// Where inputs are drawn (see [`SolverInput::decode`]): `InputSpace::default()` and the
+/// `with_*` setters.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct InputSpace {
     /// Ordinary configurations lie in `[-q_bound, q_bound]^n`. Default 1.
     pub q_bound: f64,
@@ -277,16 +294,41 @@ impl Default for InputSpace {
     }
 }
 
-/// The inputs and the oracle's budget.
+impl InputSpace {
+    /// With ordinary configurations in `[-b, b]^n`.
+    pub fn with_q_bound(mut self, b: f64) -> Self {
+        self.q_bound = b;
+        self
+    }
+    /// With ordinary quasi-velocities in `[-b, b]^(n-k)`.
+    pub fn with_u_bound(mut self, b: f64) -> Self {
+        self.u_bound = b;
+        self
+    }
+    /// With ordinary steps in `[lo, hi]`.
+    pub fn with_h_range(mut self, lo: f64, hi: f64) -> Self {
+        (self.h_min, self.h_max) = (lo, hi);
+        self
+    }
+    /// With or without the extreme inputs.
+    pub fn with_extremes(mut self, on: bool) -> Self {
+        self.extremes = on;
+        self
+    }
+}
+
+/// The inputs and the oracle's budget: `FuzzOptions::default()` and the `with_*` setters.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct FuzzOptions {
     /// Where the inputs are drawn.
     pub space: InputSpace,
-    /// Steps of every certified flow (the pair builder's and the oracle's). Default 400.
-    pub max_steps: usize,
+    /// Accepted Taylor steps of every certified flow (the pair builder's and the oracle's,
+    /// [`FlowOptions::max_taylor_steps`]). Default 400.
+    pub max_taylor_steps: usize,
     /// Time allowed to the oracle's check of one answer. Default 50 ms. The deadline makes
     /// a refusal depend on the machine's load, never a finding. The pair builder has no
-    /// deadline (only `max_steps`), so that decoding does not depend on time: the same bytes
+    /// deadline (only `max_taylor_steps`), so that decoding does not depend on time: the same bytes
     /// are the same input on every machine.
     pub budget: Duration,
     /// Arithmetic work allowed to the pair builder and, separately, to the oracle's check
@@ -300,7 +342,7 @@ impl Default for FuzzOptions {
     fn default() -> Self {
         FuzzOptions {
             space: InputSpace::default(),
-            max_steps: 400,
+            max_taylor_steps: 400,
             budget: Duration::from_millis(50),
             max_work: 20_000_000,
         }
@@ -308,9 +350,30 @@ impl Default for FuzzOptions {
 }
 
 impl FuzzOptions {
+    /// With the inputs drawn from `space`.
+    pub fn with_space(mut self, space: InputSpace) -> Self {
+        self.space = space;
+        self
+    }
+    /// With at most `n` accepted Taylor steps per certified flow.
+    pub fn with_max_taylor_steps(mut self, n: usize) -> Self {
+        self.max_taylor_steps = n;
+        self
+    }
+    /// With the time `budget` for the oracle's check of one answer.
+    pub fn with_budget(mut self, budget: Duration) -> Self {
+        self.budget = budget;
+        self
+    }
+    /// With the arithmetic work `w` allowed to the pair builder and to the oracle's check.
+    pub fn with_max_work(mut self, w: u64) -> Self {
+        self.max_work = w;
+        self
+    }
+
     fn flow(&self, deadline: bool) -> FlowOptions {
         FlowOptions {
-            max_steps: self.max_steps,
+            max_taylor_steps: self.max_taylor_steps,
             deadline: if deadline {
                 Instant::now().checked_add(self.budget)
             } else {

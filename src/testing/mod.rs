@@ -8,9 +8,9 @@
 //! # use dalembert::schemes::{Scheme, SchemeKind};
 //! # use dalembert::testing::local_order;
 //! let model = Model::new(&AnyScene::new("knife", &[]).unwrap()).unwrap();
-//! let dla = Scheme::new(&model, SchemeKind::Dla);
+//! let mut dla = Scheme::new(&model, SchemeKind::Dla);
 //! let hs = [0.2, 0.1, 0.05, 0.025];
-//! let ladder = local_order(&model, &dla, &[0.0, 0.0, 0.3], &[0.8, 0.5], &hs, &FlowOptions::default()).unwrap();
+//! let ladder = local_order(&model, &mut dla, &[0.0, 0.0, 0.3], &[0.8, 0.5], &hs, &FlowOptions::default()).unwrap();
 //! // every rung's error is a certified interval; so is the order between rungs
 //! assert!(ladder.orders[2].inf() > 2.5); // proved: the local error shrinks faster than h^2.5 here
 //! ```
@@ -20,7 +20,7 @@
 pub mod fuzz;
 #[cfg(feature = "quickcheck")]
 #[cfg_attr(docsrs, doc(cfg(feature = "quickcheck")))]
-pub mod gen;
+pub mod quickcheck_inputs;
 #[cfg(feature = "proptest")]
 #[cfg_attr(docsrs, doc(cfg(feature = "proptest")))]
 pub mod strategies;
@@ -32,25 +32,82 @@ use crate::{flow, Error, FlowOptions, Interval, Model};
 use inari::Interval as Inari;
 
 /// A user's one-step map of a two-step (variational) integrator: `q_{k+1}` from
-/// `(q_{k-1}, q_k)` and the step `h`, or the stepper's own failure (its message).
+/// `(q_{k-1}, q_k)` and the step `h`, written into the caller's buffer, or the stepper's
+/// own failure.
+///
+/// ```
+/// use dalembert::testing::{check_stepper, Stepper};
+/// use dalembert::{AnyScene, FlowOptions, Model};
+/// /// The straight-line two-step map q_{k+1} = 2 q_k - q_{k-1}; it never fails.
+/// struct Straight;
+/// impl Stepper for Straight {
+///     type Error = std::convert::Infallible;
+///     fn step(&mut self, q_prev: &[f64], q: &[f64], _h: f64, q_next: &mut [f64])
+///         -> Result<(), Self::Error> {
+///         for ((x, a), b) in q_next.iter_mut().zip(q_prev).zip(q) {
+///             *x = 2.0 * b - a;
+///         }
+///         Ok(())
+///     }
+/// }
+/// let model = Model::new(&AnyScene::new("particle", &[])?)?;
+/// let (q0, q1) = ([0.0; 3], [0.1, 0.1, 0.0]);
+/// let v = check_stepper(&model, &mut Straight, &q0, &q1, 0.125, 3, &FlowOptions::default())?;
+/// assert_eq!(v.q.len(), 4);
+/// # Ok::<(), Box<dyn std::error::Error + Send + Sync>>(())
+/// ```
 pub trait Stepper {
-    /// `q_{k+1}` from `q_prev = q_{k-1}`, `q = q_k` and the step `h`; `Err` with the stepper's
-    /// own message when it fails.
-    fn step(&self, q_prev: &[f64], q: &[f64], h: f64) -> Result<Vec<f64>, String>;
-    /// The integrator's own starting step `q_1` from a state `(q_0, v_0)` (v_0 the velocity
-    /// in coordinates), when it has one; `None` (the default): start from the exact motion.
-    fn start(&self, _q0: &[f64], _v0: &[f64], _h: f64) -> Option<Result<Vec<f64>, String>> {
+    /// The stepper's own failure: any type that prints (`String`, an error type,
+    /// [`std::convert::Infallible`]); its `Display` text goes into the
+    /// [`Error::Input`] of kind
+    /// [`InputKind::Stepper`](crate::InputKind::Stepper) that names the step. The same bound
+    /// as `testing::fuzz::NewtonSolver::Error` (feature `fuzzing`).
+    type Error: std::fmt::Display + std::fmt::Debug;
+    /// Write `q_{k+1}` into `q_next` (as many numbers as `q` has) from `q_prev = q_{k-1}`,
+    /// `q = q_k` and the step `h`; `Err` with the stepper's own failure. `q_next` holds
+    /// NaN on entry: a component left unwritten is refused as not finite.
+    fn step(
+        &mut self,
+        q_prev: &[f64],
+        q: &[f64],
+        h: f64,
+        q_next: &mut [f64],
+    ) -> Result<(), Self::Error>;
+    /// The integrator's own starting step: write `q_1` into `q1` from a state `(q_0, v_0)`
+    /// (v_0 the velocity in coordinates), when it has one; `None` (the default): start from
+    /// the exact motion.
+    fn start(
+        &mut self,
+        _q0: &[f64],
+        _v0: &[f64],
+        _h: f64,
+        _q1: &mut [f64],
+    ) -> Option<Result<(), Self::Error>> {
         None
     }
 }
 
-/// The crate's DLA and MLA schemes are steppers (Newton with its default options).
+/// The crate's DLA and MLA schemes are steppers (Newton with its default options); a
+/// failure is Newton's, typed.
 impl Stepper for Scheme {
-    fn step(&self, q_prev: &[f64], q: &[f64], h: f64) -> Result<Vec<f64>, String> {
-        Scheme::step(self, q_prev, q, h, &NewtonOptions::default())
-            .map(|(q_next, _, _)| q_next)
-            .map_err(|e| e.to_string())
+    type Error = crate::newton::NewtonFailure;
+    fn step(
+        &mut self,
+        q_prev: &[f64],
+        q: &[f64],
+        h: f64,
+        q_next: &mut [f64],
+    ) -> Result<(), Self::Error> {
+        let (x, _, _) = Scheme::step(self, q_prev, q, h, &NewtonOptions::default())?;
+        q_next.copy_from_slice(&x);
+        Ok(())
     }
+}
+
+/// `stepper`'s failure at the step that asked for `q_{k+1}` (`k = None`: not a step of a
+/// run), as an input error of kind [`InputKind::Stepper`](crate::InputKind::Stepper).
+fn stepper_failed(k: Option<usize>, message: String) -> Error {
+    Error::input_at(crate::InputKind::Stepper { step: k }, message)
 }
 
 /// The certified local errors of a stepper on a ladder of step sizes (spec eq. (11.1)).
@@ -82,7 +139,7 @@ pub struct Ladder {
 /// `Error::Uncertified`.
 pub fn local_order<St: Stepper + ?Sized>(
     model: &Model,
-    stepper: &St,
+    stepper: &mut St,
     q0: &[f64],
     u0: &[f64],
     hs: &[f64],
@@ -90,11 +147,13 @@ pub fn local_order<St: Stepper + ?Sized>(
 ) -> Result<Ladder, Error> {
     check_ladder(hs)?;
     let mut error = Vec::with_capacity(hs.len());
+    let mut q2 = vec![f64::NAN; q0.len()];
     for &h in hs {
         let q1 = start(model, q0, u0, h, opts)?;
-        let q2 = stepper
-            .step(q0, &q1, h)
-            .map_err(|e| Error::input(format!("the stepper failed at h = {h}: {e}")))?;
+        q2.fill(f64::NAN);
+        stepper
+            .step(q0, &q1, h, &mut q2)
+            .map_err(|e| stepper_failed(Some(1), format!("the stepper failed at h = {h}: {e}")))?;
         error.push(check_step(model, h, q0, &q1, &q2, opts)?.distance);
     }
     Ok(ladder(hs, error))
@@ -110,7 +169,7 @@ pub fn local_order<St: Stepper + ?Sized>(
 /// As [`local_order`], with Theorem 8.1 over N steps (`oracle::check_trajectory`).
 pub fn global_order<St: Stepper + ?Sized>(
     model: &Model,
-    stepper: &St,
+    stepper: &mut St,
     q0: &[f64],
     u0: &[f64],
     t_end: f64,
@@ -126,23 +185,16 @@ pub fn global_order<St: Stepper + ?Sized>(
                 "t_end / h must be a whole number of steps in 1..=1e6 (h = {h})"
             )));
         }
-        let mut q = vec![q0.to_vec(), start(model, q0, u0, h, opts)?];
-        for _ in 1..steps as usize {
-            let next = stepper
-                .step(&q[q.len() - 2], &q[q.len() - 1], h)
-                .map_err(|e| {
-                    Error::input(format!(
-                        "the stepper failed at h = {h}, step {}: {e}",
-                        q.len()
-                    ))
-                })?;
-            q.push(next);
-        }
+        let q1 = start(model, q0, u0, h, opts)?;
+        let q = run_flat(stepper, q0, &q1, h, steps as usize, |k, e| {
+            format!("the stepper failed at h = {h}, step {}: {e}", k + 1)
+        })?;
         let o = CheckOptions {
             pairs: false,
             flow: opts.clone(),
         };
-        error.push(check_trajectory(model, h, &q, &o)?.max_distance);
+        let rows: Vec<&[f64]> = q.chunks(q0.len()).collect();
+        error.push(check_trajectory(model, h, &rows, &o)?.max_distance);
     }
     Ok(ladder(hs, error))
 }
@@ -207,7 +259,7 @@ impl StepperVerdict {
     /// exceeded, `Error::Uncertified` when undecided.
     pub fn passes(&self, tol: Option<f64>, defect_tol: Option<f64>) -> Result<bool, Error> {
         crate::oracle::Tolerances { tol, defect_tol }
-            .decide(self.discrete.max_distance, self.discrete.max_defect)
+            .passes(self.discrete.max_distance, self.discrete.max_defect)
     }
 }
 
@@ -219,7 +271,7 @@ impl StepperVerdict {
 /// naming the step.
 pub fn check_stepper<St: Stepper + ?Sized>(
     model: &Model,
-    stepper: &St,
+    stepper: &mut St,
     q0: &[f64],
     q1: &[f64],
     h: f64,
@@ -249,7 +301,7 @@ pub fn check_stepper<St: Stepper + ?Sized>(
 /// (Theorem 5.1); the rest as [`check_stepper`].
 pub fn check_stepper_from_state<St: Stepper + ?Sized>(
     model: &Model,
-    stepper: &St,
+    stepper: &mut St,
     q0: &[f64],
     u0: &[f64],
     h: f64,
@@ -259,10 +311,13 @@ pub fn check_stepper_from_state<St: Stepper + ?Sized>(
     crate::flow::check_state(model, q0, u0)?;
     let x: Vec<f64> = q0.iter().chain(u0).copied().collect();
     let v0 = model.velocity.eval(&x);
-    let q1 = match stepper.start(q0, &v0, h) {
-        None => start(model, q0, u0, h, opts)?,
-        Some(r) => r.map_err(|e| Error::input(format!("the stepper's start failed: {e}")))?,
-    };
+    let mut q1 = vec![f64::NAN; q0.len()];
+    match stepper.start(q0, &v0, h, &mut q1) {
+        None => q1 = start(model, q0, u0, h, opts)?,
+        Some(r) => {
+            r.map_err(|e| stepper_failed(Some(0), format!("the stepper's start failed: {e}")))?
+        }
+    }
     let mut v = check_stepper(model, stepper, q0, &q1, h, steps, opts)?;
     let mut continuous = vec![Interval::point(0.0)];
     for (k, qk) in v.q.iter().enumerate().skip(1) {
@@ -274,27 +329,59 @@ pub fn check_stepper_from_state<St: Stepper + ?Sized>(
 }
 
 fn run<St: Stepper + ?Sized>(
-    stepper: &St,
+    stepper: &mut St,
     q0: &[f64],
     q1: &[f64],
     h: f64,
     steps: usize,
 ) -> Result<Vec<Vec<f64>>, Error> {
     if steps == 0 || steps > 1_000_000 {
-        return Err(Error::input("steps must be in 1..=1000000"));
+        return Err(Error::input_key("steps", "steps must be in 1..=1000000"));
     }
-    let mut q = vec![q0.to_vec(), q1.to_vec()];
+    let q = run_flat(stepper, q0, q1, h, steps, |k, e| {
+        format!("the stepper failed at step {k} (h = {h}): {e}")
+    })?;
+    Ok(q.chunks(q0.len()).map(<[f64]>::to_vec).collect())
+}
+
+/// `q_0, q_1` and `steps - 1` steps of `stepper`, row after row in one buffer of
+/// `(steps + 1) n` numbers that the stepper writes into: no allocation per step. A failure
+/// of step k (the one that gives `q_{k+1}`) is refused with `failed(k, e)`; so is an answer
+/// that is not `n` finite numbers.
+fn run_flat<St: Stepper + ?Sized>(
+    stepper: &mut St,
+    q0: &[f64],
+    q1: &[f64],
+    h: f64,
+    steps: usize,
+    failed: impl Fn(usize, &St::Error) -> String,
+) -> Result<Vec<f64>, Error> {
+    let n = q0.len();
+    if q1.len() != n {
+        return Err(Error::input_at(
+            crate::InputKind::Dimension {
+                what: "q1".into(),
+                got: q1.len(),
+                expected: n,
+            },
+            format!("q1 has {} components, q0 has {n}", q1.len()),
+        ));
+    }
+    let mut q = vec![f64::NAN; (steps + 1) * n];
+    q[..n].copy_from_slice(q0);
+    q[n..2 * n].copy_from_slice(q1);
     for k in 1..steps {
-        let next = stepper
-            .step(&q[k - 1], &q[k], h)
-            .map_err(|e| Error::input(format!("the stepper failed at step {k} (h = {h}): {e}")))?;
-        if next.len() != q0.len() || next.iter().any(|x| !x.is_finite()) {
-            return Err(Error::input(format!(
-                "the stepper returned {next:?} at step {k}: not {} finite numbers",
-                q0.len()
-            )));
+        let (done, rest) = q.split_at_mut((k + 1) * n);
+        let next = &mut rest[..n];
+        stepper
+            .step(&done[(k - 1) * n..k * n], &done[k * n..], h, next)
+            .map_err(|e| stepper_failed(Some(k), failed(k, &e)))?;
+        if next.iter().any(|x| !x.is_finite()) {
+            return Err(stepper_failed(
+                Some(k),
+                format!("the stepper returned {next:?} at step {k}: not {n} finite numbers"),
+            ));
         }
-        q.push(next);
     }
     Ok(q)
 }

@@ -267,8 +267,7 @@ fn exact_intervals(j: &J, key: &str) -> Vec<(f64, f64)> {
 }
 
 fn library(scene: &str, params: &[(&str, f64)], q: &[f64], u: &[f64], t: f64) -> FlowEnclosure {
-    let params: Vec<(String, f64)> = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    let model = Model::new(&AnyScene::new(scene, &params).unwrap()).unwrap();
+    let model = Model::new(&AnyScene::new(scene, params).unwrap()).unwrap();
     flow(&model, q, u, t, &FlowOptions::default()).unwrap()
 }
 

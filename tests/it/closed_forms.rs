@@ -547,7 +547,8 @@ fn check(
             "valid input rejected as invalid ({msg})\n{}",
             describe(scene.name(), &[], &q, &u, t)
         )),
-        Err(Error::Internal(msg)) => Err(format!(
+        // an internal fault, or a kind of error added later
+        Err(msg) => Err(format!(
             "internal fault ({msg})\n{}",
             describe(scene.name(), &[], &q, &u, t)
         )),

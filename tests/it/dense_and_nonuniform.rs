@@ -7,7 +7,7 @@
 //! y' = s sin(phi)), evaluated in interval arithmetic; never the code under test.
 
 use dalembert::flow::flow_at;
-use dalembert::oracle::{check_trajectory, check_trajectory_at, CheckOptions};
+use dalembert::oracle::{check_trajectory, CheckOptions};
 use dalembert::protocol::Session;
 use dalembert::scalar::{point as pt, Scalar};
 use dalembert::FlowOptions;
@@ -178,7 +178,7 @@ fn uniform_steps_checked_as_times_give_the_same_verdict() {
     let q: Vec<Vec<f64>> = (0..12).map(|k| float_point(k as f64 * h)).collect();
     let times: Vec<f64> = (0..12).map(|k| k as f64 * h).collect();
     let u = check_trajectory(&model, h, &q, &pairs_opts()).unwrap();
-    let t = check_trajectory_at(&model, &times, &q, &pairs_opts()).unwrap();
+    let t = check_trajectory(&model, &times, &q, &pairs_opts()).unwrap();
     assert_eq!(format!("{:?}", u.distance), format!("{:?}", t.distance));
     assert_eq!(format!("{:?}", u.defect), format!("{:?}", t.defect));
     assert_eq!(format!("{:?}", u.max_defect), format!("{:?}", t.max_defect));
@@ -187,7 +187,7 @@ fn uniform_steps_checked_as_times_give_the_same_verdict() {
     let q: Vec<Vec<f64>> = (0..12).map(|k| float_point(k as f64 * h)).collect();
     let times: Vec<f64> = (0..12).map(|k| k as f64 * h).collect();
     let u = check_trajectory(&model, h, &q, &pairs_opts()).unwrap();
-    let t = check_trajectory_at(&model, &times, &q, &pairs_opts()).unwrap();
+    let t = check_trajectory(&model, &times, &q, &pairs_opts()).unwrap();
     for (a, b) in u.distance.iter().zip(&t.distance) {
         assert!((a.sup() - b.sup()).abs() < 1e-13, "{a:?} vs {b:?}");
     }
@@ -209,7 +209,7 @@ fn non_uniform_steps_distances_contain_the_true_ones_and_see_a_perturbation() {
     let model = knife();
     let times = uneven_times(0.125, 13);
     let q: Vec<Vec<f64>> = times.iter().map(|t| float_point(*t)).collect();
-    let v = check_trajectory_at(&model, &times, &q, &pairs_opts()).unwrap();
+    let v = check_trajectory(&model, &times, &q, &pairs_opts()).unwrap();
     // The exact discrete flow through (q_0, q_1) is the motion through q_0 whose position at
     // t_1 is q_1 + N(q_1) s: it differs from the closed form's motion by the rounding of
     // q_1 (< 1e-16), amplified over 2 time units by the retraction's conditioning; 1e-13
@@ -232,18 +232,18 @@ fn non_uniform_steps_distances_contain_the_true_ones_and_see_a_perturbation() {
     // a perturbation of 1e-7 in row 7 shows there, and only there
     let mut p = q.clone();
     p[7][0] += 1e-7;
-    let w = check_trajectory_at(&model, &times, &p, &pairs_opts()).unwrap();
+    let w = check_trajectory(&model, &times, &p, &pairs_opts()).unwrap();
     assert!(w.distance[7].inf() > 0.99e-7 && w.distance[7].sup() < 1.01e-7);
     assert!(w.distance[6].sup() < 1e-12 && w.distance[8].sup() < 1e-12);
     // times out of order, or fewer than rows
     let mut bad = times.clone();
     bad.swap(3, 4);
     assert!(matches!(
-        check_trajectory_at(&model, &bad, &q, &pairs_opts()),
+        check_trajectory(&model, &bad, &q, &pairs_opts()),
         Err(Error::Input(_))
     ));
     assert!(matches!(
-        check_trajectory_at(&model, &times[1..], &q, &pairs_opts()),
+        check_trajectory(&model, &times[1..], &q, &pairs_opts()),
         Err(Error::Input(_))
     ));
 }
@@ -399,29 +399,20 @@ fn stepper_verdict_passes_with_a_defect_tolerance() {
     let h = 0.125;
     let q: Vec<Vec<f64>> = (0..9).map(|k| float_point(k as f64 * h)).collect();
     let v = check_trajectory(&model, h, &q, &pairs_opts()).unwrap();
-    let t = Tolerances {
-        tol: Some(1e-12),
-        defect_tol: Some(1e-9),
-    };
-    assert!(t.decide(v.max_distance, v.max_defect).unwrap());
+    let t = Tolerances::default().with_tol(1e-12).with_defect_tol(1e-9);
+    assert!(t.passes(v.max_distance, v.max_defect).unwrap());
     let mut p = q.clone();
     p[4][0] += 1e-6;
     let v = check_trajectory(&model, h, &p, &pairs_opts()).unwrap();
-    assert!(!t.decide(v.max_distance, v.max_defect).unwrap());
-    let loose = Tolerances {
-        tol: Some(1e-5),
-        defect_tol: None,
-    };
-    assert!(loose.decide(v.max_distance, v.max_defect).unwrap());
+    assert!(!t.passes(v.max_distance, v.max_defect).unwrap());
+    let loose = Tolerances::default().with_tol(1e-5);
+    assert!(loose.passes(v.max_distance, v.max_defect).unwrap());
 }
 
 #[test]
 fn dense_flow_step_limit_is_the_whole_integrations() {
     let model = knife();
-    let o = FlowOptions {
-        max_steps: 3,
-        ..FlowOptions::default()
-    };
+    let o = FlowOptions::default().with_max_taylor_steps(3);
     // no leg needs more than one step (the legs of length 1 at order 28, spec (5.8) (e)),
     // the four together need 4
     match flow_at(&model, &Q0, &U0, &[0.5, 1.0, 2.0, 3.0], &o) {

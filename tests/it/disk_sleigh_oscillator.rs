@@ -1047,7 +1047,7 @@ fn scenes_json_describes_every_scene() {
             let pname = p["name"].as_str().unwrap();
             let d = p["default"].as_f64().unwrap();
             assert!(!p["description"].as_str().unwrap().is_empty());
-            params.push((pname.to_string(), d));
+            params.push((pname, d));
         }
         // the defaults, given explicitly, are the scene with no parameters
         let m = dalembert::AnyScene::new(name, &params).unwrap();

@@ -328,11 +328,11 @@ fn orders_show_what_the_library_certifies(
                 assert!(hi.windows(2).all(|w| w[1] < w[0]), "{at}: {hi:?}");
                 let n = hs.len() - 1;
                 let slope = (hi[n - 1] / hi[n]).ln() / (hs[n - 1] / hs[n]).ln();
-                let s = Scheme::new(&m, kind);
+                let mut s = Scheme::new(&m, kind);
                 let ladder = if table == "orders_local" {
-                    local_order(&m, &s, &st.q0, &st.u0, &hs, &opts)
+                    local_order(&m, &mut s, &st.q0, &st.u0, &hs, &opts)
                 } else {
-                    global_order(&m, &s, &st.q0, &st.u0, T_END, &hs, &opts)
+                    global_order(&m, &mut s, &st.q0, &st.u0, T_END, &hs, &opts)
                 }
                 .unwrap();
                 let certified = ladder.orders[n - 1];

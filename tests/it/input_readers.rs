@@ -138,7 +138,7 @@ fn the_keys_of_each_command_are_read_and_a_near_miss_is_named() {
         (r#","deadlin":1"#, "did you mean `deadline`?"),
     ] {
         let e = Query::from_json(&parse_json(&format!("{base}{extra}}}")).unwrap()).unwrap_err();
-        assert_eq!(e.code(), 2);
+        assert_eq!(dalembert::protocol::exit_code(&e), 2);
         assert!(e.message().contains(says), "{e}");
     }
     let ok = Query::from_json(
@@ -166,7 +166,7 @@ fn a_past_deadline_refuses_and_a_generous_one_changes_nothing() {
     assert_eq!(s.answer_within(&q, Some(1e6)).unwrap().to_json(), plain);
     // a budget already spent when the work starts: the typed refusal, exit 3
     let e = s.answer_within(&q, Some(1e-9)).unwrap_err();
-    assert_eq!(e.code(), 3);
+    assert_eq!(dalembert::protocol::exit_code(&e), 3);
     assert!(
         e.message().contains("not certified within the budget"),
         "{e}"

@@ -536,10 +536,7 @@ fn dla_and_mla_knife_stay_within_second_order_bounds() {
 
 /// Observed order: the same (q0, u, T) at h and h/2.
 fn halving(s: &Subject, c: &Case) -> Result<f64, String> {
-    let o = CheckOptions {
-        pairs: false,
-        ..CheckOptions::default()
-    };
+    let o = CheckOptions::default().with_pairs(false);
     let dist = |h: f64, n: usize| -> Result<Interval, String> {
         let (q0, q1) = start(s.which, &c.q0, &c.u, h);
         let q = s.integrate(&q0, &q1, h, n)?;

@@ -14,8 +14,8 @@ proptest! {
     /// any start pair on M_h^{e,nh}: a certified statement, not a float comparison.
     #[test]
     fn mla_is_close_to_the_exact_discrete_flow(p in pairs_on_manifold(MODEL.clone(), 1.0, 1.0, 0.05..=0.2)) {
-        let mla = Scheme::new(&MODEL, SchemeKind::Mla);
-        let v = check_stepper(&MODEL, &mla, &p.q0, &p.q1, p.h, 20, &FlowOptions::default()).unwrap();
+        let mut mla = Scheme::new(&MODEL, SchemeKind::Mla);
+        let v = check_stepper(&MODEL, &mut mla, &p.q0, &p.q1, p.h, 20, &FlowOptions::default()).unwrap();
         // proved: every q_k is within h^2 of the exact discrete flow from (q_0, q_1)
         prop_assert!(v.discrete.max_distance.sup() <= p.h * p.h, "{}", v.discrete.max_distance.sup());
     }

@@ -185,10 +185,7 @@ fn both_bases_contain_the_knife_closed_form() {
     let s = point(u[0]) + (phi.sin() - phi0.sin()) / (point(2.0) * w);
     let mut widths = vec![];
     for basis in [Basis::Parallelepiped, Basis::Orthogonal] {
-        let opts = FlowOptions {
-            basis,
-            ..FlowOptions::default()
-        };
+        let opts = FlowOptions::default().with_basis(basis);
         let e = flow(&m, &q, &u, t, &opts).unwrap();
         assert!(meets(e.q[2], phi), "{basis:?}: phi");
         assert!(meets(e.u[0], s), "{basis:?}: s");

@@ -103,7 +103,8 @@ fn a_built_in_written_as_a_file_compiles_to_identical_tapes() {
             .with_params(&params)
             .unwrap();
         let a = Model::new(&f).unwrap();
-        let b = Model::new(&AnyScene::new(name, &params).unwrap()).unwrap();
+        let borrowed: Vec<(&str, f64)> = params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+        let b = Model::new(&AnyScene::new(name, &borrowed).unwrap()).unwrap();
         assert!(
             a.dynamics().field.same_program(&b.dynamics().field),
             "{name}: field"

@@ -153,7 +153,7 @@ fn the_knife_with_free_x_phi_has_the_basis_1_tan_phi_0_and_0_0_1() {
     let e = model
         .check_at(&[point(0.0), point(0.0), half_pi])
         .unwrap_err();
-    assert_eq!(e.code(), 3, "{e}");
+    assert_eq!(dalembert::protocol::exit_code(&e), 3, "{e}");
     assert!(model
         .check_at(&[point(0.0), point(0.0), point(0.5)])
         .is_ok());
@@ -305,7 +305,7 @@ fn expressions_agree_with_hand_computed_values() {
 /// form of the same scene (when TOML can carry it over) gives the same message.
 fn refused(text: &str, fragments: &[&str]) -> String {
     let e = SceneFile::from_toml(text, "test").expect_err(text);
-    let Error::Input(m) = &e else {
+    let Error::Input(dalembert::InputError { message: m, .. }) = &e else {
         panic!("not an input error: {e}")
     };
     assert!(!m.contains('\n'), "two lines: {m}");
@@ -574,12 +574,18 @@ fn files_are_named_by_their_stem_and_their_errors_by_their_path() {
     let bad = scratch("latin1.toml");
     std::fs::write(&bad, b"name = \"caf\xe9\"\n").unwrap();
     let e = SceneFile::read(&bad).unwrap_err();
-    assert!(e.message().contains("not UTF-8") && e.code() == 2, "{e}");
+    assert!(
+        e.message().contains("not UTF-8") && dalembert::protocol::exit_code(&e) == 2,
+        "{e}"
+    );
     let missing = scratch("missing.toml");
     let e = SceneFile::read(&missing).unwrap_err();
-    assert!(e.message().starts_with(&missing.display().to_string()) && e.code() == 2);
+    assert!(
+        e.message().starts_with(&missing.display().to_string())
+            && dalembert::protocol::exit_code(&e) == 2
+    );
     let e = SceneFile::read(&scratch("")).unwrap_err();
-    assert_eq!(e.code(), 2);
+    assert_eq!(dalembert::protocol::exit_code(&e), 2);
 }
 
 fn example_files() -> Vec<PathBuf> {

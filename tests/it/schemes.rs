@@ -1228,11 +1228,11 @@ fn integrate_with_one_step_returns_nan_momenta() {
 fn input_errors_are_named() {
     for eps in [1.0, -1.0, 1.5, f64::NAN] {
         assert!(
-            AnyScene::new("knife-eps", &[("eps".into(), eps)]).is_err(),
+            AnyScene::new("knife-eps", &[("eps", eps)]).is_err(),
             "eps = {eps}"
         );
     }
-    assert!(AnyScene::new("knife-eps", &[("eps".into(), 0.999_999)]).is_ok());
+    assert!(AnyScene::new("knife-eps", &[("eps", 0.999_999)]).is_ok());
     let m = model("knife", &[]);
     let s = Scheme::new(&m, SchemeKind::Mla);
     let opts = NewtonOptions::default();

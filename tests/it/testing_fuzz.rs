@@ -120,15 +120,11 @@ fn decoding_is_total_and_deterministic() {
 /// Small steps, no extremes: DLA's stated tolerance is then below 1e-4 on every pair built
 /// on M_h^{e,nh} or within 2.5e-5 of it, so an error of 1e-3 must be proved there.
 fn small_steps() -> FuzzOptions {
-    FuzzOptions {
-        space: InputSpace {
-            h_min: 0.001,
-            h_max: 0.01,
-            extremes: false,
-            ..InputSpace::default()
-        },
-        ..FuzzOptions::default()
-    }
+    FuzzOptions::default().with_space(
+        InputSpace::default()
+            .with_h_range(0.001, 0.01)
+            .with_extremes(false),
+    )
 }
 
 #[test]
@@ -223,7 +219,7 @@ fn failures_and_unconverged_answers_are_not_findings() {
     let fails = |_: &[f64], _: &[f64], _: f64| Err::<SolverAnswer, _>("singular Jacobian");
     // a last iterate handed back, not claimed converged: its NaN is not a finding
     let gave_up = |_: &[f64], _: &[f64], _: f64| {
-        Ok::<_, ()>(SolverAnswer {
+        Ok::<_, std::convert::Infallible>(SolverAnswer {
             q2: vec![f64::NAN; 3],
             converged: false,
         })
@@ -243,7 +239,7 @@ fn failures_and_unconverged_answers_are_not_findings() {
 #[test]
 fn a_stepper_claimed_converged_is_a_solver() {
     let model = model("particle", &[]);
-    let dla = Claimed(Scheme::new(&model, SchemeKind::Dla));
+    let dla = Claimed::new(Scheme::new(&model, SchemeKind::Dla));
     let mut tally = Tally::default();
     for data in inputs(29, 20, 64) {
         tally.add(&fuzz_solver(&model, &dla, dla_tolerance, &data));

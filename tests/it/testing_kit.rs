@@ -8,7 +8,7 @@ use dalembert::schemes::{Scheme, SchemeKind};
 use dalembert::testing::{
     check_stepper, check_stepper_from_state, global_order, local_order, observed_order, Stepper,
 };
-use dalembert::{Error, FlowOptions, Interval};
+use dalembert::{Error, FlowOptions, InputKind, Interval};
 
 fn iv(lo: f64, hi: f64) -> Interval {
     Interval::try_new(lo, hi).unwrap()
@@ -19,12 +19,12 @@ const HS: [f64; 5] = [0.125, 0.0625, 0.03125, 0.015625, 0.0078125];
 #[test]
 fn dla_local_order_is_three_in_general_and_four_where_the_leading_term_vanishes() {
     let m = model("particle", &[]);
-    let dla = Scheme::new(&m, SchemeKind::Dla);
+    let mut dla = Scheme::new(&m, SchemeKind::Dla);
     let opts = FlowOptions::default();
-    let general = local_order(&m, &dla, &[0.0, 0.5, 0.0], &[0.8, 0.8], &HS, &opts).unwrap();
+    let general = local_order(&m, &mut dla, &[0.0, 0.5, 0.0], &[0.8, 0.8], &HS, &opts).unwrap();
     let last = general.orders[HS.len() - 2];
     assert!(last.inf() > 2.8 && last.sup() < 3.2, "{last:?}");
-    let special = local_order(&m, &dla, &[0.0, 0.0, 0.0], &[0.8, 0.8], &HS, &opts).unwrap();
+    let special = local_order(&m, &mut dla, &[0.0, 0.0, 0.0], &[0.8, 0.8], &HS, &opts).unwrap();
     let last = special.orders[HS.len() - 2];
     assert!(last.inf() > 3.8 && last.sup() < 4.2, "{last:?}");
     // the errors are certified intervals excluding 0, shrinking along the ladder
@@ -38,8 +38,18 @@ fn dla_local_order_is_three_in_general_and_four_where_the_leading_term_vanishes(
 /// (a planted bug). Its local error is h^2 |q''|: observed order 2, told apart from DLA's 3.
 struct CentralDifference;
 impl Stepper for CentralDifference {
-    fn step(&self, q_prev: &[f64], q: &[f64], _h: f64) -> Result<Vec<f64>, String> {
-        Ok(q.iter().zip(q_prev).map(|(b, a)| 2.0 * b - a).collect())
+    type Error = std::convert::Infallible;
+    fn step(
+        &mut self,
+        q_prev: &[f64],
+        q: &[f64],
+        _h: f64,
+        q_next: &mut [f64],
+    ) -> Result<(), Self::Error> {
+        for ((x, b), a) in q_next.iter_mut().zip(q).zip(q_prev) {
+            *x = 2.0 * b - a;
+        }
+        Ok(())
     }
 }
 
@@ -48,7 +58,7 @@ fn a_planted_order_bug_is_caught_with_a_certified_order() {
     let m = model("knife", &[]);
     let l = local_order(
         &m,
-        &CentralDifference,
+        &mut CentralDifference,
         &[0.0, 0.0, 0.3],
         &[0.8, 0.5],
         &HS,
@@ -57,10 +67,10 @@ fn a_planted_order_bug_is_caught_with_a_certified_order() {
     .unwrap();
     let last = l.orders[HS.len() - 2];
     assert!(last.inf() > 1.9 && last.sup() < 2.1, "{last:?}");
-    let dla = Scheme::new(&m, SchemeKind::Dla);
+    let mut dla = Scheme::new(&m, SchemeKind::Dla);
     let d = local_order(
         &m,
-        &dla,
+        &mut dla,
         &[0.0, 0.0, 0.3],
         &[0.8, 0.5],
         &HS,
@@ -72,7 +82,8 @@ fn a_planted_order_bug_is_caught_with_a_certified_order() {
 
 struct Failing;
 impl Stepper for Failing {
-    fn step(&self, _: &[f64], _: &[f64], h: f64) -> Result<Vec<f64>, String> {
+    type Error = String;
+    fn step(&mut self, _: &[f64], _: &[f64], h: f64, _: &mut [f64]) -> Result<(), String> {
         Err(format!("Newton diverged at h = {h}"))
     }
 }
@@ -82,9 +93,10 @@ fn bad_ladders_and_failing_steppers_are_typed_errors() {
     let m = model("particle", &[]);
     let opts = FlowOptions::default();
     let q = [0.0; 3];
-    let e = local_order(&m, &Failing, &q, &[0.8, 0.8], &HS, &opts).unwrap_err();
+    let e = local_order(&m, &mut Failing, &q, &[0.8, 0.8], &HS, &opts).unwrap_err();
     assert!(
-        matches!(&e, Error::Input(s) if s.contains("diverged")),
+        matches!(&e, Error::Input(s) if s.message.contains("diverged")
+            && s.kind == InputKind::Stepper { step: Some(1) }),
         "{e}"
     );
     for hs in [
@@ -94,7 +106,7 @@ fn bad_ladders_and_failing_steppers_are_typed_errors() {
         &[0.1, -0.05],
         &[0.1, f64::NAN],
     ] {
-        let e = local_order(&m, &CentralDifference, &q, &[0.8, 0.8], hs, &opts).unwrap_err();
+        let e = local_order(&m, &mut CentralDifference, &q, &[0.8, 0.8], hs, &opts).unwrap_err();
         assert!(matches!(e, Error::Input(_)), "{hs:?}");
     }
 }
@@ -131,8 +143,8 @@ fn dla_and_mla_are_second_order_globally() {
     ] {
         let m = model(scene, &[]);
         for kind in [SchemeKind::Dla, SchemeKind::Mla] {
-            let s = Scheme::new(&m, kind);
-            let l = global_order(&m, &s, &q0, &u0, 1.0, &hs, &FlowOptions::default()).unwrap();
+            let mut s = Scheme::new(&m, kind);
+            let l = global_order(&m, &mut s, &q0, &u0, 1.0, &hs, &FlowOptions::default()).unwrap();
             let last = l.orders[1];
             assert!(
                 last.inf() > 1.85 && last.sup() < 2.15,
@@ -141,10 +153,10 @@ fn dla_and_mla_are_second_order_globally() {
         }
     }
     let m = model("particle", &[]);
-    let s = Scheme::new(&m, SchemeKind::Dla);
+    let mut s = Scheme::new(&m, SchemeKind::Dla);
     let e = global_order(
         &m,
-        &s,
+        &mut s,
         &[0.0; 3],
         &[0.8, 0.8],
         1.0,
@@ -166,21 +178,21 @@ fn dla_and_mla_are_second_order_globally() {
 #[test]
 fn a_first_order_start_shows_against_the_continuous_flow_only() {
     let m = model("particle", &[]);
-    let mla = Scheme::new(&m, SchemeKind::Mla);
+    let mut mla = Scheme::new(&m, SchemeKind::Mla);
     let (q0, u0) = ([0.0, 0.5, 0.0], [0.8, 0.8]);
     let mut at_t1 = Vec::new();
     for (h, steps) in [(0.05, 20), (0.025, 40)] {
         // the start below: v0 = E(q0)^T u0 = (u1, u2, y0 u1), c = (0.5, 0, 0)
         let q1 = [h * u0[0] + 0.5 * h * h, 0.5 + h * u0[1], h * 0.5 * u0[0]];
         let from_pair =
-            check_stepper(&m, &mla, &q0, &q1, h, steps, &FlowOptions::default()).unwrap();
+            check_stepper(&m, &mut mla, &q0, &q1, h, steps, &FlowOptions::default()).unwrap();
         // against its own pair: second order, within h^2
         assert!(from_pair.discrete.max_distance.sup() < h * h, "{h}");
         assert_eq!(from_pair.q.len(), steps + 1);
         // against the motion from the state, the start's O(h^2) error persists
         let from_state = check_stepper_from_state(
             &m,
-            &BadStart(&mla),
+            &mut BadStart(&mla),
             &q0,
             &u0,
             h,
@@ -198,14 +210,30 @@ fn a_first_order_start_shows_against_the_continuous_flow_only() {
 /// MLA with the starting step q1 = q0 + h v0 + h^2 (0.5, 0, 0).
 struct BadStart<'a>(&'a Scheme);
 impl Stepper for BadStart<'_> {
-    fn step(&self, q_prev: &[f64], q: &[f64], h: f64) -> Result<Vec<f64>, String> {
-        Stepper::step(self.0, q_prev, q, h)
+    type Error = dalembert::newton::NewtonFailure;
+    fn step(
+        &mut self,
+        q_prev: &[f64],
+        q: &[f64],
+        h: f64,
+        q_next: &mut [f64],
+    ) -> Result<(), Self::Error> {
+        let (x, _, _) = self.0.step(q_prev, q, h, &Default::default())?;
+        q_next.copy_from_slice(&x);
+        Ok(())
     }
-    fn start(&self, q0: &[f64], v0: &[f64], h: f64) -> Option<Result<Vec<f64>, String>> {
+    fn start(
+        &mut self,
+        q0: &[f64],
+        v0: &[f64],
+        h: f64,
+        q1: &mut [f64],
+    ) -> Option<Result<(), Self::Error>> {
         let c = [0.5, 0.0, 0.0];
-        Some(Ok((0..3)
-            .map(|i| q0[i] + h * v0[i] + h * h * c[i])
-            .collect()))
+        for i in 0..3 {
+            q1[i] = q0[i] + h * v0[i] + h * h * c[i];
+        }
+        Some(Ok(()))
     }
 }
 
@@ -249,7 +277,7 @@ fn the_order_command_prints_certified_ladders() {
 /// pairs at the requested distance from it, reproducibly from a seed.
 #[test]
 fn quickcheck_producers_give_certified_starts() {
-    use dalembert::testing::gen::{pair_near, pair_on_manifold};
+    use dalembert::testing::quickcheck_inputs::{pair_near, pair_on_manifold};
     let m = model("knife", &[]);
     for seed in 0..4u64 {
         let mut g = quickcheck::Gen::from_size_and_seed(100, seed);

@@ -15,10 +15,7 @@ fn bits(v: &[Interval]) -> Vec<(u64, u64)> {
 }
 
 fn with_limit(extra: Option<u64>) -> FlowOptions {
-    FlowOptions {
-        work_limit: extra.map(|w| work_done() + w),
-        ..FlowOptions::default()
-    }
+    FlowOptions::default().with_work_limit(extra.map(|w| work_done() + w))
 }
 
 fn is_work_refusal(e: &Error) -> bool {

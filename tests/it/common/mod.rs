@@ -19,8 +19,7 @@ use inari::Interval;
 
 /// A scene by name, with parameters.
 pub fn model(name: &str, params: &[(&str, f64)]) -> Model {
-    let params: Vec<(String, f64)> = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    Model::new(&AnyScene::new(name, &params).expect("scene")).unwrap()
+    Model::new(&AnyScene::new(name, params).expect("scene")).unwrap()
 }
 
 /// `x` as a decimal (`{:e}`, which is exact enough to round-trip) and as its bits.

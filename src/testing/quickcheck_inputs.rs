@@ -5,7 +5,7 @@
 //! model.
 //!
 //! ```
-//! use dalembert::testing::gen::pair_on_manifold;
+//! use dalembert::testing::quickcheck_inputs::pair_on_manifold;
 //! use dalembert::{AnyScene, Model};
 //! let model = Model::new(&AnyScene::new("particle", &[]).unwrap()).unwrap();
 //! let mut g = quickcheck::Gen::from_size_and_seed(100, 7);
