@@ -292,7 +292,6 @@ pub struct CheckSummary {
     pub max_defect: Option<Interval>,
 }
 
-
 /// `t_{k+1} - t_k` as a float, when it is one: a retraction's step (spec eq. (8.4)).
 fn exact_step(k: usize, t0: f64, t1: f64) -> Result<f64, Error> {
     let d = point(t1) - point(t0);

@@ -131,7 +131,10 @@ fn the_image_and_the_workflow_are_the_documented_rust_setup() {
 
 #[test]
 fn the_targets_in_the_fuzz_readme_are_the_fuzz_targets() {
-    if !present("fuzz", "the_targets_in_the_fuzz_readme_are_the_fuzz_targets") {
+    if !present(
+        "fuzz",
+        "the_targets_in_the_fuzz_readme_are_the_fuzz_targets",
+    ) {
         return;
     }
     // fuzz/README.md's list of binaries copied to $OUT, `{a,b,...}`

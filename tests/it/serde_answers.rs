@@ -7,8 +7,6 @@
 //! library with the `internals` feature, under which the answer structs are not
 //! `#[non_exhaustive]`.
 
-
-
 use crate::common::SplitMix64;
 use dalembert::enclosure::LohnerSet;
 use dalembert::exact::{ExactStep, ExactTrajectory, Retraction};
