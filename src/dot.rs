@@ -6,10 +6,9 @@
 //! inari's fused multiply-adds, each rounded outward, and, where the target has AVX-512,
 //! a path computing that chain's tightest ends with the fused multiply-add (or division)
 //! rounded upward by the instruction: eight entries, or eight sign choices, at a time in
-//! vectors; a dot product of at most three terms, and a quotient, in scalars (measured: the
-//! vector set-up costs more than it saves there, and scalars throughout were 13% slower on
-//! the knife-eps flow to T = 600). Any input not finite sends the call down the portable
-//! path.
+//! vectors; a dot product of at most three terms, and a quotient, in scalars (there the
+//! vector set-up costs more than it saves, while for longer rows the vectors pay). Any input
+//! not finite sends the call down the portable path.
 
 use inari::Interval;
 

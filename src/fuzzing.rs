@@ -22,7 +22,7 @@ use std::cell::RefCell;
 
 /// The certified targets' budget: 8 validated steps a flow (the retraction's Newton: 32
 /// float steps in all) and [`FUZZ_WORK`] Taylor terms a call, so that a hard input is refused ([`crate::Reason::Budget`]) at the
-/// cost of a few ordinary ones (issue "Fuzzing at volume"). With the simplified tapes
+/// cost of a few ordinary ones. With the simplified tapes
 /// (spec (2.13)) the corpus's certified shares are the same as with 16. Steps, not time: a
 /// run replays the same on every machine.
 /// The certified targets' work limit per call (spec (5.8''')): 2 million Taylor terms, about

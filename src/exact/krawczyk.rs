@@ -34,8 +34,8 @@ pub fn krawczyk(
     // it by about eps times the other components). First the floor of what couples into
     // each component through the float C: with a pair far off M_h the defect s can be 1e16
     // while u0 is 1e5, and a floor of eps |s| on u0 made the box so wide that its flow took
-    // thousands of steps and I - C DG never contracted (a rolling disk with R = 1e-8 ran for
-    // minutes; a sleigh with m = 1e-300 for 16 s). Then, if that fails, also a few ulps of
+    // thousands of steps and I - C DG never contracted (a rolling disk with R = 1e-8, or a
+    // sleigh with m = 1e-300). Then, if that fails, also a few ulps of
     // `scale`: a component that nothing couples into in the float C still moves by the
     // width of the enclosure of DG (a particle pair with y1 = y0, u2 = s = 0, is certified
     // only so). Each try is a Krawczyk test on its own: which boxes are tried changes no

@@ -467,8 +467,8 @@ pub fn work_precision(s: &Settings, progress: &Progress) -> Result<Figure, Error
         Style::Markers,
         automatic,
     ));
-    // The doubleton of (5.1), (5.10') against the single parallelepiped (the set before
-    // its reorganisation) and Lohner's orthogonal basis (the set before issue 14), over
+    // The doubleton of (5.1), (5.10') against the single parallelepiped (no
+    // reorganisation, spec (5.10')) and Lohner's orthogonal basis (spec (5.10)), over
     // growing horizons (automatic steps, default order).
     let mut sets = Table::new("sets", &["t", "set", "cost", "width", "steps"]);
     let mut set_series = vec![];
