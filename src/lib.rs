@@ -28,7 +28,7 @@
 //! Features: `cli` (default: the command line, the JSON protocol `protocol`, scene files),
 //! `scene-files` (scene files and inline JSON scenes without the command line), `proptest`
 //! and `quickcheck` (generators of admissible inputs: `testing::strategies`,
-//! `testing::gen`), `fuzzing` (the fuzz targets' checks and `testing::fuzz`), `internals`
+//! `testing::quickcheck_inputs`), `fuzzing` (the fuzz targets' checks and `testing::fuzz`), `internals`
 //! (the crate's own tests; no stability promised).
 //!
 //! # The CPU flag
