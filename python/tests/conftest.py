@@ -10,7 +10,7 @@ from hypothesis import HealthCheck, settings
 from dalembert import Oracle
 
 settings.register_profile(
-    "ci", derandomize=True, max_examples=25, deadline=None, print_blob=True,
+    "ci", derandomize=True, max_examples=25, deadline=None, print_blob=True, database=None,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 settings.register_profile(
     "dev", max_examples=25, deadline=None,
