@@ -12,6 +12,9 @@ Times (best of --reps, each including the process start):
              per query, for comparison)
 Every Python variant reads every answer's q2 (so the answers are parsed and their
 intervals built). --pin runs everything (this script and the batch process) on one CPU.
+Beside the wall times, the CPU seconds of the batch process and of this script: on one
+core the API adds at most its own CPU time to batch's, and that ratio is far less sensitive
+to other load on the machine than wall times are.
 """
 
 import argparse
@@ -39,12 +42,17 @@ def pairs(n, seed=1):
 
 
 def best(f, reps):
-    times = []
+    """Best of `reps`: (wall seconds, CPU seconds of this process, CPU seconds of the batch
+    process), the run with the least wall time."""
+    runs = []
     for _ in range(reps):
-        t = time.perf_counter()
+        t0, c0 = time.perf_counter(), os.times()
         f()
-        times.append(time.perf_counter() - t)
-    return min(times)
+        t1, c1 = time.perf_counter(), os.times()
+        runs.append((t1 - t0, (c1.user + c1.system) - (c0.user + c0.system),
+                     (c1.children_user + c1.children_system)
+                     - (c0.children_user + c0.children_system)))
+    return min(runs)
 
 
 def main():
@@ -81,13 +89,16 @@ def main():
             for q0, q1, h in ps:
                 o.step(q0, q1, h, scene="particle").q2[0].lo
 
-    base = best(batch, a.reps)
+    base, _, base_cpu = best(batch, a.reps)
     print(f"binary {exe}; {a.n} particle step queries; best of {a.reps}"
           f"{'; pinned to one CPU' if a.pin else ''}")
-    print(f"{'batch':8} {base:7.3f} s  {a.n / base:8.0f} /s")
+    print(f"{'':8} {'wall':>9} {'queries/s':>10} {'vs batch':>9} {'CPU: batch':>11} {'Python':>7}"
+          f" {'Python/batch CPU':>17}")
+    print(f"{'batch':8} {base:7.3f} s {a.n / base:10.0f} {'':9} {base_cpu:9.3f} s")
     for name, f in (("list", as_list), ("submit", submit), ("sync", sync)):
-        t = best(f, a.reps)
-        print(f"{name:8} {t:7.3f} s  {a.n / t:8.0f} /s  {100 * (t / base - 1):+6.1f} % vs batch")
+        t, cpu, child = best(f, a.reps)
+        print(f"{name:8} {t:7.3f} s {a.n / t:10.0f} {100 * (t / base - 1):+8.1f}% "
+              f"{child:9.3f} s {cpu:5.3f} s {100 * cpu / base_cpu:+16.1f}%")
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@ guide.
 """
 
 from ._intervals import (
-    Interval, IntervalLike, distance, down, observed_order, quotient, to_array, up,
+    Interval, IntervalLike, distance, down, intervals, observed_order, quotient, to_array, up,
 )
 from ._oracle import (
     Answer, InputError, Oracle, OracleError, Pending, ProtocolError, Scene, Uncertified,
@@ -23,7 +23,7 @@ from ._oracle import (
 __all__ = [
     "Oracle", "Answer", "Pending", "Interval", "IntervalLike", "Scene", "Vector",
     "OracleError", "InputError", "Uncertified", "ProtocolError", "find_binary",
-    "distance", "quotient", "observed_order", "down", "up", "to_array",
+    "distance", "quotient", "observed_order", "down", "up", "to_array", "intervals",
 ]
 
 __version__ = "0.1.0"

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from typing import Any, Iterable, Iterator, Sequence, Tuple, Union
+from typing import Any, Iterable, Iterator, List, Sequence, Tuple, Union
 
 __all__ = [
     "Interval", "IntervalLike", "down", "up", "distance", "quotient", "observed_order",
@@ -20,55 +20,79 @@ __all__ = [
 ]
 
 
-class Interval:
+class Interval(tuple):  # type: ignore[type-arg]
     """A closed interval [lo, hi] as the oracle printed it: `lo` and `hi` are the JSON
-    numbers, unchanged (never rounded, never recomputed). The exact value lies in it."""
+    numbers, unchanged (never rounded, never recomputed). The exact value lies in it.
+    (A tuple `(lo, hi)` underneath, so that the client builds many of them fast; `x in iv`
+    is the interval's membership, not the tuple's.)"""
 
-    __slots__ = ("lo", "hi")
+    __slots__ = ()
 
-    lo: float
-    hi: float
-
-    def __init__(self, lo: float, hi: float) -> None:
+    def __new__(cls, lo: float, hi: float) -> "Interval":
         if not lo <= hi:
             raise ValueError(f"not an interval: [{lo!r}, {hi!r}]")
-        self.lo, self.hi = lo, hi
+        return tuple.__new__(cls, (lo, hi))
 
-    def __contains__(self, x: Any) -> bool:
+    @property
+    def lo(self) -> float:
+        return tuple.__getitem__(self, 0)  # type: ignore[no-any-return]
+
+    @property
+    def hi(self) -> float:
+        return tuple.__getitem__(self, 1)  # type: ignore[no-any-return]
+
+    def __contains__(self, x: Any) -> bool:  # type: ignore[override]
         """Exact comparison: x may be an int, float, Fraction or Decimal."""
-        return bool(self.lo <= x <= self.hi)
+        return bool(self[0] <= x <= self[1])
 
     def contains(self, x: Any) -> bool:
         return x in self
 
     def excludes_zero(self) -> bool:
-        return self.lo > 0 or self.hi < 0
+        return self[0] > 0 or self[1] < 0
 
     def width_up(self) -> float:
         """An upper bound on hi - lo (the float difference rounded up by one ulp)."""
-        return up(self.hi - self.lo)
+        return up(self[1] - self[0])
 
     def mag(self) -> float:
         """max(|lo|, |hi|): exact (abs and max of floats round nothing)."""
-        return max(abs(self.lo), abs(self.hi))
+        return max(abs(self[0]), abs(self[1]))
 
     @property
     def mid(self) -> float:
         """A float point inside the interval (round to nearest): a point, not a bound."""
-        m = self.lo / 2 + self.hi / 2
-        return min(max(m, self.lo), self.hi)
-
-    def __iter__(self) -> Iterator[float]:
-        return iter((self.lo, self.hi))
+        lo, hi = self
+        m = lo / 2 + hi / 2
+        return min(max(m, lo), hi)
 
     def __eq__(self, other: object) -> bool:
-        return isinstance(other, Interval) and (self.lo, self.hi) == (other.lo, other.hi)
+        return isinstance(other, Interval) and tuple.__eq__(self, other)
+
+    def __ne__(self, other: object) -> bool:
+        return not self == other
 
     def __hash__(self) -> int:
-        return hash((self.lo, self.hi))
+        return tuple.__hash__(self)
 
     def __repr__(self) -> str:
-        return f"Interval({self.lo!r}, {self.hi!r})"
+        return f"Interval({self[0]!r}, {self[1]!r})"
+
+
+def _unchecked(pairs: Any) -> List[Interval]:
+    """Intervals from [lo, hi] pairs already known to be intervals (the client's fast path;
+    `intervals` checks)."""
+    new = tuple.__new__
+    return [new(Interval, p) for p in pairs]
+
+
+def intervals(pairs: Any) -> List[Interval]:
+    """Intervals from a list of [lo, hi] pairs of numbers with lo <= hi; ValueError
+    otherwise."""
+    for p in pairs:
+        if not (isinstance(p, list) and len(p) == 2 and p[0] <= p[1]):
+            raise ValueError(f"not an interval [lo, hi]: {p!r}")
+    return _unchecked(pairs)
 
 
 IntervalLike = Union[Interval, Sequence[float], Tuple[float, float]]
@@ -80,12 +104,7 @@ def to_array(intervals: Any) -> Any:
     are the oracle's floats, copied exactly (float64 holds every f64). Needs numpy."""
     import numpy as np
 
-    def raw(x: Any) -> Any:
-        if isinstance(x, Interval):
-            return [x.lo, x.hi]
-        return [raw(v) for v in x]
-
-    return np.array(raw(intervals), dtype=np.float64)
+    return np.array(intervals, dtype=np.float64)
 
 
 # Python floats round to nearest: the result r of one +, -, *, / or abs of floats is the

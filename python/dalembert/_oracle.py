@@ -29,9 +29,11 @@ import sys
 import sysconfig
 import threading
 from collections import deque
-from typing import Any, Deque, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+from typing import (
+    Any, Deque, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Union,
+)
 
-from ._intervals import Interval, to_array
+from ._intervals import intervals, to_array
 
 __all__ = [
     "Oracle", "Answer", "Pending", "OracleError", "InputError", "Uncertified",
@@ -44,14 +46,46 @@ Vector = Sequence[float]
 Scene = Union[str, Mapping[str, Any]]
 
 
-class Answer(dict):  # type: ignore[type-arg]
-    """An `ok` answer: a dict whose keys are also attributes."""
+class Answer(Mapping[str, Any]):
+    """An `ok` answer: a read-only mapping whose keys are also attributes (`a.q2` is
+    `a["q2"]`). The intervals of a key are built when the key is first read (an answer
+    whose keys are not all read costs only what is read)."""
+
+    __slots__ = ("_raw", "_shape", "_done")
+
+    def __init__(self, raw: Dict[str, Any], shape: Optional[_Shape] = None) -> None:
+        self._raw = raw
+        self._shape = shape or {}
+        self._done: Dict[str, Any] = {}
+
+    def __getitem__(self, key: str) -> Any:
+        done = self._done
+        if key in done:
+            return done[key]
+        v = self._raw[key]
+        s = self._shape.get(key)
+        if s is not None:
+            v = Answer(v, s) if isinstance(s, dict) and isinstance(v, dict) else (
+                v if isinstance(s, dict) else _intervals(v, s))
+        done[key] = v
+        return v
 
     def __getattr__(self, key: str) -> Any:
+        if key.startswith("_"):
+            raise AttributeError(key)
         try:
             return self[key]
         except KeyError:
             raise AttributeError(key) from None
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._raw)
+
+    def __len__(self) -> int:
+        return len(self._raw)
+
+    def __repr__(self) -> str:
+        return f"Answer({dict(self.items())!r})"
 
     def array(self, key: str) -> Any:
         """The intervals under `key` as a float64 numpy array, last axis [lo, hi] (`(n, 2)`
@@ -108,32 +142,21 @@ _SHAPES: Dict[str, _Shape] = {
 def _intervals(value: Any, depth: int) -> Any:
     if value is None:
         return None
-    if depth == 0:
-        if not (isinstance(value, list) and len(value) == 2):
-            raise ProtocolError(f"expected an interval [lo, hi], got {value!r}")
-        return Interval(value[0], value[1])
+    try:
+        if depth == 1 and None not in value:
+            return intervals(value)
+        if depth == 0:
+            return intervals([value])[0]
+    except (ValueError, TypeError):
+        raise ProtocolError(f"expected intervals [lo, hi], got {value!r}") from None
     return [_intervals(v, depth - 1) for v in value]
 
 
-def _shaped(shape: _Shape, ok: Dict[str, Any]) -> Answer:
-    a = Answer()
-    for k, v in ok.items():
-        s = shape.get(k)
-        if s is None:
-            a[k] = v
-        elif isinstance(s, dict):
-            a[k] = _shaped(s, v) if isinstance(v, dict) else v
-        else:
-            a[k] = _intervals(v, s)
-    return a
-
-
 def _answer(cmd: str, ok: Dict[str, Any]) -> Answer:
-    a = _shaped(_SHAPES.get(cmd, {}), ok)
-    if cmd == "flow" and "at" in a:
+    if cmd == "flow" and "at" in ok:
         # dense output: one answer per stop, with keys t, q, u, v
-        a["at"] = [_answer("flow", stop) for stop in a["at"]]
-    return a
+        ok = {**ok, "at": [_answer("flow", stop) for stop in ok["at"]]}
+    return Answer(ok, _SHAPES.get(cmd, {}))
 
 
 def _error(err: Dict[str, Any], id: Any) -> OracleError:
@@ -200,6 +223,7 @@ class Pending:
 
 
 _FLUSH_BYTES = 1 << 16
+_ENCODE = json.JSONEncoder(allow_nan=False, separators=(",", ":")).encode
 
 
 class Oracle:
@@ -223,10 +247,13 @@ class Oracle:
         if work is not None:
             args += ["--work", str(int(work))]
         self.scene, self.params = scene, params
-        self._p = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+        self._p = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                   bufsize=0)
         self._out: "queue.SimpleQueue[Optional[bytes]]" = queue.SimpleQueue()
         self._reader = threading.Thread(target=self._read_all, daemon=True)
         self._reader.start()
+        self._lines: Deque[bytes] = deque()
+        self._rest = b""
         self._buf: List[bytes] = []
         self._buf_bytes = 0
         self._inflight: Deque[Pending] = deque()
@@ -309,7 +336,7 @@ class Oracle:
         self._next += 1
         q["id"] = self._next
         try:
-            line = json.dumps(q, allow_nan=False, separators=(",", ":"))
+            line = _ENCODE(q)
         except ValueError as e:  # NaN or infinity: invalid input, as the contract says
             raise InputError(2, f"non-finite number in the query: {e}", self._next) from None
         return self._send(line.encode(), self._next, q.get("cmd"))
@@ -356,24 +383,46 @@ class Oracle:
         self._buf, self._buf_bytes = [], 0
         try:
             assert self._p.stdin is not None
-            self._p.stdin.write(data)
-            self._p.stdin.flush()
+            view = memoryview(data)
+            while view:  # an unbuffered pipe may take part of the data at a time
+                n = self._p.stdin.write(view)
+                view = view[n or 0:]
         except (BrokenPipeError, ValueError, OSError) as e:
             raise ProtocolError(f"the batch process is gone: {e}") from None
 
     def _read_all(self) -> None:
+        # whole chunks, not lines: one hand-over between the threads per chunk
         assert self._p.stdout is not None
-        for line in self._p.stdout:
-            self._out.put(line)
+        fd = self._p.stdout.fileno()
+        while True:
+            chunk = os.read(fd, 1 << 16)
+            if not chunk:
+                break
+            self._out.put(chunk)
         self._out.put(None)
+
+    def _next_line(self) -> Optional[bytes]:
+        """The next answer line, None once the process's output has ended."""
+        while True:
+            if self._lines:
+                return self._lines.popleft()
+            chunk = self._out.get()
+            if chunk is None:
+                self._out.put(None)  # stays ended for every later call
+                if self._rest:
+                    rest, self._rest = self._rest, b""
+                    return rest
+                return None
+            parts = (self._rest + chunk).split(b"\n")
+            self._rest = parts.pop()
+            self._lines.extend(parts)
 
     def _wait(self, target: Pending) -> None:
         self._flush()
         while not target._done:
             p = self._inflight.popleft()
-            line = self._out.get()
+            line = self._next_line()
             if line is None:
-                self._out.put(None)  # stays ended for every later wait
                 self._inflight.appendleft(p)
                 raise ProtocolError(f"the batch process ended (exit {self._p.poll()})")
             p._value = self._result(line, p)
