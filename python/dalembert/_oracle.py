@@ -161,7 +161,8 @@ def _answer(cmd: str, ok: Dict[str, Any]) -> Answer:
 
 def _error(err: Dict[str, Any], id: Any) -> OracleError:
     code, message = err.get("code"), err.get("message", "")
-    cls = {2: InputError, 3: Uncertified}.get(code, OracleError)
+    cls = {2: InputError, 3: Uncertified}.get(code, OracleError) if isinstance(code, int) \
+        else OracleError
     return cls(code, message, id, err.get("reason"), err.get("reached"))
 
 
