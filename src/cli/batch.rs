@@ -1,4 +1,4 @@
-//! `dalembert batch [--jobs N] [--deadline S]` (contract command 5): JSON lines in, JSON
+//! `dalembert batch [--jobs N] [--deadline S] [--work W]` (contract command 5): JSON lines in, JSON
 //! lines out, in order. Input is read as bytes, line by line, each line at most
 //! `protocol::MAX_LINE_BYTES` kept: a line that is not UTF-8, not JSON or too long gets an
 //! error answer and the stream goes on. Each worker keeps its own `Session` (compiled
@@ -11,7 +11,7 @@ use std::collections::BTreeMap;
 use std::io::Write;
 use std::sync::{mpsc, Arc, Mutex};
 
-pub fn run(jobs: &str, deadline: Option<&str>) -> Result<(), Error> {
+pub fn run(jobs: &str, deadline: Option<&str>, work: Option<&str>) -> Result<(), Error> {
     let jobs: usize = match jobs.trim().parse() {
         Ok(j) if (1..=256).contains(&j) => j,
         _ => {
@@ -23,9 +23,13 @@ pub fn run(jobs: &str, deadline: Option<&str>) -> Result<(), Error> {
     let deadline = deadline
         .map(|d| protocol::parse_seconds("--deadline", d))
         .transpose()?;
+    let work = work
+        .map(|w| protocol::parse_work("--work", w))
+        .transpose()?;
     let session = move || {
         let mut s = Session::default();
         s.deadline = deadline;
+        s.work = work;
         s
     };
     let stdin = std::io::stdin();

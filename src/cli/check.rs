@@ -5,7 +5,7 @@ use super::progress::Bar;
 use super::spool::Spool;
 use super::SceneArgs;
 use crate::oracle::{check_rows, CheckOptions, RowVerdict};
-use crate::protocol::{self, CheckRows, Session, STEP_DEADLINE};
+use crate::protocol::{self, CheckRows, Session, STEP_WORK};
 use crate::scene::Scene;
 use crate::{Error, InputKind};
 use serde_json::Value;
@@ -23,7 +23,7 @@ pub fn run(
     scene: &SceneArgs,
     h: Option<&str>,
     file: &str,
-    deadline: Option<&str>,
+    (deadline, work): (Option<&str>, Option<&str>),
     tols: (Option<&str>, Option<&str>),
     no_pairs: bool,
     as_json: bool,
@@ -45,16 +45,25 @@ pub fn run(
     let deadline = deadline
         .map(|d| protocol::parse_seconds("--deadline", d))
         .transpose()?;
+    let work = work
+        .map(|w| protocol::parse_work("--work", w))
+        .transpose()?;
     let coordinates = model.scene.description().coordinates;
     let m = model.n - model.k;
     let (rows, count) = read_trajectory(file, &coordinates, m, h)?;
-    // the budget: as given for the whole check, else STEP_DEADLINE for each pair
-    let budget = deadline.unwrap_or(STEP_DEADLINE * count.max(1) as f64);
+    // the budget: as given for the whole check, else STEP_WORK for each pair (contract E14)
     let mut opts = CheckOptions {
         pairs: !no_pairs,
         ..CheckOptions::default()
     };
-    opts.flow.deadline = protocol::deadline_in(budget);
+    opts.flow.deadline = deadline.and_then(protocol::deadline_in);
+    let work = match (deadline, work) {
+        (None, None) => Some(STEP_WORK.saturating_mul(count.max(1) as u64)),
+        (_, w) => w,
+    };
+    if let Some(w) = work {
+        opts.flow = opts.flow.allow_work(w);
+    }
     let mut bar = Bar::new();
     let table = CheckRows::new(as_json);
     // one spool per part of the answer (text: the table; JSON: distance, defect, energy_error)

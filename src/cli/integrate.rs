@@ -6,7 +6,7 @@
 
 use super::progress::Bar;
 use super::spool::Spool;
-use crate::protocol::{IntegrateRows, Pair, Row, Session};
+use crate::protocol::{Budget, IntegrateRows, Pair, Row, Session};
 use crate::schemes::SchemeKind;
 use crate::Error;
 use std::io::{BufWriter, Write};
@@ -22,7 +22,7 @@ pub fn run(
     pair: &Pair,
     scheme: SchemeKind,
     steps: usize,
-    deadline: Option<f64>,
+    budget: Budget,
     as_json: bool,
 ) -> Result<(), Error> {
     let mut session = Session::default();
@@ -32,7 +32,7 @@ pub fn run(
     let mut spools: Vec<Spool> = (0..rows.parts())
         .map(|i| Spool::new(&i.to_string()))
         .collect::<Result<_, _>>()?;
-    let max_residual = session.integrate_each(pair, scheme, steps, deadline, |r: Row| {
+    let max_residual = session.integrate_each_with(pair, scheme, steps, budget, |r: Row| {
         bar.update("integrate", r.k as f64, steps as f64);
         rows.row(&mut spools, &r).map_err(io)
     })?;

@@ -66,14 +66,20 @@ pub(crate) struct PairArgs {
     pub h: String,
     #[arg(long, allow_hyphen_values = true, help = DEADLINE_HELP)]
     pub deadline: Option<String>,
+    #[arg(long, allow_hyphen_values = true, help = WORK_HELP)]
+    pub work: Option<String>,
     /// Print one JSON object
     #[arg(long)]
     pub json: bool,
 }
 
 const DEADLINE_HELP: &str = "Time budget in seconds (> 0): past it, refused with exit 3 \
-     `not certified within the budget`. Default: 5 for retract, step, lagrangian and each \
-     pair of check; none for flow and integrate";
+     `not certified within the budget`. Default: none (the work budget, --work, applies)";
+
+const WORK_HELP: &str = "Work budget in Taylor terms (an integer >= 1; the same on every \
+     machine): past it, refused with exit 3 `not certified within the budget`. Default, when \
+     neither --work nor --deadline is given: 1000000000 for retract, step, lagrangian and \
+     each pair of check; none for flow and integrate";
 
 #[derive(Subcommand, Debug)]
 pub(crate) enum Cmd {
@@ -106,6 +112,8 @@ pub(crate) enum Cmd {
         jacobian: bool,
         #[arg(long, allow_hyphen_values = true, help = DEADLINE_HELP)]
         deadline: Option<String>,
+        #[arg(long, allow_hyphen_values = true, help = WORK_HELP)]
+        work: Option<String>,
         /// Print one JSON object
         #[arg(long)]
         json: bool,
@@ -143,6 +151,8 @@ pub(crate) enum Cmd {
         trajectory: String,
         #[arg(long, allow_hyphen_values = true, help = DEADLINE_HELP)]
         deadline: Option<String>,
+        #[arg(long, allow_hyphen_values = true, help = WORK_HELP)]
+        work: Option<String>,
         /// Tolerance on max_k |q_k - q^e_k|_inf
         #[arg(long, allow_hyphen_values = true)]
         tol: Option<String>,
@@ -216,10 +226,15 @@ pub(crate) enum Cmd {
         /// Worker threads
         #[arg(long, allow_hyphen_values = true, default_value = "1")]
         jobs: String,
-        /// Time budget in seconds of every query without a `deadline` key (default: 5 for
-        /// retract, step and lagrangian, none for flow and integrate)
+        /// Time budget in seconds of every query without a `deadline` or `work` key
+        /// (default: none; the work budget applies)
         #[arg(long, allow_hyphen_values = true)]
         deadline: Option<String>,
+        /// Work budget in Taylor terms of every query without a `deadline` or `work` key
+        /// (default, when neither --work nor --deadline is given: 1000000000 for retract,
+        /// step, lagrangian and each row of check; none for flow and integrate)
+        #[arg(long, allow_hyphen_values = true)]
+        work: Option<String>,
         /// Accepted for uniformity: batch output is always JSON
         #[arg(long)]
         json: bool,
@@ -297,14 +312,18 @@ pub(crate) fn run(args: Vec<String>) -> i32 {
             params,
             json,
         }) => scenes::run(scene_file.as_deref(), &params, json).map(Some),
-        Some(Cmd::Batch { jobs, deadline, .. }) => {
-            batch::run(&jobs, deadline.as_deref()).map(|()| None)
-        }
+        Some(Cmd::Batch {
+            jobs,
+            deadline,
+            work,
+            ..
+        }) => batch::run(&jobs, deadline.as_deref(), work.as_deref()).map(|()| None),
         Some(Cmd::Check {
             scene,
             h,
             trajectory,
             deadline,
+            work,
             tol,
             defect_tol,
             no_pairs,
@@ -313,7 +332,7 @@ pub(crate) fn run(args: Vec<String>) -> i32 {
             &scene,
             h.as_deref(),
             &trajectory,
-            deadline.as_deref(),
+            (deadline.as_deref(), work.as_deref()),
             (tol.as_deref(), defect_tol.as_deref()),
             no_pairs,
             json,
@@ -372,11 +391,22 @@ pub(crate) fn scene_spec(s: &SceneArgs) -> Result<SceneSpec, Error> {
     }
 }
 
-/// `--deadline`, read when given.
-fn seconds(d: &Option<String>) -> Result<Option<f64>, Error> {
-    d.as_deref()
-        .map(|s| protocol::parse_seconds("--deadline", s))
-        .transpose()
+/// `--deadline` and `--work`, read when given.
+fn budget(deadline: &Option<String>, work: &Option<String>) -> Result<protocol::Budget, Error> {
+    Ok(protocol::Budget {
+        deadline: deadline
+            .as_deref()
+            .map(|s| protocol::parse_seconds("--deadline", s))
+            .transpose()?,
+        work: work
+            .as_deref()
+            .map(|s| protocol::parse_work("--work", s))
+            .transpose()?,
+    })
+}
+
+fn pair_budget(a: &PairArgs) -> Result<protocol::Budget, Error> {
+    budget(&a.deadline, &a.work)
 }
 
 fn pair(a: &PairArgs) -> Result<Pair, Error> {
@@ -391,7 +421,7 @@ fn pair(a: &PairArgs) -> Result<Pair, Error> {
 /// Translate flags into a query, answer it, render it (`integrate` writes its own rows and
 /// returns an empty text).
 fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
-    let (query, deadline, as_json) = match cmd {
+    let (query, own, as_json) = match cmd {
         Cmd::Flow {
             scene,
             q,
@@ -401,6 +431,7 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
             order,
             jacobian,
             deadline,
+            work,
             json,
         } => {
             let t = match (t, times) {
@@ -416,11 +447,11 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
                 order: order.map_or(Ok(0), |o| protocol::parse_order(&o))?,
                 jacobian,
             };
-            (query, seconds(&deadline)?, json)
+            (query, budget(&deadline, &work)?, json)
         }
-        Cmd::Retract(a) => (Query::Retract(pair(&a)?), seconds(&a.deadline)?, a.json),
-        Cmd::Step(a) => (Query::Step(pair(&a)?), seconds(&a.deadline)?, a.json),
-        Cmd::Lagrangian(a) => (Query::Lagrangian(pair(&a)?), seconds(&a.deadline)?, a.json),
+        Cmd::Retract(a) => (Query::Retract(pair(&a)?), pair_budget(&a)?, a.json),
+        Cmd::Step(a) => (Query::Step(pair(&a)?), pair_budget(&a)?, a.json),
+        Cmd::Lagrangian(a) => (Query::Lagrangian(pair(&a)?), pair_budget(&a)?, a.json),
         Cmd::Integrate {
             pair: a,
             scheme,
@@ -429,7 +460,7 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
             let p = pair(&a)?;
             let scheme = scheme.parse()?;
             let steps = protocol::parse_steps(&steps)?;
-            integrate::run(&p, scheme, steps, seconds(&a.deadline)?, a.json)?;
+            integrate::run(&p, scheme, steps, pair_budget(&a)?, a.json)?;
             return Ok(None);
         }
         Cmd::Batch { .. }
@@ -445,7 +476,7 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
     if matches!(query, Query::Flow { .. }) {
         session.flow.progress = bar.progress();
     }
-    let answer = session.answer_within(&query, deadline)?;
+    let answer = session.answer_with(&query, own)?;
     drop(session);
     bar.clear();
     Ok(Some(answer.render(as_json)))

@@ -16,8 +16,8 @@ pub use answer::{
 };
 pub use parse::{
     check_keys, deadline_from_json, json_number, json_numbers, parse_json, parse_num, parse_order,
-    parse_param, parse_seconds, parse_steps, parse_vec, query_keys, scene_spec_from_json, Line,
-    LineReader, MAX_LINE_BYTES,
+    parse_param, parse_seconds, parse_steps, parse_vec, parse_work, query_keys,
+    scene_spec_from_json, work_from_json, Line, LineReader, MAX_LINE_BYTES,
 };
 pub use rows::{CheckRows, IntegrateRows};
 
@@ -154,12 +154,13 @@ pub struct Session {
     pub flow: FlowOptions,
     /// Refuse `integrate` queries with more steps than this (0: the contract's maximum).
     pub max_integrate_steps: usize,
-    /// Time budget in seconds of every query that names none (`batch --deadline`); `None`:
-    /// [`default_deadline`] of the query's command.
+    /// Time budget in seconds of every query that names no budget (`batch --deadline`).
     pub deadline: Option<f64>,
-    /// Work allowed to every query ([`crate::work_done`] terms, spec (5.8''')), on top of
-    /// `flow.work_limit`; `None`: no work limit. Unlike a deadline it replays the same on
-    /// every machine (the fuzz target `batch_line` sets it).
+    /// Work allowed to every query that names no budget ([`crate::work_done`] terms, spec
+    /// (5.8''')), on top of `flow.work_limit` (`batch --work`; the fuzz target
+    /// `batch_line` sets it). When neither this nor [`Session::deadline`] is set, a query
+    /// without a budget of its own gets [`default_work`]. Unlike a deadline a work limit
+    /// replays the same on every machine.
     pub work: Option<u64>,
 }
 
@@ -178,18 +179,36 @@ impl std::fmt::Debug for Session {
     }
 }
 
-/// The budget in seconds of a single-step query (`retract`, `step`, `lagrangian`, and each
-/// pair that `check` certifies) when none is given: such a query answers in milliseconds on
-/// ordinary input, so this only stops a pathological one.
+/// The budget in seconds of a single-step query before budgets were counted in work: such
+/// a query answers in milliseconds on ordinary input. Kept for callers that want a
+/// wall-clock backstop of that size; no query gets it by default any more.
 pub const STEP_DEADLINE: f64 = 5.0;
 
-/// The documented default budget of a query, in seconds: [`STEP_DEADLINE`] for the
-/// single-step queries, none for `flow` (bounded by `FlowOptions::max_taylor_steps`) and
-/// `integrate` (bounded by its `steps`).
-pub fn default_deadline(q: &Query) -> Option<f64> {
+/// The default work budget ([`crate::work_done`] terms, spec (5.8''')) of a single-step
+/// query (`retract`, `step`, `lagrangian`, and each pair that `check` certifies) that names
+/// no budget: far above what any ordinary query takes (contract E14 says how it was sized),
+/// so it only stops a pathological one, and stops it at the same point on every machine.
+pub const STEP_WORK: u64 = 1_000_000_000;
+
+/// The budget of one query: a wall-clock `deadline` in seconds and a `work` limit in
+/// [`crate::work_done`] terms, each `None` when not given. A query's budget is the one it
+/// names, else the session's; when neither names a deadline nor a work limit, it is
+/// [`default_work`] (contract E14).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Budget {
+    /// Seconds (> 0), or `None`.
+    pub deadline: Option<f64>,
+    /// Work terms (> 0), or `None`.
+    pub work: Option<u64>,
+}
+
+/// The documented default budget of a query that names none, in work: [`STEP_WORK`] for
+/// the single-step queries, [`STEP_WORK`] per row for `check`, none for `flow` (bounded by
+/// `FlowOptions::max_taylor_steps`) and `integrate` (bounded by its `steps`).
+pub fn default_work(q: &Query) -> Option<u64> {
     match q {
-        Query::Retract(_) | Query::Step(_) | Query::Lagrangian(_) => Some(STEP_DEADLINE),
-        Query::Check { q, .. } => Some(STEP_DEADLINE * q.len().max(1) as f64),
+        Query::Retract(_) | Query::Step(_) | Query::Lagrangian(_) => Some(STEP_WORK),
+        Query::Check { q, .. } => Some(STEP_WORK.saturating_mul(q.len().max(1) as u64)),
         Query::Flow { .. } | Query::Integrate { .. } => None,
     }
 }
@@ -253,22 +272,58 @@ impl Session {
         Ok(sc)
     }
 
-    /// Answer a query, within the session's budget ([`Session::deadline`], else
-    /// [`default_deadline`]). [`Answer::to_json`] is the object its command prints with
-    /// `--json`, [`Answer::to_text`] what it prints without.
+    /// Answer a query, within the session's budget ([`Session::deadline`] and
+    /// [`Session::work`], else [`default_work`]). [`Answer::to_json`] is the object its
+    /// command prints with `--json`, [`Answer::to_text`] what it prints without.
     pub fn answer(&mut self, q: &Query) -> Result<Answer, Error> {
-        self.answer_within(q, None)
+        self.answer_with(q, Budget::default())
     }
 
     /// As [`Session::answer`], within `seconds` when given (a query's own `deadline`).
     /// Past the budget: `Error::over_budget` (exit 3), never a partial answer.
     pub fn answer_within(&mut self, q: &Query, seconds: Option<f64>) -> Result<Answer, Error> {
-        let budget = seconds.or(self.deadline).or_else(|| default_deadline(q));
+        self.answer_with(
+            q,
+            Budget {
+                deadline: seconds,
+                work: None,
+            },
+        )
+    }
+
+    /// The budget a query runs within: its own `deadline` and `work` where given, else the
+    /// session's; when neither names any, [`default_work`] (contract E14).
+    pub fn budget_of(&self, q: &Query, own: Budget) -> Budget {
+        let b = Budget {
+            deadline: own.deadline.or(self.deadline),
+            work: own.work.or(self.work),
+        };
+        if b.deadline.is_none() && b.work.is_none() {
+            Budget {
+                deadline: None,
+                work: default_work(q),
+            }
+        } else {
+            b
+        }
+    }
+
+    /// The validated integrator's settings within a budget: the session's, with the
+    /// earlier deadline and the work allowed from now on.
+    fn options(&self, b: Budget) -> FlowOptions {
         let mut opts = self.flow.clone();
-        opts.deadline = earlier(opts.deadline, budget.and_then(deadline_in));
-        if let Some(w) = self.work {
+        opts.deadline = earlier(opts.deadline, b.deadline.and_then(deadline_in));
+        if let Some(w) = b.work {
             opts = opts.allow_work(w);
         }
+        opts
+    }
+
+    /// As [`Session::answer`], within the query's own budget `own` (its `deadline` and
+    /// `work` keys or flags; [`Session::budget_of`] says which applies). Past the budget:
+    /// exit 3 with reason `budget`, never a partial answer.
+    pub fn answer_with(&mut self, q: &Query, own: Budget) -> Result<Answer, Error> {
+        let opts = self.options(self.budget_of(q, own));
         match q {
             Query::Flow {
                 scene,
@@ -365,7 +420,7 @@ impl Session {
                     max_residual: 0.0,
                 };
                 tr.max_residual =
-                    self.integrate_each(pair, *scheme, *steps, seconds, |r: Row| {
+                    self.integrate_each_with(pair, *scheme, *steps, own, |r: Row| {
                         tr.q.push(r.q.to_vec());
                         tr.p.extend(r.p.map(<[f64]>::to_vec));
                         tr.energy.extend(r.energy);
@@ -388,6 +443,24 @@ impl Session {
         scheme: SchemeKind,
         steps: usize,
         seconds: Option<f64>,
+        row: impl FnMut(Row) -> Result<(), Error>,
+    ) -> Result<f64, Error> {
+        let own = Budget {
+            deadline: seconds,
+            work: None,
+        };
+        self.integrate_each_with(pair, scheme, steps, own, row)
+    }
+
+    /// As [`Session::integrate_each`], within the query's own budget `own` (an
+    /// `integrate` query has no default budget: [`Session::budget_of`]), checked before
+    /// each row.
+    pub fn integrate_each_with(
+        &mut self,
+        pair: &Pair,
+        scheme: SchemeKind,
+        steps: usize,
+        own: Budget,
         mut row: impl FnMut(Row) -> Result<(), Error>,
     ) -> Result<f64, Error> {
         if self.max_integrate_steps > 0 && steps > self.max_integrate_steps {
@@ -399,10 +472,10 @@ impl Session {
                 ),
             ));
         }
-        let deadline = earlier(
-            self.flow.deadline,
-            seconds.or(self.deadline).and_then(deadline_in),
-        );
+        let budget = self.options(Budget {
+            deadline: own.deadline.or(self.deadline),
+            work: own.work.or(self.work),
+        });
         // the scene's structure at both start configurations (spec (3.17))
         let model = self.model(&pair.scene)?;
         for q in [&pair.q0, &pair.q1] {
@@ -418,7 +491,7 @@ impl Session {
             steps,
             &NewtonOptions::default(),
             |r: Row| {
-                Error::check_deadline(deadline)?;
+                budget.check_budget()?;
                 row(r)
             },
         )
@@ -473,7 +546,11 @@ impl Session {
                     Ok(v) => {
                         let id = v.get("id").cloned().unwrap_or(Value::Null);
                         let r = Query::from_json(&v).and_then(|q| {
-                            let a = self.answer_within(&q, deadline_from_json(&v)?)?;
+                            let own = Budget {
+                                deadline: deadline_from_json(&v)?,
+                                work: work_from_json(&v)?,
+                            };
+                            let a = self.answer_with(&q, own)?;
                             answered = Some(q);
                             Ok(a.to_json())
                         });

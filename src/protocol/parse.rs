@@ -149,6 +149,17 @@ fn check_seconds(name: &str, x: f64) -> Result<f64, Error> {
     }
 }
 
+/// A work budget ([`crate::work_done`] terms, spec (5.8''')): an integer >= 1 (`--work`).
+pub fn parse_work(name: &str, s: &str) -> Result<u64, Error> {
+    match s.trim().parse::<u64>() {
+        Ok(w) if w >= 1 => Ok(w),
+        _ => Err(Error::input(format!(
+            "{name}: a work budget must be an integer in 1..={} (got `{s}`)",
+            u64::MAX
+        ))),
+    }
+}
+
 /// A JSON text, read strictly: a key repeated in an object is refused (serde_json would
 /// keep the last one silently), numbers are the nearest f64 (`float_roundtrip`), and a
 /// number out of the f64 range is refused.
@@ -399,7 +410,7 @@ pub fn scene_spec_from_json(o: &Map<String, Value>) -> Result<SceneSpec, Error> 
 }
 
 /// The keys every query may have.
-const COMMON_KEYS: [&str; 5] = ["id", "cmd", "scene", "params", "deadline"];
+const COMMON_KEYS: [&str; 6] = ["id", "cmd", "scene", "params", "deadline", "work"];
 
 /// The keys of a query of command `cmd` (`None` for an unknown command).
 pub fn query_keys(cmd: &str) -> Option<Vec<&'static str>> {
@@ -418,6 +429,24 @@ pub fn deadline_from_json(v: &Value) -> Result<Option<f64>, Error> {
     match v.get("deadline") {
         None => Ok(None),
         Some(d) => check_seconds("`deadline`", json_number("`deadline`", d)?).map(Some),
+    }
+}
+
+/// The `work` key of a batch query (an integer >= 1, [`crate::work_done`] terms), if any.
+pub fn work_from_json(v: &Value) -> Result<Option<u64>, Error> {
+    match v.get("work") {
+        None => Ok(None),
+        Some(w) => match w.as_u64() {
+            Some(n) if n >= 1 => Ok(Some(n)),
+            _ => Err(Error::input(format!(
+                "`work` must be an integer in 1..={}, got {}",
+                u64::MAX,
+                match w {
+                    Value::Number(n) => n.to_string(),
+                    other => kind(other).to_string(),
+                }
+            ))),
+        },
     }
 }
 
@@ -448,6 +477,7 @@ impl Query {
         })?;
         check_keys(o, &keys, &format!("a `{cmd}` query"))?;
         deadline_from_json(v)?;
+        work_from_json(v)?;
         let scene = scene_spec_from_json(o)?;
         let pair = |scene: SceneSpec| -> Result<Pair, Error> {
             Ok(Pair {

@@ -1,7 +1,5 @@
-"""Tests of dalembert_oracle (unittest, standard library only).
-
-Run: DALEMBERT=path/to/dalembert python3 -m unittest test_dalembert_oracle   (in this
-directory; tests/python_client.rs runs it against the build under test).
+"""Tests of the client (`dalembert.Oracle`) and of its outward-rounded helpers, under pytest
+(.ci/run runs them in a virtual environment with the package installed).
 
 References are derived here, independently of the binary: the nonholonomic particle
 (q = (x, y, z), L = |qd|^2 / 2, constraint zd = y xd, spec/contract.md) has the closed form
@@ -30,13 +28,14 @@ import unittest
 from decimal import Decimal, localcontext
 from fractions import Fraction
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from dalembert_oracle import (  # noqa: E402
-    Interval, InputError, Oracle, OracleError, ProtocolError, Uncertified, _ln_bounds,
-    distance, find_binary, observed_order, quotient,
-)
+from unittest import mock
 
-SHARD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shard.py")
+import dalembert._oracle
+from dalembert import (
+    Interval, InputError, Oracle, OracleError, ProtocolError, Uncertified, distance,
+    find_binary, observed_order, quotient,
+)
+from dalembert._intervals import _ln_bounds
 SLACK = Decimal("1e-40")  # bound on the error of the 60-digit references
 
 
@@ -275,9 +274,25 @@ class ProtocolTest(unittest.TestCase):
     def test_output_that_is_not_json_is_refused(self):
         self.assertIn("not JSON", self.run_fake('sys.stdin.readline(); print("hello", flush=True)'))
 
-    def test_binary_from_argument_environment_or_path(self):
+    def test_binary_from_scripts_then_environment_then_path(self):
+        here = find_binary()
+        self.assertTrue(os.path.isfile(here) and os.access(here, os.X_OK), here)
         saved = dict(os.environ)
         try:
+            with tempfile.TemporaryDirectory() as d:
+                exe = os.path.join(d, "dalembert")
+                with open(exe, "w") as f:
+                    f.write("#!/bin/sh\n")
+                os.chmod(exe, 0o755)
+                with mock.patch.object(dalembert._oracle, "_script_dirs", lambda: [d]):
+                    os.environ["DALEMBERT"] = "/x/from-env"
+                    self.assertEqual(find_binary(), exe)  # installed beside the scripts
+        finally:
+            os.environ.clear()
+            os.environ.update(saved)
+        no_scripts = mock.patch.object(dalembert._oracle, "_script_dirs", lambda: [])
+        try:
+            no_scripts.start()
             os.environ["DALEMBERT"] = "/x/from-env"
             self.assertEqual(find_binary("/x/arg"), "/x/arg")
             self.assertEqual(find_binary(), "/x/from-env")
@@ -286,6 +301,7 @@ class ProtocolTest(unittest.TestCase):
             with self.assertRaises(FileNotFoundError):
                 find_binary()
         finally:
+            no_scripts.stop()
             os.environ.clear()
             os.environ.update(saved)
 
@@ -352,99 +368,3 @@ class OutwardTest(unittest.TestCase):
                     self.assertTrue(Decimal(r.lo) <= p <= Decimal(r.hi), (p, r))
         with self.assertRaises(ValueError):
             observed_order(Interval(0.0, 1e-3), Interval(1e-4, 2e-4), 0.2, 0.1)
-
-
-class ShardTest(unittest.TestCase):
-    """shard.py: a campaign split in 3 shards, run in parallel and merged, gives the answers
-    of one unsharded `batch` line for line."""
-
-    def setUp(self):
-        self.tmp = tempfile.TemporaryDirectory()
-        self.dir = self.tmp.name
-        rng = random.Random(21)
-        lines = []
-        for i in range(300):
-            q = {"cmd": "step", "scene": "particle", "q0": [0, 0, 0],
-                 "q1": [rng.uniform(0.1, 0.5), rng.uniform(0.1, 0.5), rng.uniform(0, 0.1)],
-                 "h": 0.25}
-            if i % 3 == 0:
-                q = {"cmd": "flow", "scene": "particle", "q": [0, rng.uniform(-1, 1), 0],
-                     "u": [0.5, 0.5], "t": 0.125}
-            if i % 50 == 7:
-                q["q0" if "q0" in q else "q"] = [0, 0]  # invalid: an error answer, merged too
-            if i % 10 == 1:
-                q = dict(id=f"mine-{i}", **q)  # ids the user gave stay
-            lines.append(json.dumps(q))
-            if i % 40 == 5:
-                lines.append("")  # blank lines are skipped, as batch skips them
-        self.queries = os.path.join(self.dir, "queries.jsonl")
-        with open(self.queries, "w") as f:
-            f.write("\n".join(lines) + "\n")
-
-    def tearDown(self):
-        self.tmp.cleanup()
-
-    def shard(self, *args, check=True):
-        return subprocess.run([sys.executable, SHARD, *args], capture_output=True, text=True,
-                              check=check, cwd=self.dir)
-
-    def test_three_shards_answer_like_one_batch(self):
-        # unsharded: the same lines (ids given) through one batch process
-        one = self.shard("split", self.queries, "1", os.path.join(self.dir, "one")).stdout.split()
-        with open(one[0]) as src:
-            unsharded = subprocess.run([find_binary(), "batch"], stdin=src, capture_output=True,
-                                       text=True, check=True).stdout.splitlines()
-        # sharded, by the script's own runner and by the documented xargs -P recipe
-        ran = self.shard("run", self.queries, "3", "--binary", find_binary()).stdout.splitlines()
-        paths = self.shard("split", self.queries, "3", os.path.join(self.dir, "three")).stdout.split()
-        self.assertEqual(len(paths), 3)
-        subprocess.run(["sh", "-c", f"ls three/shard-*.jsonl | xargs -P 3 -I{{}} sh -c "
-                        f"'\"$0\" batch < {{}} > {{}}.out' {find_binary()}"],
-                       cwd=self.dir, check=True)
-        merged = self.shard("merge", self.queries, *[p + ".out" for p in paths]).stdout
-        merged = merged.splitlines()
-        self.assertEqual(len(unsharded), 300)
-        self.assertEqual(ran, unsharded)
-        self.assertEqual(merged, unsharded)
-        answers = [json.loads(a) for a in merged]
-        # ids: the user's where given, else the input line number (blank lines count)
-        with open(self.queries) as f:
-            numbered = [(n, json.loads(t)) for n, t in enumerate(f, 1) if t.strip()]
-        self.assertEqual([a["id"] for a in answers], [q.get("id", n) for n, q in numbered])
-        self.assertEqual(sum("error" in a for a in answers), 6)
-
-    def test_merge_refuses_missing_duplicate_foreign_and_non_answers(self):
-        paths = self.shard("split", self.queries, "3", os.path.join(self.dir, "s")).stdout.split()
-        for p in paths:
-            with open(p) as src, open(p + ".out", "w") as dst:
-                subprocess.run([find_binary(), "batch"], stdin=src, stdout=dst, check=True)
-        outs = [p + ".out" for p in paths]
-        self.assertEqual(self.shard("merge", self.queries, *outs).returncode, 0)
-        with open(outs[0]) as f:
-            first = f.read().splitlines()
-        cases = {
-            "no answer": first[1:],
-            "a second answer": first + first[-1:],
-            "out of the order": [first[1], first[0]] + first[2:],
-            "which no query has": first + ['{"id": 123456, "ok": {}}'],
-            "not an answer": first + ['{"id": 1}'],
-            "not JSON": first + ["error: something"],
-        }
-        for what, text in cases.items():
-            with open(outs[0], "w") as f:
-                f.write("\n".join(text) + "\n")
-            r = self.shard("merge", self.queries, *outs, check=False)
-            self.assertEqual(r.returncode, 1, what)
-            self.assertIn(what, r.stderr)
-
-    def test_split_refuses_a_repeated_id_and_a_line_that_is_not_an_object(self):
-        for text in ['{"id": 2, "cmd": "flow"}\n{"cmd": "flow"}\n', '[1, 2]\n', '{"a": 1, "a": 2}\n']:
-            with open(self.queries, "w") as f:
-                f.write(text)
-            r = self.shard("split", self.queries, "2", "x", check=False)
-            self.assertEqual(r.returncode, 1, text)
-            self.assertIn("line", r.stderr)
-
-
-if __name__ == "__main__":
-    unittest.main()

@@ -1,0 +1,470 @@
+"""One long-lived `dalembert batch` process per session, its queries as typed method calls.
+
+Errors. An answer with an error raises `InputError` (code 2: invalid input) or `Uncertified`
+(code 3: not certified, including past the budget, `reason == "budget"`); both are
+`OracleError`s with `code`, `message`, `id`, `reason` and `reached`. The session goes on
+after either. A broken session (the process ended, an answer out of order or not JSON)
+raises `ProtocolError`.
+
+Answers are `Answer`s: dicts that also allow attribute access (`a.q2` is `a["q2"]`), with
+each interval of the command's answer (spec/contract.md) turned into an `Interval`; other
+values (`member`, `passed`, `stats`, `integrate`'s float rows) are as the JSON gives them.
+`Answer.array(key)` gives the intervals of a key as a float64 numpy array of [lo, hi].
+
+Throughput. Every query is written to the process as soon as it is made but flushed only
+when an answer is needed (or the buffer is full), and a reader thread keeps the process's
+output drained, so many queries in flight never block either side: `Oracle.run(list)` and
+`Oracle.submit(...)` (one query at a time, answers collected later with `.result()`) both
+pipeline; the plain methods (`step`, `flow`, ...) wait for their answer.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import queue
+import shutil
+import subprocess
+import sys
+import sysconfig
+import threading
+from collections import deque
+from typing import (
+    Any, Deque, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Union,
+)
+
+from ._intervals import intervals, to_array
+
+__all__ = [
+    "Oracle", "Answer", "Pending", "OracleError", "InputError", "Uncertified",
+    "ProtocolError", "find_binary", "Scene", "Vector",
+]
+
+Vector = Sequence[float]
+#: A scene: a built-in name ("particle", "knife", ...) or a dict with the keys of a scene
+#: file (spec chapter 10), sent inline in each query.
+Scene = Union[str, Mapping[str, Any]]
+
+
+class Answer(Mapping[str, Any]):
+    """An `ok` answer: a read-only mapping whose keys are also attributes (`a.q2` is
+    `a["q2"]`). The intervals of a key are built when the key is first read (an answer
+    whose keys are not all read costs only what is read)."""
+
+    __slots__ = ("_raw", "_shape", "_done")
+
+    def __init__(self, raw: Dict[str, Any], shape: Optional[_Shape] = None) -> None:
+        self._raw = raw
+        self._shape = shape or {}
+        self._done: Dict[str, Any] = {}
+
+    def __getitem__(self, key: str) -> Any:
+        done = self._done
+        if key in done:
+            return done[key]
+        v = self._raw[key]
+        s = self._shape.get(key)
+        if s is not None:
+            v = Answer(v, s) if isinstance(s, dict) and isinstance(v, dict) else (
+                v if isinstance(s, dict) else _intervals(v, s))
+        done[key] = v
+        return v
+
+    def __getattr__(self, key: str) -> Any:
+        if key.startswith("_"):
+            raise AttributeError(key)
+        try:
+            return self[key]
+        except KeyError:
+            raise AttributeError(key) from None
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._raw)
+
+    def __len__(self) -> int:
+        return len(self._raw)
+
+    def __repr__(self) -> str:
+        return f"Answer({dict(self.items())!r})"
+
+    def array(self, key: str) -> Any:
+        """The intervals under `key` as a float64 numpy array, last axis [lo, hi] (`(n, 2)`
+        for a vector). Needs numpy."""
+        return to_array(self[key])
+
+
+class OracleError(Exception):
+    """An error answer: `code` (2 or 3), `message` (the binary's text), `id`; for code 3 also
+    `reason` ("budget", "no_proof", "unbounded", "undefined" or "internal") and `reached`
+    (the time a flow had been proved up to, or None): contract E10."""
+
+    def __init__(self, code: Optional[int], message: str, id: Any = None,
+                 reason: Optional[str] = None, reached: Optional[float] = None) -> None:
+        super().__init__(f"code {code}: {message}")
+        self.code, self.message, self.id = code, message, id
+        self.reason, self.reached = reason, reached
+
+
+class InputError(OracleError):
+    """Code 2: invalid input (unknown scene or key, wrong dimension, non-finite number, ...)."""
+
+
+class Uncertified(OracleError):
+    """Code 3: the oracle could not certify (or ran past the query's budget)."""
+
+    @property
+    def past_budget(self) -> bool:
+        """A budget was spent (the work or the deadline, or more steps than allowed): a
+        larger budget may answer."""
+        return self.reason == "budget"
+
+
+class ProtocolError(RuntimeError):
+    """The session is broken: the process ended, or an answer is out of order or not JSON."""
+
+
+# Where the intervals are in each command's answer: an int is a nesting depth (0 = I,
+# 1 = [I], 2 = [[I]]; a null in a list stays None), a dict the shape of a nested object.
+_Shape = Dict[str, Any]
+_LADDER: _Shape = {"error": 1, "order": 1}
+_SHAPES: Dict[str, _Shape] = {
+    "flow": {"q": 1, "u": 1, "v": 1, "jacobian": 2},
+    "retract": {"u0": 1, "v0": 1, "v1": 1, "defect": 1, "q1": 1},
+    "step": {"q1": 1, "q2": 1, "p_minus": 1, "p_plus": 1},
+    "lagrangian": {"l": 0, "defect": 1},
+    "check": {"distance": 1, "max_distance": 0, "defect": 2, "energy_error": 1,
+              "max_defect": 0},
+    "order": {"local": _LADDER, "global": {"ladder": _LADDER}},
+    "integrate": {},
+}
+
+
+def _intervals(value: Any, depth: int) -> Any:
+    if value is None:
+        return None
+    try:
+        if depth == 1 and None not in value:
+            return intervals(value)
+        if depth == 0:
+            return intervals([value])[0]
+    except (ValueError, TypeError):
+        raise ProtocolError(f"expected intervals [lo, hi], got {value!r}") from None
+    return [_intervals(v, depth - 1) for v in value]
+
+
+def _answer(cmd: str, ok: Dict[str, Any]) -> Answer:
+    if cmd == "flow" and "at" in ok:
+        # dense output: one answer per stop, with keys t, q, u, v
+        ok = {**ok, "at": [_answer("flow", stop) for stop in ok["at"]]}
+    return Answer(ok, _SHAPES.get(cmd, {}))
+
+
+def _error(err: Dict[str, Any], id: Any) -> OracleError:
+    code, message = err.get("code"), err.get("message", "")
+    cls = {2: InputError, 3: Uncertified}.get(code, OracleError) if isinstance(code, int) \
+        else OracleError
+    return cls(code, message, id, err.get("reason"), err.get("reached"))
+
+
+def _script_dirs() -> List[str]:
+    dirs = [sysconfig.get_path("scripts")]
+    try:
+        dirs.append(sysconfig.get_path("scripts", f"{os.name}_user"))
+    except KeyError:
+        pass
+    return [d for d in dirs if d]
+
+
+def find_binary(binary: Optional[str] = None) -> str:
+    """The `dalembert` binary: `binary` if given; else the one installed with this package
+    (next to the interpreter's scripts: sysconfig's "scripts" path, or the user scheme's);
+    else $DALEMBERT; else `dalembert` on PATH."""
+    if binary:
+        return binary
+    exe = "dalembert.exe" if sys.platform == "win32" else "dalembert"
+    for d in _script_dirs():
+        p = os.path.join(d, exe)
+        if os.path.isfile(p) and os.access(p, os.X_OK):
+            return p
+    found = os.environ.get("DALEMBERT") or shutil.which("dalembert")
+    if not found:
+        raise FileNotFoundError(
+            "no dalembert binary: install this package with pip (it ships the binary), "
+            "pass binary=, set $DALEMBERT or put `dalembert` on PATH")
+    return found
+
+
+class Pending:
+    """A query sent and not yet answered (`Oracle.submit`): `result()` waits for its answer
+    and returns the `Answer` or raises the `OracleError`."""
+
+    __slots__ = ("_oracle", "id", "cmd", "_done", "_value")
+
+    def __init__(self, oracle: "Oracle", id: Any, cmd: Optional[str]) -> None:
+        self._oracle, self.id, self.cmd = oracle, id, cmd
+        self._done = False
+        self._value: Any = None
+
+    def done(self) -> bool:
+        return self._done
+
+    def result(self) -> Answer:
+        if not self._done:
+            self._oracle._wait(self)
+        if isinstance(self._value, BaseException):
+            raise self._value
+        return self._value  # type: ignore[no-any-return]
+
+    def outcome(self) -> Union[Answer, OracleError]:
+        """The `Answer`, or the `OracleError` returned (not raised)."""
+        try:
+            return self.result()
+        except OracleError as e:
+            return e
+
+
+_FLUSH_BYTES = 1 << 16
+_ENCODE = json.JSONEncoder(allow_nan=False, separators=(",", ":")).encode
+
+
+class Oracle:
+    """One `dalembert batch` process, kept for the life of the object (use `with`, or call
+    `close()`). `scene` and `params` given here are the defaults of every query; a scene is
+    a built-in name or a dict with the keys of a scene file (an inline scene). `work` (an
+    integer, Taylor terms) and `deadline` (seconds) are the budget of every query that
+    names none (`batch --work`, `--deadline`); with neither, the binary's default work
+    budget applies, which answers the same on every machine (contract E14)."""
+
+    def __init__(self, binary: Optional[str] = None, scene: Optional[Scene] = None,
+                 params: Optional[Mapping[str, float]] = None,
+                 deadline: Optional[float] = None, work: Optional[int] = None,
+                 jobs: Optional[int] = None) -> None:
+        self.binary = find_binary(binary)
+        args = [self.binary, "batch"]
+        if jobs is not None:
+            args += ["--jobs", str(int(jobs))]
+        if deadline is not None:
+            args += ["--deadline", repr(float(deadline))]
+        if work is not None:
+            args += ["--work", str(int(work))]
+        self.scene, self.params = scene, params
+        self._p = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                   bufsize=0)
+        self._out: "queue.SimpleQueue[Optional[bytes]]" = queue.SimpleQueue()
+        self._reader = threading.Thread(target=self._read_all, daemon=True)
+        self._reader.start()
+        self._lines: Deque[bytes] = deque()
+        self._rest = b""
+        self._buf: List[bytes] = []
+        self._buf_bytes = 0
+        self._inflight: Deque[Pending] = deque()
+        self._ended = False
+        self._next = 0
+        self.queries = 0
+
+    # -- the queries -------------------------------------------------------------------
+    def flow(self, q: Vector, u: Vector, t: Optional[float] = None, *,
+             times: Optional[Vector] = None, order: Optional[int] = None,
+             jacobian: Optional[bool] = None, **common: Any) -> Answer:
+        """Exact state at time t from q with quasi-velocities u: keys q, u, v (, jacobian);
+        with times=[t1, t2, ..] instead of t, key at (one answer per time: t, q, u, v)."""
+        return self.ask(self.query("flow", q=q, u=u, t=t, times=times, order=order,
+                                   jacobian=jacobian, **common))
+
+    def retract(self, q0: Vector, q1: Vector, h: float, **common: Any) -> Answer:
+        """(q0, q1) onto M_h^{e,nh}: keys u0, v0, v1, defect, member, q1."""
+        return self.ask(self.query("retract", q0=q0, q1=q1, h=h, **common))
+
+    def step(self, q0: Vector, q1: Vector, h: float, **common: Any) -> Answer:
+        """The exact discrete flow: keys q1 (the point of M_h^{e,nh}), q2, p_minus, p_plus."""
+        return self.ask(self.query("step", q0=q0, q1=q1, h=h, **common))
+
+    def lagrangian(self, q0: Vector, q1: Vector, h: float, **common: Any) -> Answer:
+        """The exact discrete Lagrangian: keys l, defect."""
+        return self.ask(self.query("lagrangian", q0=q0, q1=q1, h=h, **common))
+
+    def integrate(self, q0: Vector, q1: Vector, h: float, steps: int, scheme: str = "dla",
+                  **common: Any) -> Answer:
+        """The built-in scheme's float trajectory: key q (rows of floats), p, energy, ..."""
+        return self.ask(self.query("integrate", q0=q0, q1=q1, h=h, steps=steps,
+                                   scheme=scheme, **common))
+
+    def check(self, q: Sequence[Vector], h: Optional[float] = None, *,
+              t: Optional[Vector] = None, tol: Optional[float] = None,
+              defect_tol: Optional[float] = None, pairs: Optional[bool] = None,
+              **common: Any) -> Answer:
+        """Certified verdict on a trajectory q (rows) of step h, or at times t (one per
+        row): keys distance, max_distance, defect, max_defect, energy_error, passed (False
+        when the distance is proved beyond tol or a pair's defect beyond defect_tol)."""
+        return self.ask(self.query("check", q=q, h=h, t=t, tol=tol, defect_tol=defect_tol,
+                                   pairs=pairs, **common))
+
+    def order(self, q: Vector, u: Vector, scheme: str = "dla", *, h: Optional[float] = None,
+              rungs: Optional[int] = None, **common: Any) -> Answer:
+        """Certified local and global order of DLA or MLA (the batch `order` query, the
+        fields of `dalembert order --json`): keys scene, scheme, local {h, error, order},
+        global {t, ladder {h, error, order}}; an order not proved is None."""
+        return self.ask(self.query("order", q=q, u=u, scheme=scheme, h=h, rungs=rungs,
+                                   **common))
+
+    def scenes(self, scene_file: Optional[str] = None) -> Dict[str, Any]:
+        """`dalembert scenes --json`: every built-in scene (or the scene file given) with
+        its coordinates, parameters, Lagrangian, constraints and basis of D."""
+        args = [self.binary, "scenes", "--json"]
+        if scene_file is not None:
+            args += ["--scene-file", scene_file]
+        out = subprocess.run(args, capture_output=True, text=True)
+        if out.returncode != 0:
+            raise _error({"code": out.returncode, "message": out.stderr.strip()}, None)
+        return json.loads(out.stdout)  # type: ignore[no-any-return]
+
+    # -- the protocol ------------------------------------------------------------------
+    def query(self, cmd: str, *, scene: Optional[Scene] = None,
+              params: Optional[Mapping[str, float]] = None, deadline: Optional[float] = None,
+              work: Optional[int] = None, **keys: Any) -> Dict[str, Any]:
+        """The query object (a dict) for `cmd`; None values are left out."""
+        q: Dict[str, Any] = {"cmd": cmd, "scene": scene if scene is not None else self.scene}
+        q["params"] = params if params is not None else self.params
+        q["deadline"] = deadline
+        q["work"] = work
+        q.update(keys)
+        return {k: v for k, v in q.items() if v is not None}
+
+    def submit(self, query: Mapping[str, Any]) -> Pending:
+        """Send one query (a dict without `id`, e.g. from `query`) without waiting: its
+        answer is read when `.result()` is called. Queries sent this way are pipelined."""
+        q = dict(query)
+        self._next += 1
+        q["id"] = self._next
+        try:
+            line = _ENCODE(q)
+        except ValueError as e:  # NaN or infinity: invalid input, as the contract says
+            raise InputError(2, f"non-finite number in the query: {e}", self._next) from None
+        return self._send(line.encode(), self._next, q.get("cmd"))
+
+    def ask(self, query: Mapping[str, Any]) -> Answer:
+        """Send one query (a dict without `id`), return its `Answer` or raise."""
+        return self.submit(query).result()
+
+    def ask_line(self, line: str) -> Answer:
+        """Send one raw line as it is (tests, hand-written queries); its answer's id must be
+        the line's own `id`, or null when the line has none or is not a JSON object."""
+        if "\n" in line or not line.strip():
+            raise ValueError("one non-blank line, without a newline")
+        try:
+            obj = json.loads(line)
+        except ValueError:
+            obj = None
+        obj = obj if isinstance(obj, dict) else {}
+        return self._send(line.encode(), obj.get("id"), obj.get("cmd")).result()
+
+    def run(self, queries: Iterable[Mapping[str, Any]]) -> List[Union[Answer, OracleError]]:
+        """Many queries at once (pipelined). Returns one item per query, in order: its
+        `Answer` or the `OracleError` (not raised)."""
+        pending = [self.submit(q) for q in queries]
+        return [p.outcome() for p in pending]
+
+    def _send(self, line: bytes, id: Any, cmd: Optional[str]) -> Pending:
+        if self._ended:
+            raise ProtocolError("the batch process is closed")
+        p = Pending(self, id, cmd)
+        self.queries += 1
+        self._inflight.append(p)
+        self._buf.append(line)
+        self._buf.append(b"\n")
+        self._buf_bytes += len(line) + 1
+        if self._buf_bytes >= _FLUSH_BYTES:
+            self._flush()
+        return p
+
+    def _flush(self) -> None:
+        if not self._buf:
+            return
+        data = b"".join(self._buf)
+        self._buf, self._buf_bytes = [], 0
+        try:
+            assert self._p.stdin is not None
+            view = memoryview(data)
+            while view:  # an unbuffered pipe may take part of the data at a time
+                n = self._p.stdin.write(view)
+                view = view[n or 0:]
+        except (BrokenPipeError, ValueError, OSError) as e:
+            raise ProtocolError(f"the batch process is gone: {e}") from None
+
+    def _read_all(self) -> None:
+        # whole chunks, not lines: one hand-over between the threads per chunk
+        assert self._p.stdout is not None
+        fd = self._p.stdout.fileno()
+        while True:
+            chunk = os.read(fd, 1 << 16)
+            if not chunk:
+                break
+            self._out.put(chunk)
+        self._out.put(None)
+
+    def _next_line(self) -> Optional[bytes]:
+        """The next answer line, None once the process's output has ended."""
+        while True:
+            if self._lines:
+                return self._lines.popleft()
+            chunk = self._out.get()
+            if chunk is None:
+                self._out.put(None)  # stays ended for every later call
+                if self._rest:
+                    rest, self._rest = self._rest, b""
+                    return rest
+                return None
+            parts = (self._rest + chunk).split(b"\n")
+            self._rest = parts.pop()
+            self._lines.extend(parts)
+
+    def _wait(self, target: Pending) -> None:
+        self._flush()
+        while not target._done:
+            p = self._inflight.popleft()
+            line = self._next_line()
+            if line is None:
+                self._inflight.appendleft(p)
+                raise ProtocolError(f"the batch process ended (exit {self._p.poll()})")
+            p._value = self._result(line, p)
+            p._done = True
+
+    @staticmethod
+    def _result(line: bytes, p: Pending) -> Union[Answer, BaseException]:
+        try:
+            answer = json.loads(line)
+        except ValueError:
+            return ProtocolError(f"an answer that is not JSON: {line!r}")
+        if not isinstance(answer, dict) or answer.get("id", ...) != p.id:
+            return ProtocolError(f"answer {answer!r} is not the answer to id {p.id!r}")
+        if "error" in answer:
+            return _error(answer["error"], p.id)
+        if "ok" not in answer:
+            return ProtocolError(f"an answer without ok or error: {answer!r}")
+        return _answer(p.cmd or "", answer["ok"])
+
+    def close(self) -> int:
+        """Answer what is in flight, end the input, wait for the process; its exit status
+        (0 when all went well)."""
+        if not self._ended:
+            self._ended = True
+            try:
+                self._flush()
+            except ProtocolError:
+                pass
+            if self._p.stdin and not self._p.stdin.closed:
+                try:
+                    self._p.stdin.close()
+                except BrokenPipeError:
+                    pass
+        status = self._p.wait()
+        self._reader.join()
+        if self._p.stdout:
+            self._p.stdout.close()
+        return status
+
+    def __enter__(self) -> "Oracle":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
