@@ -18,7 +18,7 @@ pub use system::System;
 use crate::progress::Progress;
 use crate::scalar::point;
 use crate::Error;
-pub(crate) use control::too_many;
+pub(crate) use control::{too_many, Explain};
 use control::{flow_set_general, C1};
 use inari::Interval;
 use linalg::IMat;
@@ -147,7 +147,7 @@ pub fn flow_set_span(
     span: Interval,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, FlowStats), Error> {
-    flow_set_span_memo(sys, set, span, opts, &mut None)
+    flow_set_span_memo(sys, set, span, opts, &mut None, None)
 }
 
 /// [`flow_set_span`] with the step rule's memory (5.8) taken from and left in `memo`, so
@@ -159,6 +159,7 @@ pub(crate) fn flow_set_span_memo(
     span: Interval,
     opts: &FlowOptions,
     memo: &mut Option<(f64, f64)>,
+    explain: Option<Explain<'_>>,
 ) -> Result<(LohnerSet, FlowStats), Error> {
     if span.is_empty() || span.inf() < 0.0 || !span.sup().is_finite() {
         return Err(Error::input(format!(
@@ -167,7 +168,7 @@ pub(crate) fn flow_set_span_memo(
             span.sup()
         )));
     }
-    let (set, _, stats) = flow_set_general(sys, set, span, opts, C1::No, memo)?;
+    let (set, _, stats) = flow_set_general(sys, set, span, opts, C1::No, memo, explain)?;
     Ok((set, stats))
 }
 
@@ -179,7 +180,8 @@ pub fn flow_set_c1(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, IMat, FlowStats), Error> {
-    let (set, jac, stats) = flow_set_general(sys, set, point(t), opts, C1::Cheap, &mut None)?;
+    let (set, jac, stats) =
+        flow_set_general(sys, set, point(t), opts, C1::Cheap, &mut None, None)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }
@@ -193,7 +195,19 @@ pub fn flow_set_jacobian(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, IMat, FlowStats), Error> {
-    let (set, jac, stats) = flow_set_general(sys, set, point(t), opts, C1::Precise, &mut None)?;
+    flow_set_jacobian_explained(sys, set, t, opts, None)
+}
+
+/// [`flow_set_jacobian`] with a refusal's cause asked of `explain` (see [`Explain`]).
+pub(crate) fn flow_set_jacobian_explained(
+    sys: &System,
+    set: LohnerSet,
+    t: f64,
+    opts: &FlowOptions,
+    explain: Option<Explain<'_>>,
+) -> Result<(LohnerSet, IMat, FlowStats), Error> {
+    let (set, jac, stats) =
+        flow_set_general(sys, set, point(t), opts, C1::Precise, &mut None, explain)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }

@@ -7,6 +7,7 @@
 //! `parse.rs` the strict readers of flags, JSON and batch lines.
 
 mod answer;
+pub mod order;
 mod parse;
 mod rows;
 
@@ -117,6 +118,22 @@ pub enum Query {
         /// Also the per-pair defects and energies (default true).
         pairs: bool,
     },
+    /// `order` (contract E15): the certified local and global order of DLA or MLA (spec
+    /// chapter 11).
+    Order {
+        /// The scene.
+        scene: SceneSpec,
+        /// DLA or MLA.
+        scheme: SchemeKind,
+        /// The initial configuration (n numbers).
+        q: Vec<f64>,
+        /// The initial quasi-velocities (n - k numbers).
+        u: Vec<f64>,
+        /// The largest step of the local ladder, `0 < h <= 1`.
+        h: f64,
+        /// The rungs of the local ladder, 2 to 12.
+        rungs: usize,
+    },
 }
 
 /// The times of a `flow` query.
@@ -175,7 +192,7 @@ pub fn default_deadline(q: &Query) -> Option<f64> {
     match q {
         Query::Retract(_) | Query::Step(_) | Query::Lagrangian(_) => Some(STEP_DEADLINE),
         Query::Check { q, .. } => Some(STEP_DEADLINE * q.len().max(1) as f64),
-        Query::Flow { .. } | Query::Integrate { .. } => None,
+        Query::Flow { .. } | Query::Integrate { .. } | Query::Order { .. } => None,
     }
 }
 
@@ -335,6 +352,19 @@ impl Session {
                     tolerances: tols,
                     passed,
                 })
+            }
+            Query::Order {
+                scene,
+                scheme,
+                q,
+                u,
+                h,
+                rungs,
+            } => {
+                let model = self.model(scene)?;
+                let s = self.scheme(scene, *scheme)?;
+                let a = order::answer(&model, &s, q, u, *h, *rungs, &opts)?;
+                Ok(Answer::Order(a))
             }
             Query::Integrate {
                 pair,
