@@ -171,7 +171,7 @@ fn derived_pivot<Sc: Scene + ?Sized>(
         let mu = sc.constraints(q);
         let block: Mat<Tracer> = mu
             .iter()
-            .map(|r| dep.iter().map(|&c| r[c].clone()).collect())
+            .map(|r| dep.iter().map(|&c| r[c]).collect())
             .collect();
         vec![det(&block)]
     });
@@ -663,7 +663,7 @@ impl Model {
             // fail on them from overestimation alone
             if r.iter()
                 .zip(q)
-                .any(|(r, qi)| !(*r <= WIDEST * (1.0 + qi.mag())))
+                .any(|(r, qi)| r.is_nan() || *r > WIDEST * (1.0 + qi.mag()))
             {
                 break;
             }
