@@ -189,6 +189,9 @@ pub fn flow_set_c1(
 /// As [`flow_set_c1`] with each step's Jacobian enclosed to the rounding level (its
 /// variational order raised until its remainder is below 16 ulps of its size, spec eq.
 /// (5.6)): slower, but the derivative stays narrow over long times (spec Theorem 5.3).
+// used through the `internals` feature (and its tests); the crate's own flows go through
+// `flow_set_jacobian_explained`
+#[cfg_attr(not(feature = "internals"), allow(dead_code))]
 pub fn flow_set_jacobian(
     sys: &System,
     set: LohnerSet,
