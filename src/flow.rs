@@ -4,7 +4,7 @@
 //! query makes (dimensions, finite numbers, the scene at `q`, spec (3.17)).
 
 use crate::enclosure::{
-    flow_set_jacobian, flow_set_span_memo, too_many, FlowOptions, FlowStats, LohnerSet,
+    flow_set_jacobian_explained, flow_set_span_memo, too_many, FlowOptions, FlowStats, LohnerSet,
 };
 use crate::interval::{wrap, wrap_rows};
 use crate::model::Model;
@@ -33,9 +33,11 @@ pub struct FlowEnclosure {
 /// # Containment
 /// For the exact f64 inputs, the returned `q`, `u`, `v` contain the exact `q(t)`, the
 /// quasi-velocities `u(t)` and `qd(t) = E(q(t))^T u(t)` of the trajectory (spec Theorem 5.1);
-/// the trajectory is proved to exist on `[0, t]`. Fails with `Error::Input` for malformed
-/// input and `Error::Uncertified` when a step cannot be proved (singular data, blow-up,
-/// too many steps): never with a box that was not proved.
+/// the trajectory is proved to exist between 0 and `t`. A negative `t` flows backward (spec
+/// (5.17)). Fails with `Error::Input` for malformed input and `Error::Uncertified` when a
+/// step cannot be proved: singular data near the state reached ([`Reason::Undefined`],
+/// naming them, spec (5.18)), blow-up, too many steps ([`Reason::Budget`]); never with a
+/// box that was not proved.
 ///
 /// # Example
 /// ```
@@ -60,16 +62,18 @@ pub fn flow(
 }
 
 /// Dense output: enclosures of the exact nonholonomic state at each of the increasing
-/// times `0 <= t_1 < t_2 < ...` from `q(0) = q`, `qd(0) = sum_a u_a e_a(q)`, in one
-/// validated integration: the set at `t_i` is carried on to `t_{i+1}` over the span
-/// `t_{i+1} - t_i`, enclosed by outward rounding (spec eq. (5.16)). Each answer's `stats`
-/// count the steps from 0 to its time. [`flow`] is the one-time case.
+/// times `t_1 < t_2 < ...` from `q(0) = q`, `qd(0) = sum_a u_a e_a(q)`, in one
+/// validated integration each way: the set at `t_i >= 0` is carried on to `t_{i+1}` over
+/// the span `t_{i+1} - t_i`, enclosed by outward rounding (spec eq. (5.16)); the times
+/// below 0 are reached the same way by the time-reversed field from 0 down, nearest
+/// first (spec (5.17)). Each answer's `stats` count the steps from 0 to its time. [`flow`]
+/// is the one-time case.
 ///
 /// # Containment
 /// For the exact f64 inputs, the `i`-th enclosure contains the exact `q(t_i)`, `u(t_i)`,
-/// `qd(t_i)` (spec Theorem 5.1, eq. (5.16)); the trajectory is proved to exist on
-/// `[0, t_last]`. `Error::Input` for malformed input (no times, a time not finite or < 0,
-/// times not strictly increasing); `Error::Uncertified` as [`flow`].
+/// `qd(t_i)` (spec Theorem 5.1, eqs. (5.16), (5.17)); the trajectory is proved to exist on
+/// `[min(0, t_1), max(0, t_last)]`. `Error::Input` for malformed input (no times, a time
+/// not finite, times not strictly increasing); `Error::Uncertified` as [`flow`].
 pub fn flow_at(
     model: &Model,
     q: &[f64],
@@ -77,10 +81,14 @@ pub fn flow_at(
     times: &[f64],
     opts: &FlowOptions,
 ) -> Result<Vec<FlowEnclosure>, Error> {
-    let last = *times.last().ok_or_else(|| {
-        Error::input_at(InputKind::Times, "no time given: at least one is needed")
-    })?;
-    let x = flow_query(model, q, u, times[0])?;
+    let x = flow_query(
+        model,
+        q,
+        u,
+        *times.first().ok_or_else(|| {
+            Error::input_at(InputKind::Times, "no time given: at least one is needed")
+        })?,
+    )?;
     for (i, w) in times.windows(2).enumerate() {
         if !w[1].is_finite() || w[1] <= w[0] {
             return Err(Error::input_at(
@@ -95,7 +103,42 @@ pub fn flow_at(
             ));
         }
     }
-    let mut set = LohnerSet::point(&x);
+    // times below 0 backward (by the reversed field, nearest first), the others forward
+    let split = times.partition_point(|t| *t < 0.0);
+    let back: Vec<f64> = times[..split].iter().rev().map(|t| -t).collect();
+    let mut out = Vec::with_capacity(times.len());
+    let mut steps = 0;
+    if !back.is_empty() {
+        let (mut e, s) = carry(model, model.reversed(), -1.0, &x, &back, opts)?;
+        e.reverse();
+        out.extend(e);
+        steps = s;
+    }
+    if split < times.len() {
+        let rest = FlowOptions {
+            max_taylor_steps: opts.max_taylor_steps.saturating_sub(steps),
+            ..opts.clone()
+        };
+        out.extend(carry(model, &model.dynamics, 1.0, &x, &times[split..], &rest)?.0);
+    }
+    Ok(out)
+}
+
+/// The enclosures at the increasing times `times >= 0` of the flow of `sys` from the point
+/// `x`: the model's field (`sign` 1) or the reversed one (`sign` -1, the times then measured
+/// backward: a refusal's `reached` and message carry the sign). Also the steps taken.
+fn carry(
+    model: &Model,
+    sys: &crate::enclosure::System,
+    sign: f64,
+    x: &[f64],
+    times: &[f64],
+    opts: &FlowOptions,
+) -> Result<(Vec<FlowEnclosure>, usize), Error> {
+    let last = *times
+        .last()
+        .ok_or_else(|| Error::input("no time given: at least one is needed"))?;
+    let mut set = LohnerSet::point(x);
     let mut total = FlowStats::default();
     let mut out = Vec::with_capacity(times.len());
     let mut from = 0.0;
@@ -116,22 +159,28 @@ pub fn flow_at(
             max_taylor_steps: opts.max_taylor_steps.saturating_sub(total.steps),
             ..opts.clone()
         };
+        // why the steps collapsed, if the scene's data say so
+        let explain = |x: &[inari::Interval], h: f64, done: f64| {
+            explained(model, x, h, sign * (point(from) + point(done)).inf())
+        };
         // the exact span t - from, enclosed (exact when Sterbenz's lemma applies)
         let span = point(t) - point(from);
-        let (next, stats) = flow_set_span_memo(&model.dynamics, set, span, &leg, &mut memo)
-            .map_err(|e| match &e {
-                // proved up to `from` and then up to `reached` into the leg
-                Error::Uncertified(r) => {
-                    let reached = (point(from) + point(r.reached.unwrap_or(0.0))).inf();
-                    // the step limit is the whole integration's: say so with its end
-                    let e = if r.limit == Some(Limit::TaylorSteps) {
-                        too_many(opts.max_taylor_steps, last)
-                    } else {
-                        e
-                    };
-                    e.reached(reached)
+        let (next, stats) = flow_set_span_memo(sys, set, span, &leg, &mut memo, Some(&explain))
+            .map_err(|e| {
+                match &e {
+                    // proved up to `from` and then up to `reached` into the leg
+                    Error::Uncertified(r) => {
+                        let reached = (point(from) + point(r.reached.unwrap_or(0.0))).inf();
+                        // the step limit is the whole integration's: say so with its end
+                        let e = if r.limit == Some(Limit::TaylorSteps) {
+                            too_many(opts.max_taylor_steps, sign * last)
+                        } else {
+                            e
+                        };
+                        e.reached(sign * reached)
+                    }
+                    _ => e,
                 }
-                _ => e,
             })?;
         set = next;
         total = FlowStats {
@@ -150,11 +199,29 @@ pub fn flow_at(
         out.push(finish(model, &set, total.clone())?);
         from = t;
     }
-    Ok(out)
+    Ok((out, total.steps))
+}
+
+/// The refusal of a flow stopped at time `at` in the state box `x` with steps of size `h`
+/// (0: none taken), when the scene's data say why (spec (5.18)).
+fn explained(model: &Model, x: &[inari::Interval], h: f64, at: f64) -> Option<Error> {
+    let why = model.explain_stop(x, h)?;
+    // (+ 0.0: a start backward is at t = 0, not -0)
+    let at = at + 0.0;
+    let steps = if h > 0.0 {
+        format!("steps of {h:e}")
+    } else {
+        "no step taken".to_string()
+    };
+    Some(Error::refused(
+        Reason::Undefined,
+        format!("the flow cannot be carried on at t = {at} ({steps}): {why}"),
+    ))
 }
 
 /// The initial state `x = (q, u)` of a flow query, after the checks every flow makes: the
-/// state (dimensions, finite numbers), the scene at `q` (spec eq. (3.17)), and `t >= 0`.
+/// state (dimensions, finite numbers), the scene at `q` (spec eq. (3.17)), and `t` finite
+/// (of either sign: a negative time flows backward, spec (5.17)).
 fn flow_query(model: &Model, q: &[f64], u: &[f64], t: f64) -> Result<Vec<f64>, Error> {
     check_state(model, q, u)?;
     model.check_at(
@@ -162,7 +229,7 @@ fn flow_query(model: &Model, q: &[f64], u: &[f64], t: f64) -> Result<Vec<f64>, E
             .map(|x| crate::scalar::point(*x))
             .collect::<Vec<_>>(),
     )?;
-    if !t.is_finite() || t < 0.0 {
+    if !t.is_finite() {
         return Err(Error::input_at(
             InputKind::Number("t".into()),
             format!("time must be finite and >= 0 (got {t})"),
@@ -231,7 +298,7 @@ fn finish(model: &Model, set: &LohnerSet, stats: FlowStats) -> Result<FlowEnclos
 ///
 /// # Containment
 /// Theorem 5.1 for the state, and the true derivative lies in the returned matrix (spec
-/// Theorem 5.3). Fails as [`flow`] does.
+/// Theorem 5.3); a negative `t` flows backward (spec (5.17)). Fails as [`flow`] does.
 pub fn flow_c1(
     model: &Model,
     q: &[f64],
@@ -240,7 +307,29 @@ pub fn flow_c1(
     opts: &FlowOptions,
 ) -> Result<(FlowEnclosure, Vec<Vec<Interval>>), Error> {
     let x = flow_query(model, q, u, t)?;
-    let (set, jac, stats) = flow_set_jacobian(&model.dynamics, LohnerSet::point(&x), t, opts)?;
+    // backward: the reversed field over |t| (spec (5.17)), whose derivative is that of the
+    // flow over t
+    let (sys, sign) = if t < 0.0 {
+        (model.reversed(), -1.0)
+    } else {
+        (&model.dynamics, 1.0)
+    };
+    let explain = |x: &[inari::Interval], h: f64, done: f64| explained(model, x, h, sign * done);
+    let (set, jac, stats) =
+        flow_set_jacobian_explained(sys, LohnerSet::point(&x), t.abs(), opts, Some(&explain))
+            .map_err(|e| match e {
+                Error::Uncertified(ref r) if sign < 0.0 => {
+                    let reached = -r.reached.unwrap_or(0.0);
+                    // the step limit's message with the time asked for
+                    let e = if r.limit == Some(Limit::TaylorSteps) {
+                        too_many(opts.max_taylor_steps, t)
+                    } else {
+                        e
+                    };
+                    e.reached(reached)
+                }
+                e => e,
+            })?;
     Ok((finish(model, &set, stats)?, wrap_rows(jac.to_rows())))
 }
 

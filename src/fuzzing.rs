@@ -612,6 +612,31 @@ fn used_exactly(given: &Value, q: &Query) {
                 ["h", "t", "q", "tol", "defect_tol", "pairs"].as_slice(),
             )
         }
+        Query::Order {
+            scene,
+            scheme,
+            q,
+            u,
+            h,
+            rungs,
+        } => {
+            scene_of(scene);
+            vec_bits("q", q);
+            vec_bits("u", u);
+            if o.get("h").is_some() {
+                assert_eq!(bits("h"), h.to_bits());
+            }
+            if let Some(r) = o.get("rungs") {
+                assert_eq!(r.as_u64(), Some(*rungs as u64));
+            }
+            let named: SchemeKind = o["scheme"]
+                .as_str()
+                .expect("a string")
+                .parse()
+                .expect("a scheme");
+            assert_eq!(named, *scheme);
+            ("order", ["scheme", "q", "u", "h", "rungs"].as_slice())
+        }
     };
     assert_eq!(o["cmd"].as_str(), Some(cmd));
     for k in o.keys() {

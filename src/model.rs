@@ -5,7 +5,7 @@
 use crate::dynamics::Geometry;
 use crate::enclosure::System;
 use crate::scalar::{point, Scalar};
-use crate::scene::{Description, Mat, Scene};
+use crate::scene::{derived_basis, det, Description, Mat, Scene};
 use crate::tape::{finite, Tape, Tracer};
 use crate::{Error, InputKind};
 use inari::Interval;
@@ -32,6 +32,9 @@ pub struct Model {
     pub(crate) k: usize,
     /// x' = F(x), x = (q, u) (spec eq. (4.4)), and its variational equation.
     pub(crate) dynamics: System,
+    /// x' = -F(x), the time-reversed field, recorded on the first backward flow (spec
+    /// (5.17)).
+    reversed: std::sync::OnceLock<System>,
     /// The same with the action: (q, u, l)' = (F(q, u), L(q, E^T u)) (spec eq. (6.8)).
     pub(crate) with_action: System,
     /// x -> v = E(q)^T u (spec eq. (4.2)).
@@ -59,6 +62,8 @@ impl std::fmt::Debug for Model {
             .finish_non_exhaustive()
     }
 }
+/// The widest box [`Model::explain_stop`] looks at, relative to `1 + |q_i|`.
+const WIDEST: f64 = 1.0 / 64.0;
 
 /// Largest number of coordinates a scene may have.
 pub const MAX_DIM: usize = 64;
@@ -77,6 +82,10 @@ pub struct CompiledScene {
     one_form: Option<Tape>,
     constraints: Tape,
     basis: Tape,
+    /// When the basis is the one derived from the constraints (spec eq. (3.15)): the free
+    /// coordinates and `q -> det B`, B the pivot block (the constraint columns of the other
+    /// coordinates). Read only to name the cause of a refusal.
+    derived: Option<(Vec<usize>, Tape)>,
 }
 
 fn rows<S: Clone>(flat: Vec<S>, r: usize, c: usize) -> Mat<S> {
@@ -130,6 +139,53 @@ fn samples(n: usize) -> Vec<Vec<f64>> {
                 .collect()
         })
         .collect()
+}
+
+/// The most constraints whose pivot block is recorded for the messages of
+/// [`Model::explain_stop`] (the cofactor expansion of `det B` costs about k! operations; a
+/// derived basis takes at most 6, spec (10.1)).
+const MAX_PIVOT_K: usize = 6;
+
+/// `Some((free, q -> det B))` when `sc`'s basis is the one derived from its constraints and
+/// free coordinates (spec eq. (3.15)), B the pivot block: the basis recorded equals the
+/// derived one at the sample configurations (to 1e-9). Only names a cause in a refusal's
+/// message; nothing is proved with it.
+fn derived_pivot<Sc: Scene + ?Sized>(
+    sc: &Sc,
+    basis: &Tape,
+    free: &[usize],
+    n: usize,
+    k: usize,
+) -> Option<(Vec<usize>, Tape)> {
+    if k > MAX_PIVOT_K {
+        return None;
+    }
+    let derived = Tape::record(n, |q| {
+        derived_basis(&sc.constraints(q), free, n)
+            .into_iter()
+            .flatten()
+            .collect()
+    });
+    let same = samples(n).iter().all(|q| {
+        let (a, b) = (basis.eval(q), derived.eval(q));
+        a.len() == b.len()
+            && a.iter()
+                .zip(&b)
+                .all(|(x, y)| (x - y).abs() <= 1e-9 * (1.0 + x.abs()))
+    });
+    if !same {
+        return None;
+    }
+    let dep: Vec<usize> = (0..n).filter(|i| !free.contains(i)).collect();
+    let pivot = Tape::record(n, |q| {
+        let mu = sc.constraints(q);
+        let block: Mat<Tracer> = mu
+            .iter()
+            .map(|r| dep.iter().map(|&c| r[c]).collect())
+            .collect();
+        vec![det(&block)]
+    });
+    Some((free.to_vec(), pivot))
 }
 
 fn fmt_q(q: &[Interval]) -> String {
@@ -240,6 +296,7 @@ impl CompiledScene {
             e.into_iter().flatten().collect()
         });
         basis_ok.map_err(size_error)?;
+        let derived = derived_pivot(sc, &basis, &free, n, k);
         description.n = n;
         description.k = k;
         let c = CompiledScene {
@@ -251,6 +308,7 @@ impl CompiledScene {
             one_form,
             constraints,
             basis,
+            derived,
         };
         for q in samples(n) {
             let q: Vec<Interval> = q.iter().map(|x| point(*x)).collect();
@@ -274,28 +332,34 @@ impl CompiledScene {
     ) -> Option<Violation> {
         let (n, k) = (self.n, self.k);
         let at = fmt_q(q);
-        let undefined = || {
+        // `what`: the datum not proved finite, named in the message
+        let undefined = |what: &str| {
             Violation::Undefined(format!(
-                "the scene's data are not proved finite at q = {at} (a division by zero, or \
-                 a logarithm, square root or power outside its domain)"
+                "the scene's data are not proved finite at q = {at}: {what} (a division by \
+                 zero, or a logarithm, square root or power outside its domain)"
             ))
         };
         let Some(mass) = self.mass.eval_checked(q) else {
-            return Some(undefined());
+            return Some(undefined("the mass matrix"));
         };
         let Some(mu) = self.constraints.eval_checked(q) else {
-            return Some(undefined());
+            return Some(undefined("the constraints"));
         };
         let Some(e) = self.basis.eval_checked(q) else {
-            return Some(undefined());
+            return Some(
+                self.singular_pivot(q, false)
+                    .unwrap_or_else(|| undefined("the basis of D")),
+            );
         };
-        let other_data_defined = self.potential.eval_checked(q).is_some()
-            && self
-                .one_form
-                .as_ref()
-                .is_none_or(|t| t.eval_checked(q).is_some());
-        if !other_data_defined {
-            return Some(undefined());
+        if self.potential.eval_checked(q).is_none() {
+            return Some(undefined("the potential"));
+        }
+        if self
+            .one_form
+            .as_ref()
+            .is_some_and(|t| t.eval_checked(q).is_none())
+        {
+            return Some(undefined("the one-form"));
         }
         for &(i, j) in mirror {
             if mass[i * n + j].disjoint(mass[j * n + i]) {
@@ -361,6 +425,9 @@ impl CompiledScene {
             a.swap(p, best);
             let d = a[p][p];
             if d.contains(0.0) || !finite(d) {
+                if let Some(v) = self.singular_pivot(q, true) {
+                    return Some(v);
+                }
                 return Some(Violation::Rank(format!(
                     "the constraints and the basis of D are not proved of full rank at q = {at} \
                      (where the basis is derived, its pivot block is singular or nearly so)"
@@ -374,6 +441,46 @@ impl CompiledScene {
             }
         }
         None
+    }
+}
+
+impl CompiledScene {
+    /// When the basis is derived (spec eq. (3.15)) and the determinant of its pivot block
+    /// is not proved nonzero on the box `q` (or, `rank_failed`, the rank of `[mu; E]` was
+    /// not proved there): that, naming the block's coordinates and its determinant.
+    fn singular_pivot(&self, q: &[Interval], rank_failed: bool) -> Option<Violation> {
+        let (free, pivot) = self.derived.as_ref()?;
+        let d = *pivot.eval(q).first()?;
+        let singular = d.contains(0.0) || !finite(d);
+        if !singular && !rank_failed {
+            return None;
+        }
+        let names = &self.description.coordinates;
+        let name = |i: usize| {
+            names
+                .get(i)
+                .cloned()
+                .unwrap_or_else(|| format!("q{}", i + 1))
+        };
+        let dep: Vec<String> = (0..self.n)
+            .filter(|i| !free.contains(i))
+            .map(name)
+            .collect();
+        let free: Vec<String> = free.iter().map(|&i| name(i)).collect();
+        Some(Violation::Rank(format!(
+            "the derived basis of D (free coordinates {}) is not proved regular at q = {}: \
+             its pivot block, the constraints' columns of {}, has determinant [{:e}, {:e}], {}",
+            free.join(", "),
+            fmt_q(q),
+            dep.join(", "),
+            d.inf(),
+            d.sup(),
+            if singular {
+                "not proved nonzero"
+            } else {
+                "so small that the rank of the constraints and the basis is not proved"
+            }
+        )))
     }
 }
 
@@ -393,6 +500,11 @@ pub fn reduced_field<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
     qd.into_iter().chain(ud).collect()
 }
 
+/// The time-reversed field `-F(x)` of spec (5.17).
+fn reversed_field<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
+    reduced_field(sc, x).into_iter().map(|y| -y).collect()
+}
+
 impl Model {
     /// The number of coordinates n.
     pub fn n(&self) -> usize {
@@ -408,6 +520,20 @@ impl Model {
     /// over any scalar).
     pub fn scene(&self) -> &CompiledScene {
         &self.scene
+    }
+
+    /// x' = -F(x) and its variational equation: its flow over a time s >= 0 is the flow of
+    /// x' = F(x) over -s (spec (5.17)). Recorded on first use.
+    pub(crate) fn reversed(&self) -> &System {
+        self.reversed.get_or_init(|| {
+            let s = &self.scene;
+            System::record(
+                self.state_dim(),
+                self.n - self.k,
+                |x| reversed_field(s, x),
+                |x| reversed_field(s, x),
+            )
+        })
     }
 
     /// The tape of x' = F(x) and its variational equation (internals feature).
@@ -494,6 +620,7 @@ impl Model {
             n,
             k,
             dynamics,
+            reversed: std::sync::OnceLock::new(),
             with_action,
             velocity,
             velocity_jac,
@@ -541,6 +668,53 @@ impl Model {
                 format!("scene `{name}`: {m}"),
             )),
         }
+    }
+
+    /// Why a flow cannot be carried on from the state box `x = (q, u)` when its steps have
+    /// shrunk to `h` (0: no step taken): the first of the boxes `q + [-r, r]` with
+    /// `r_i = s |v_i| + 2^-48 8^j (1 + |q_i|)`, `s = 2^j h` for j = 0 to 8 while every
+    /// `r_i <= 2^-6 (1 + |q_i|)` (the configurations the next few hundred such steps could
+    /// reach, and the rounding-level neighbourhood of `q`), on which the scene's data are
+    /// not proved defined or regular (spec eqs. (3.17), (5.18)), in words; `None` when they
+    /// are on all of them. Only a diagnosis for a refusal's message: nothing is proved or
+    /// answered with it.
+    pub(crate) fn explain_stop(&self, x: &[Interval], h: f64) -> Option<String> {
+        let n = self.n;
+        let q = x.get(..n)?;
+        let v = self.velocity.eval_checked(x);
+        let h = if h.is_finite() { h.max(0.0) } else { 0.0 };
+        for j in 0..=8 {
+            let s = h * f64::powi(2.0, j);
+            let rel = f64::powi(2.0, 3 * j - 48);
+            let r: Vec<f64> = q
+                .iter()
+                .enumerate()
+                .map(|(i, qi)| {
+                    let speed = v.as_ref().map_or(0.0, |v| v[i].mag());
+                    s * speed + rel * (1.0 + qi.mag())
+                })
+                .collect();
+            // wider boxes say little of the state: interval checks of rank and definiteness
+            // fail on them from overestimation alone
+            if r.iter()
+                .zip(q)
+                .any(|(r, qi)| r.is_nan() || *r > WIDEST * (1.0 + qi.mag()))
+            {
+                break;
+            }
+            let b: Vec<Interval> = q
+                .iter()
+                .zip(&r)
+                .map(|(qi, r)| *qi + crate::scalar::iv(-r, *r))
+                .collect();
+            match self.scene.violation_at(&b, &[], true) {
+                None => continue,
+                Some(Violation::Input(m) | Violation::Undefined(m) | Violation::Rank(m)) => {
+                    return Some(m)
+                }
+            }
+        }
+        None
     }
 
     /// The scene's name.

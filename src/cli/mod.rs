@@ -93,7 +93,7 @@ pub(crate) enum Cmd {
         /// Initial quasi-velocities in the scene's basis of D
         #[arg(long, allow_hyphen_values = true)]
         u: String,
-        /// Time T >= 0
+        /// Time T (negative: the state at T < 0, flowing backward)
         #[arg(
             long,
             allow_hyphen_values = true,
@@ -101,7 +101,8 @@ pub(crate) enum Cmd {
             conflicts_with = "times"
         )]
         t: Option<String>,
-        /// Dense output: increasing times T1,T2,.. (instead of --t), one integration
+        /// Dense output: increasing times T1,T2,.. (instead of --t), one integration each way
+        /// from 0
         #[arg(long, allow_hyphen_values = true)]
         times: Option<String>,
         /// Taylor order (default: automatic)

@@ -24,6 +24,8 @@ pub(super) enum C1 {
 /// Carry `set` over every span of time in `total` (a point for a float time). `memo`: the
 /// last accepted step that was not the final one, and its remainder's width relative to the
 /// tolerance (5.8), read at the start and left for a continuation.
+/// `explain`, when given, is asked why the flow cannot go on when its steps collapse (see
+/// [`Explain`]); its answer replaces the step budget's or the step-size underflow's refusal.
 pub(super) fn flow_set_general(
     sys: &System,
     mut set: LohnerSet,
@@ -31,6 +33,7 @@ pub(super) fn flow_set_general(
     opts: &FlowOptions,
     c1_mode: C1,
     memo: &mut Option<(f64, f64)>,
+    explain: Option<Explain<'_>>,
 ) -> Result<(LohnerSet, Option<IMat>, FlowStats), Error> {
     let t = total.sup();
     let c1 = c1_mode != C1::No;
@@ -57,11 +60,25 @@ pub(super) fn flow_set_general(
     // (5.8) (c): the step of the last first try rejected just above the tolerance, and the
     // steps accepted since
     let mut ceiling: Option<(f64, i32)> = None;
+    // The refusal of a flow stopped at `done` with steps of size `h`: `explain`'s cause when
+    // it names one, else `fallback`. A stop by the step budget is explained only when the
+    // steps have collapsed (64 times below the largest one taken): a flow that is merely
+    // long is refused for its budget.
+    let stop = |fallback: Error, set: &LohnerSet, h: f64, done: Interval, stats: &FlowStats| {
+        let collapsed = h * 64.0 < stats.h_max;
+        let budget = fallback.reason() == Some(Reason::Budget);
+        let cause = explain
+            .filter(|_| collapsed || !budget)
+            .and_then(|f| f(&set.hull(), h, done.inf()));
+        cause.unwrap_or(fallback).reached(done.inf())
+    };
+    // the last accepted step (0 before the first)
+    let mut last_h = 0.0;
     while !reached {
         // the work is the steps taken and tried: rejected tries count too (a hard start can
         // reject dozens of tries per step)
         if stats.steps >= opts.max_taylor_steps || stats.steps + stats.rejected >= 2 * opts.max_taylor_steps {
-            return Err(too_many(opts.max_taylor_steps, t).reached(done.inf()));
+            return Err(stop(too_many(opts.max_taylor_steps, t), &set, last_h, done, &stats));
         }
         opts.check_budget().map_err(|e| e.reached(done.inf()))?;
         let rem = (total - done).intersection(iv(0.0, f64::MAX));
@@ -89,8 +106,8 @@ pub(super) fn flow_set_general(
             .field
             .ode_taylor_until(&centre, p, more, |c| !short(c))
             .ok_or_else(|| {
-                Error::refused(Reason::Undefined, "vector field not defined at the state")
-                    .reached(done.inf())
+                let e = Error::refused(Reason::Undefined, "vector field not defined at the state");
+                stop(e, &set, last_h, done, &stats)
             })?;
         if choose_order {
             choose_order = false;
@@ -182,17 +199,18 @@ pub(super) fn flow_set_general(
                     }
                     stats.h_min = stats.h_min.min(hi.inf());
                     stats.h_max = stats.h_max.max(hi.sup());
+                    last_h = hi.sup();
                     opts.progress
                         .tell("flow", if last { t } else { done.sup().min(t) }, t);
                     // refuse early when the steps now taken would not reach t in time
                     let left = (t - done.sup()) / hi.sup();
                     if !last && stats.steps as f64 + left > 4.0 * opts.max_taylor_steps as f64 {
-                        return Err(too_many(opts.max_taylor_steps, t).reached(done.inf()));
+                        return Err(stop(too_many(opts.max_taylor_steps, t), &set, last_h, done, &stats));
                     }
                     break;
                 }
                 Err(StepFail::Fatal(why)) => {
-                    return Err(Error::uncertified(why).reached(done.inf()))
+                    return Err(stop(Error::uncertified(why), &set, h, done, &stats))
                 }
                 Err(StepFail::Shrink | StepFail::TooWide(_)) if p_step < p => {
                     // the lower order did not do: the same step at order p
@@ -218,14 +236,14 @@ pub(super) fn flow_set_general(
                     };
                     last = false;
                     if stats.steps + stats.rejected >= 2 * opts.max_taylor_steps {
-                        return Err(too_many(opts.max_taylor_steps, t).reached(done.inf()));
+                        return Err(stop(too_many(opts.max_taylor_steps, t), &set, h, done, &stats));
                     }
                     if tries > 60 || h.is_nan() || h <= 0.0 || h < t * 1e-14 {
-                        return Err(Error::uncertified(format!(
+                        let e = Error::uncertified(format!(
                             "no a priori enclosure could be proved near t = {} (step size underflow)",
                             done.sup()
-                        ))
-                        .reached(done.inf()));
+                        ));
+                        return Err(stop(e, &set, h, done, &stats));
                     }
                 }
             }
@@ -251,6 +269,12 @@ pub(super) fn flow_set_general(
     }
     Ok((set, jac, stats))
 }
+
+/// Asked why a flow cannot go on, with the state's hull at the stop, the size of the steps
+/// there and the time done: a refusal naming the cause (the system's data not proved
+/// regular near the state, say), or `None` when it sees none. It only words the refusal:
+/// what is proved does not depend on it.
+pub(crate) type Explain<'a> = &'a dyn Fn(&[Interval], f64, f64) -> Option<Error>;
 
 /// (5.8) (d): in a rest of the span that takes at most this many steps, the steps are not
 /// sliced.

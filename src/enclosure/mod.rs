@@ -18,7 +18,7 @@ pub use system::System;
 use crate::progress::Progress;
 use crate::scalar::point;
 use crate::Error;
-pub(crate) use control::too_many;
+pub(crate) use control::{too_many, Explain};
 use control::{flow_set_general, C1};
 use inari::Interval;
 use linalg::IMat;
@@ -206,7 +206,7 @@ pub fn flow_set_span(
     span: Interval,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, FlowStats), Error> {
-    flow_set_span_memo(sys, set, span, opts, &mut None)
+    flow_set_span_memo(sys, set, span, opts, &mut None, None)
 }
 
 /// [`flow_set_span`] with the step rule's memory (5.8) taken from and left in `memo`, so
@@ -218,6 +218,7 @@ pub(crate) fn flow_set_span_memo(
     span: Interval,
     opts: &FlowOptions,
     memo: &mut Option<(f64, f64)>,
+    explain: Option<Explain<'_>>,
 ) -> Result<(LohnerSet, FlowStats), Error> {
     if span.is_empty() || span.inf() < 0.0 || !span.sup().is_finite() {
         return Err(Error::input(format!(
@@ -226,7 +227,7 @@ pub(crate) fn flow_set_span_memo(
             span.sup()
         )));
     }
-    let (set, _, stats) = flow_set_general(sys, set, span, opts, C1::No, memo)?;
+    let (set, _, stats) = flow_set_general(sys, set, span, opts, C1::No, memo, explain)?;
     Ok((set, stats))
 }
 
@@ -238,7 +239,8 @@ pub fn flow_set_c1(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, IMat, FlowStats), Error> {
-    let (set, jac, stats) = flow_set_general(sys, set, point(t), opts, C1::Cheap, &mut None)?;
+    let (set, jac, stats) =
+        flow_set_general(sys, set, point(t), opts, C1::Cheap, &mut None, None)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }
@@ -246,13 +248,28 @@ pub fn flow_set_c1(
 /// As [`flow_set_c1`] with each step's Jacobian enclosed to the rounding level (its
 /// variational order raised until its remainder is below 16 ulps of its size, spec eq.
 /// (5.6)): slower, but the derivative stays narrow over long times (spec Theorem 5.3).
+// used through the `internals` feature (and its tests); the crate's own flows go through
+// `flow_set_jacobian_explained`
+#[cfg_attr(not(feature = "internals"), allow(dead_code))]
 pub fn flow_set_jacobian(
     sys: &System,
     set: LohnerSet,
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet, IMat, FlowStats), Error> {
-    let (set, jac, stats) = flow_set_general(sys, set, point(t), opts, C1::Precise, &mut None)?;
+    flow_set_jacobian_explained(sys, set, t, opts, None)
+}
+
+/// [`flow_set_jacobian`] with a refusal's cause asked of `explain` (see [`Explain`]).
+pub(crate) fn flow_set_jacobian_explained(
+    sys: &System,
+    set: LohnerSet,
+    t: f64,
+    opts: &FlowOptions,
+    explain: Option<Explain<'_>>,
+) -> Result<(LohnerSet, IMat, FlowStats), Error> {
+    let (set, jac, stats) =
+        flow_set_general(sys, set, point(t), opts, C1::Precise, &mut None, explain)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }

@@ -59,6 +59,8 @@ pub enum Answer {
     Integrate(Trajectory),
     /// `scenes`: the descriptions of the scenes listed.
     Scenes(Vec<Description>),
+    /// `order`: the certified errors and orders of a scheme (contract E15).
+    Order(super::order::OrderAnswer),
 }
 
 impl Answer {
@@ -115,6 +117,7 @@ impl Answer {
                 let list: Vec<Value> = list.iter().map(description).collect();
                 json!({ "scenes": list })
             }
+            Answer::Order(o) => o.to_json(),
         }
     }
 
@@ -167,6 +170,7 @@ impl Answer {
                 })
             }
             Answer::Scenes(_) => scenes_text(&self.to_json()),
+            Answer::Order(o) => o.to_text(),
             _ => human(&self.to_json()),
         }
     }

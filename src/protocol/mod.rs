@@ -7,6 +7,7 @@
 //! `parse.rs` the strict readers of flags, JSON and batch lines.
 
 mod answer;
+pub mod order;
 mod parse;
 mod rows;
 
@@ -117,6 +118,22 @@ pub enum Query {
         /// Also the per-pair defects and energies (default true).
         pairs: bool,
     },
+    /// `order` (contract E15): the certified local and global order of DLA or MLA (spec
+    /// chapter 11).
+    Order {
+        /// The scene.
+        scene: SceneSpec,
+        /// DLA or MLA.
+        scheme: SchemeKind,
+        /// The initial configuration (n numbers).
+        q: Vec<f64>,
+        /// The initial quasi-velocities (n - k numbers).
+        u: Vec<f64>,
+        /// The largest step of the local ladder, `0 < h <= 1`.
+        h: f64,
+        /// The rungs of the local ladder, 2 to 12.
+        rungs: usize,
+    },
 }
 
 /// The times of a `flow` query.
@@ -209,7 +226,7 @@ pub fn default_work(q: &Query) -> Option<u64> {
     match q {
         Query::Retract(_) | Query::Step(_) | Query::Lagrangian(_) => Some(STEP_WORK),
         Query::Check { q, .. } => Some(STEP_WORK.saturating_mul(q.len().max(1) as u64)),
-        Query::Flow { .. } | Query::Integrate { .. } => None,
+        Query::Flow { .. } | Query::Integrate { .. } | Query::Order { .. } => None,
     }
 }
 
@@ -406,6 +423,20 @@ impl Session {
                     tolerances: tols,
                     passed,
                 })
+            }
+            Query::Order {
+                scene,
+                scheme,
+                q,
+                u,
+                h,
+                rungs,
+            } => {
+                let model = self.model(scene)?;
+                // a stepper of its own (the kit's steppers take `&mut self`)
+                let mut s = Scheme::new(&model, *scheme);
+                let a = order::answer(&model, &mut s, q, u, *h, *rungs, &opts)?;
+                Ok(Answer::Order(a))
             }
             Query::Integrate {
                 pair,

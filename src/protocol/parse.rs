@@ -419,6 +419,7 @@ pub fn query_keys(cmd: &str) -> Option<Vec<&'static str>> {
         "retract" | "step" | "lagrangian" => &["q0", "q1", "h"],
         "integrate" => &["q0", "q1", "h", "scheme", "steps"],
         "check" => &["h", "t", "q", "tol", "defect_tol", "pairs"],
+        "order" => &["scheme", "q", "u", "h", "rungs"],
         _ => return None,
     };
     Some(COMMON_KEYS.iter().chain(own).copied().collect())
@@ -471,8 +472,8 @@ impl Query {
             Error::input_key(
                 "cmd",
                 format!(
-                "unknown cmd `{cmd}` (known: flow, retract, step, integrate, lagrangian, check)"
-            ),
+                    "unknown cmd `{cmd}` (known: flow, retract, step, integrate, lagrangian, check, order)"
+                ),
             )
         })?;
         check_keys(o, &keys, &format!("a `{cmd}` query"))?;
@@ -509,6 +510,31 @@ impl Query {
                             "jacobian",
                             format!("`jacobian` must be true or false, got {}", kind(other)),
                         ))
+                    }
+                },
+            }),
+            "order" => Ok(Query::Order {
+                scene,
+                scheme: match field(o, "scheme")? {
+                    Value::String(s) => s.parse()?,
+                    other => {
+                        return Err(Error::input(format!(
+                            "`scheme` must be a string, got {}",
+                            kind(other)
+                        )))
+                    }
+                },
+                q: json_vec(o, "q")?,
+                u: json_vec(o, "u")?,
+                h: match o.get("h") {
+                    None => super::order::DEFAULT_H,
+                    Some(_) => super::order::check_h("`h`", json_num(o, "h")?)?,
+                },
+                rungs: match o.get("rungs") {
+                    None => super::order::DEFAULT_RUNGS,
+                    Some(_) => {
+                        let r = &super::order::RUNGS;
+                        json_uint(o, "rungs", *r.start() as u64, *r.end() as u64)? as usize
                     }
                 },
             }),

@@ -391,6 +391,7 @@ fn build(top: &Val, default_name: &str) -> Result<SceneFile, String> {
         }
     }
     let get = |k: &str| kv.iter().find(|(x, _)| x == k).map(|(_, v)| v);
+    misplaced_in_parameters(get("parameters"), &get)?;
 
     let name = match get("name") {
         Some(Val::Str(s)) => scene_name(s, "name")?,
@@ -544,6 +545,10 @@ fn build(top: &Val, default_name: &str) -> Result<SceneFile, String> {
         }
     };
 
+    if let BasisSpec::Free(free) = &basis {
+        velocities_in_order(&velocities, free, &coordinates)?;
+    }
+
     Ok(SceneFile {
         name,
         coordinates,
@@ -556,6 +561,100 @@ fn build(top: &Val, default_name: &str) -> Result<SceneFile, String> {
         constraints,
         basis,
     })
+}
+
+/// (10.1) A scene key found inside the `parameters` table and not at the top: in TOML every
+/// key written after a `[parameters]` header belongs to that table. Named as such when it
+/// cannot be a parameter (a required or naming key, or a value that is not a number); a
+/// number under `mass`, `potential` or `one_form` stays a parameter of that name.
+fn misplaced_in_parameters<'a>(
+    params: Option<&'a Val>,
+    top: &dyn Fn(&str) -> Option<&'a Val>,
+) -> Result<(), String> {
+    let Some(Val::Obj(p)) = params else {
+        return Ok(());
+    };
+    // in the order of KEYS: the first a reader of the file looks for is named first
+    let found = KEYS.iter().filter_map(|k| p.iter().find(|(x, _)| x == k));
+    for (k, v) in found {
+        let scene_key = k != "parameters";
+        let never_a_parameter = matches!(
+            k.as_str(),
+            "name" | "coordinates" | "quasi_velocities" | "constraints" | "basis" | "free"
+        );
+        if scene_key
+            && top(k).is_none()
+            && (never_a_parameter || !matches!(v, Val::Int(_) | Val::Float(_)))
+        {
+            return Err(format!(
+                "`{k}` appears after [parameters], so TOML reads it as a parameter: move it \
+                 above the [parameters] header (every key after a table header belongs to \
+                 that table), or write the parameters inline: parameters = {{ ... }}"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The coordinate whose velocity the quasi-velocity name `v` reads as (`xd`, `x_d`,
+/// `xdot`, `x_dot`, `dx`, `d_x` for a coordinate `x`), if any.
+fn velocity_of(v: &str, coordinates: &[String]) -> Option<usize> {
+    coordinates.iter().position(|c| {
+        ["d", "_d", "dot", "_dot"]
+            .iter()
+            .any(|s| v.strip_suffix(s) == Some(c.as_str()))
+            || ["d", "d_"]
+                .iter()
+                .any(|s| v.strip_prefix(s) == Some(c.as_str()))
+    })
+}
+
+/// (10.1) With a derived basis the a-th quasi-velocity IS the velocity of the a-th free
+/// coordinate: a name that reads as another coordinate's velocity is refused, with the
+/// names in the order of `free`.
+fn velocities_in_order(
+    velocities: &[String],
+    free: &[usize],
+    coordinates: &[String],
+) -> Result<(), String> {
+    let wrong = velocities
+        .iter()
+        .zip(free)
+        .enumerate()
+        .find_map(|(a, (v, &f))| match velocity_of(v, coordinates) {
+            Some(c) if c != f && !coordinates.contains(v) => Some((a, v, c, f)),
+            _ => None,
+        });
+    let Some((a, v, c, f)) = wrong else {
+        return Ok(());
+    };
+    // the names given, reordered so that each coordinate's velocity is at its free place
+    let expected: Vec<String> = free
+        .iter()
+        .enumerate()
+        .map(|(b, &fb)| {
+            let own = velocities
+                .iter()
+                .find(|w| velocity_of(w, coordinates) == Some(fb))
+                .unwrap_or(&velocities[b]);
+            format!("\"{own}\"")
+        })
+        .collect();
+    let free_names: Vec<String> = free
+        .iter()
+        .map(|&i| format!("\"{}\"", coordinates[i]))
+        .collect();
+    Err(format!(
+        "quasi_velocities[{}] = `{v}` reads as the velocity of `{}`, but with free = [{}] \
+         quasi-velocity {} is the velocity of `{}` (a derived basis takes the free \
+         coordinates' velocities in the order of `free`): write quasi_velocities = [{}]",
+        a + 1,
+        coordinates[c],
+        free_names.join(", "),
+        a + 1,
+        coordinates[f],
+        expected.join(", ")
+    ))
 }
 
 /// Line and column (1-based, columns in characters) of byte offset `at` in `text`.

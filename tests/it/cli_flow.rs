@@ -354,16 +354,27 @@ fn both_option_syntaxes_agree() {
 
 #[test]
 fn hyphen_values_are_values_not_options() {
-    // `--t -1` must be read as the time -1 (an input error about the time), exactly as
+    // `--t -1` must be read as the time -1 (a backward flow, contract E15), exactly as
     // `--t=-1`, not as an unknown option `-1`.
-    let a = refused(&flow_args("knife", &[], "0,0,0", "0.8,0.8", "-1"), 2);
+    let (_, a) = answer(&flow_args("knife", &[], "0,0,0", "0.8,0.8", "-1"));
+    let (_, b) = answer(&[
+        "flow",
+        "--scene=knife",
+        "--q=0,0,0",
+        "--u=0.8,0.8",
+        "--t=-1",
+        "--json",
+    ]);
+    assert_eq!(a, b);
+    // and `--t -inf` as the time -inf, refused as not finite
+    let a = refused(&flow_args("knife", &[], "0,0,0", "0.8,0.8", "-inf"), 2);
     let b = refused(
         &[
             "flow",
             "--scene=knife",
             "--q=0,0,0",
             "--u=0.8,0.8",
-            "--t=-1",
+            "--t=-inf",
             "--json",
         ],
         2,
@@ -426,10 +437,10 @@ fn invalid_input_exits_2() {
         flow_args("knife", &[], ok_q, ok_u, "nan"),
         flow_args("knife", &[], ok_q, ok_u, "inf"),
         flow_args("knife", &[], ok_q, ok_u, "1e999"),
-        // negative time
-        flow_args("knife", &[], ok_q, ok_u, "-1"),
-        flow_args("knife", &[], ok_q, ok_u, "-1e-300"),
-        flow_args("knife-eps", &[], ok_q, ok_u, "-5"),
+        // negative time not finite (a finite one flows backward, contract E15)
+        flow_args("knife", &[], ok_q, ok_u, "-inf"),
+        flow_args("knife", &[], ok_q, ok_u, "-1e999"),
+        flow_args("knife-eps", &[], ok_q, ok_u, "-nan"),
         // unparsable numbers
         flow_args("knife", &[], ok_q, ok_u, "abc"),
         flow_args("knife", &[], ok_q, ok_u, ""),

@@ -41,6 +41,7 @@ mod sleigh_closed_form;
 mod testing_fuzz;
 mod testing_kit;
 mod tightness;
+mod user_met;
 mod user_scene;
 mod work_budget;
 mod work_limit;
