@@ -1,6 +1,6 @@
 //! Interval kernels: dot products, Horner's scheme, rows of matrix products and quotients,
-//! where the Taylor method spends its arithmetic (spec (1.4)). The crate's one module with
-//! `unsafe` (spec/design.md).
+//! where the Taylor method spends its arithmetic ([spec (1.4)](crate::spec::scalars)). The crate's one module with
+//! `unsafe` ([spec/design.md](crate::spec::design)).
 //!
 //! Each kernel has one claim and two paths that give the same doubles: the portable chain of
 //! inari's fused multiply-adds, each rounded outward, and, where the target has AVX-512,
@@ -32,7 +32,7 @@ pub(crate) fn dot(acc: Interval, neg: bool, x: &[Interval], y: &[Interval], rev:
 }
 
 /// `a / b` for an interval `b` without 0: inari's quotient (the tightest interval), with
-/// AVX-512 computed from the signs of the ends without inari's case dispatch (spec (1.4)).
+/// AVX-512 computed from the signs of the ends without inari's case dispatch ([spec (1.4)](crate::spec::scalars)).
 /// Any other `b` (containing 0, empty, unbounded) or an unbounded `a` is inari's `a / b`.
 pub(crate) fn quotient(a: Interval, b: Interval) -> Interval {
     #[cfg(all(
@@ -50,7 +50,7 @@ pub(crate) fn quotient(a: Interval, b: Interval) -> Interval {
 /// `sum_k rows[k][i] t^k` for every `t` in `h` and every choice of reals in the
 /// coefficients (`rows[k]` all of one length). Each step `s <- s h + c` is inari's fused
 /// multiply-add, or with AVX-512 the same tightest interval computed eight entries at a
-/// time (spec (1.4)): the answers are the same.
+/// time ([spec (1.4)](crate::spec::scalars)): the answers are the same.
 pub(crate) fn horner(rows: &[&[Interval]], h: Interval) -> Vec<Interval> {
     let mut out = Vec::new();
     lanewise(rows, Scheme::Horner(h), &mut out);
@@ -60,7 +60,7 @@ pub(crate) fn horner(rows: &[&[Interval]], h: Interval) -> Vec<Interval> {
 /// One row of a matrix product, appended to `out`: entry `j` encloses
 /// `sum_l a_l rows[l][j]` (`rows[l]` all of one length), each term added by inari's fused
 /// multiply-add in the order of `l`, or with AVX-512 the same tightest intervals computed
-/// eight entries at a time (spec (1.4)).
+/// eight entries at a time ([spec (1.4)](crate::spec::scalars)).
 pub(crate) fn row_times(a: &[Interval], rows: &[&[Interval]], out: &mut Vec<Interval>) {
     lanewise(rows, Scheme::Row(a), out)
 }

@@ -1,5 +1,5 @@
 //! The continuous nonholonomic dynamics derived from scene data, generic over the scalar
-//! (spec/04-dynamics.md, eqs. (4.1)-(4.9)).
+//! ([spec/04-dynamics.md](crate::spec::dynamics), eqs. (4.1)-(4.9)).
 //!
 //! Derivatives of the scene data with respect to q are taken by forward-mode
 //! [`Dual`](crate::scalar::Dual) numbers in n directions, so scenes provide no derivative
@@ -8,7 +8,7 @@
 use crate::scalar::{Dual, Scalar};
 use crate::scene::{Mat, Scene};
 
-/// Scene data at one configuration, with first derivatives in q (spec eq. (4.1)).
+/// Scene data at one configuration, with first derivatives in q ([spec eq. (4.1)](crate::spec::dynamics)).
 #[derive(Debug)]
 pub struct Geometry<S> {
     /// Number of coordinates `n`.
@@ -30,7 +30,7 @@ pub struct Geometry<S> {
     /// `dbasis[j] = dE/dq_j`.
     pub dbasis: Vec<Mat<S>>,
     /// The one-form A(q) of the Lagrangian's linear term and `dA[j][i] = dA_i/dq_j`;
-    /// `None` for a natural Lagrangian (spec eq. (3.1)).
+    /// `None` for a natural Lagrangian ([spec eq. (3.1)](crate::spec::scenes)).
     pub one_form: Option<(Vec<S>, Mat<S>)>,
 }
 
@@ -50,8 +50,8 @@ fn split<S: Scalar>(m: Mat<Dual<S>>, n: usize) -> (Mat<S>, Vec<Mat<S>>) {
 }
 
 impl<S: Scalar> Geometry<S> {
-    /// The geometry at `q`: one evaluation of the scene over duals in `n` directions (spec eq.
-    /// (4.1)).
+    /// The geometry at `q`: one evaluation of the scene over duals in `n` directions ([spec eq.
+    /// (4.1)](crate::spec::dynamics)).
     pub fn at<Sc: Scene>(sc: &Sc, q: &[S]) -> Self {
         let n = sc.dim();
         let qd: Vec<Dual<S>> = (0..n).map(|j| Dual::var(q[j].clone(), j, n)).collect();
@@ -79,7 +79,7 @@ impl<S: Scalar> Geometry<S> {
         }
     }
 
-    /// v = E(q)^T u = sum_a u_a e_a(q) (spec eq. (4.2)).
+    /// v = E(q)^T u = sum_a u_a e_a(q) ([spec eq. (4.2)](crate::spec::dynamics)).
     pub fn velocity(&self, u: &[S]) -> Vec<S> {
         (0..self.n)
             .map(|i| sum((0..u.len()).map(|a| u[a].clone() * self.basis[a][i].clone())))
@@ -87,7 +87,7 @@ impl<S: Scalar> Geometry<S> {
     }
 
     /// w(q, v) = Mdot v - 1/2 d/dq (v^T M v) + grad V + (dA - dA^T) v: the
-    /// Lagrange-d'Alembert equations read M a + w = mu^T lambda (spec eq. (4.3)).
+    /// Lagrange-d'Alembert equations read M a + w = mu^T lambda ([spec eq. (4.3)](crate::spec::dynamics)).
     pub fn bias(&self, v: &[S]) -> Vec<S> {
         let n = self.n;
         let natural = (0..n).map(|i| {
@@ -126,7 +126,7 @@ impl<S: Scalar> Geometry<S> {
             .collect()
     }
 
-    /// The reduced (quasi-velocity) equations on D (spec eq. (4.4)):
+    /// The reduced (quasi-velocity) equations on D ([spec eq. (4.4)](crate::spec::dynamics)):
     /// `E M E^T ud = -E (M Edot^T u + w(q, v))`, v = E^T u; returns (qd, ud).
     pub fn reduced_field(&self, u: &[S]) -> (Vec<S>, Vec<S>) {
         let n = self.n;
@@ -153,7 +153,7 @@ impl<S: Scalar> Geometry<S> {
     }
 
     /// The Lagrange multipliers lambda = -C^{-1} Gamma_L(Phi) with C = mu M^{-1} mu^T
-    /// (paper eq. (lambda-def); spec eq. (4.5)), for v in D_q.
+    /// (paper eq. (lambda-def); [spec eq. (4.5)](crate::spec::dynamics)), for v in D_q.
     pub fn multiplier(&self, v: &[S]) -> Vec<S> {
         let w = self.bias(v);
         // unconstrained acceleration a_L = -M^{-1} w
@@ -181,7 +181,7 @@ impl<S: Scalar> Geometry<S> {
         solve_spd(c, gamma).into_iter().map(|x| -x).collect()
     }
 
-    /// The nonholonomic force F_nh = lambda_a mu^a (paper Remark 2.2; spec eq. (4.6)).
+    /// The nonholonomic force F_nh = lambda_a mu^a (paper Remark 2.2; [spec eq. (4.6)](crate::spec::dynamics)).
     pub fn nh_force(&self, v: &[S]) -> Vec<S> {
         let lam = self.multiplier(v);
         (0..self.n)
@@ -189,7 +189,7 @@ impl<S: Scalar> Geometry<S> {
             .collect()
     }
 
-    /// The acceleration of the multiplier form: M a = F_nh - w (spec eq. (4.7)).
+    /// The acceleration of the multiplier form: M a = F_nh - w ([spec eq. (4.7)](crate::spec::dynamics)).
     #[cfg(any(test, feature = "internals"))]
     pub fn acceleration(&self, v: &[S]) -> Vec<S> {
         let f = self.nh_force(v);
@@ -198,7 +198,7 @@ impl<S: Scalar> Geometry<S> {
         solve_spd(self.mass.clone(), r)
     }
 
-    /// Legendre map p = dL/dqd = M v + A (spec eq. (4.8)).
+    /// Legendre map p = dL/dqd = M v + A ([spec eq. (4.8)](crate::spec::dynamics)).
     pub fn momentum(&self, v: &[S]) -> Vec<S> {
         let mv = mat_vec(&self.mass, v);
         match &self.one_form {
@@ -214,7 +214,7 @@ impl<S: Scalar> Geometry<S> {
             .map(|(a, _)| self.basis.iter().map(|e| dot(a, e)).collect())
     }
 
-    /// The restricted Legendre map in D* coordinates: p_a = <M v + A, e_a(q)> (spec eq. (4.8)).
+    /// The restricted Legendre map in D* coordinates: p_a = <M v + A, e_a(q)> ([spec eq. (4.8)](crate::spec::dynamics)).
     pub fn momentum_d(&self, v: &[S]) -> Vec<S> {
         let p = self.momentum(v);
         self.basis.iter().map(|e| dot(&p, e)).collect()
@@ -226,12 +226,12 @@ fn kinetic<Sc: Scene, S: Scalar>(sc: &Sc, q: &[S], v: &[S]) -> S {
     dot(v, &mat_vec(&sc.mass(q), v)) * S::cst(0.5)
 }
 
-/// Energy E_L = 1/2 v^T M v + V(q) (spec eq. (4.9)).
+/// Energy E_L = 1/2 v^T M v + V(q) ([spec eq. (4.9)](crate::spec::dynamics)).
 pub fn energy<Sc: Scene, S: Scalar>(sc: &Sc, q: &[S], v: &[S]) -> S {
     kinetic(sc, q, v) + sc.potential(q)
 }
 
-/// The Lagrangian L = 1/2 v^T M v + A(q) v - V(q) (spec eq. (3.1)).
+/// The Lagrangian L = 1/2 v^T M v + A(q) v - V(q) ([spec eq. (3.1)](crate::spec::scenes)).
 pub fn lagrangian<Sc: Scene, S: Scalar>(sc: &Sc, q: &[S], v: &[S]) -> S {
     let l = kinetic(sc, q, v) - sc.potential(q);
     match sc.one_form(q) {
@@ -258,7 +258,7 @@ pub fn mat_vec<S: Scalar>(m: &Mat<S>, v: &[S]) -> Vec<S> {
 /// Solve A x = b for symmetric positive definite A by Gaussian elimination without
 /// pivoting (no comparisons, so it works over every scalar; SPD makes every pivot > 0).
 /// Over intervals a pivot enclosure containing 0 gives an unbounded result, which the
-/// caller detects as a failure (spec eq. (4.10)).
+/// caller detects as a failure ([spec eq. (4.10)](crate::spec::dynamics)).
 pub fn solve_spd<S: Scalar>(mut a: Mat<S>, mut b: Vec<S>) -> Vec<S> {
     let n = b.len();
     for p in 0..n {
@@ -299,7 +299,7 @@ mod tests {
 
     /// A planar charge in a uniform magnetic field B: L = 1/2 |v|^2 + (B/2)(x yd - y xd),
     /// constraint zd = 0. The one-form is not closed (dA = B dx ^ dy): the Lorentz force
-    /// gives xdd = B yd, ydd = -B xd (spec eq. (4.3)), and p = v + A (eq. (4.8)).
+    /// gives xdd = B yd, ydd = -B xd ([spec eq. (4.3)](crate::spec::dynamics)), and p = v + A (eq. (4.8)).
     struct Charge(f64);
     impl Scene for Charge {
         fn name(&self) -> String {

@@ -1,10 +1,10 @@
-//! Rigorous interval elementary functions built on a correctly rounded libm (spec (1.3)):
+//! Rigorous interval elementary functions built on a correctly rounded libm ([spec (1.3)](crate::spec::scalars)):
 //! sin, cos, tan, exp, ln, atan, sinh, cosh, tanh, asinh; sqrt is inari's own (exact
 //! rounding, no libm).
 //!
 //! Each point value comes from CORE-MATH (the `core-math` crate), whose binary64 functions
 //! are correctly rounded: the returned double `r` is a neighbour of the exact value `y`, so
-//! `next_down(r) < y < next_up(r)` (spec eq. (1.3.1)); that one-ulp outward step is the
+//! `next_down(r) < y < next_up(r)` ([spec eq. (1.3.1)](crate::spec::scalars)); that one-ulp outward step is the
 //! only rounding argument used here. Interval bounds then follow from monotone pieces; the
 //! extrema of sin and cos, and the poles of tan, are located by comparing the argument with
 //! multiples of pi/2 through inari's enclosure `Interval::FRAC_PI_2` (exact interval
@@ -17,7 +17,7 @@
 //!
 //! # Containment
 //! For every function `f` here and every interval `x`, `f(x)` contains `f(t)` for every real
-//! `t` in `x` where `f` is defined (spec (1.3)); the point values at the exact special
+//! `t` in `x` where `f` is defined ([spec (1.3)](crate::spec::scalars)); the point values at the exact special
 //! arguments (`sin 0 = 0`, `cos 0 = 1`, `exp 0 = 1`, `ln 1 = 0`, ...) are exact.
 
 use core_math as cm;
@@ -119,17 +119,17 @@ fn sin_cos(x: Interval, f: fn(f64) -> f64, f0: f64, peak: f64) -> Interval {
     make(lo.max(-1.0), hi.min(1.0))
 }
 
-/// Interval sine (spec eq. (1.3.4)).
+/// Interval sine ([spec eq. (1.3.4)](crate::spec::scalars)).
 pub fn sin(x: Interval) -> Interval {
     sin_cos(x, cm::sin, 0.0, 1.0)
 }
 
-/// Interval cosine (spec eq. (1.3.4)).
+/// Interval cosine ([spec eq. (1.3.4)](crate::spec::scalars)).
 pub fn cos(x: Interval) -> Interval {
     sin_cos(x, cm::cos, 1.0, 0.0)
 }
 
-/// Interval tangent (spec eq. (1.3.5)): the whole line when a pole `(2k+1) pi/2` may lie in
+/// Interval tangent ([spec eq. (1.3.5)](crate::spec::scalars)): the whole line when a pole `(2k+1) pi/2` may lie in
 /// the argument, otherwise the increasing branch between its endpoints.
 pub fn tan(x: Interval) -> Interval {
     if x.is_empty() {
@@ -173,27 +173,27 @@ fn odd_increasing(x: Interval, f: fn(f64) -> f64, m: f64) -> Interval {
     make(lo, hi)
 }
 
-/// Interval arctangent (spec eq. (1.3.2)).
+/// Interval arctangent ([spec eq. (1.3.2)](crate::spec::scalars)).
 pub fn atan(x: Interval) -> Interval {
     odd_increasing(x, cm::atan, f64::INFINITY)
 }
 
-/// Interval hyperbolic sine (spec eq. (1.3.2)).
+/// Interval hyperbolic sine ([spec eq. (1.3.2)](crate::spec::scalars)).
 pub fn sinh(x: Interval) -> Interval {
     odd_increasing(x, cm::sinh, f64::INFINITY)
 }
 
-/// Interval inverse hyperbolic sine (spec eq. (1.3.2)).
+/// Interval inverse hyperbolic sine ([spec eq. (1.3.2)](crate::spec::scalars)).
 pub fn asinh(x: Interval) -> Interval {
     odd_increasing(x, cm::asinh, f64::INFINITY)
 }
 
-/// Interval hyperbolic tangent (spec eq. (1.3.2)); within `[-1, 1]`.
+/// Interval hyperbolic tangent ([spec eq. (1.3.2)](crate::spec::scalars)); within `[-1, 1]`.
 pub fn tanh(x: Interval) -> Interval {
     odd_increasing(x, cm::tanh, 1.0)
 }
 
-/// Interval exponential (spec eq. (1.3.2)): increasing, positive, `>= 1` exactly on `x >= 0`.
+/// Interval exponential ([spec eq. (1.3.2)](crate::spec::scalars)): increasing, positive, `>= 1` exactly on `x >= 0`.
 pub fn exp(x: Interval) -> Interval {
     if x.is_empty() {
         return x;
@@ -210,10 +210,10 @@ pub fn exp(x: Interval) -> Interval {
     make(lo, hi)
 }
 
-/// Interval natural logarithm (spec eq. (1.3.2)), restricted to `(0, +inf)` as inari does:
+/// Interval natural logarithm ([spec eq. (1.3.2)](crate::spec::scalars)), restricted to `(0, +inf)` as inari does:
 /// the part of `x` at or below 0 is dropped, a lower end at or below 0 gives `-inf`, and an
 /// interval with no positive point gives EMPTY. The tape checks positivity itself before
-/// calling it (spec eq. (2.10)).
+/// calling it ([spec eq. (2.10)](crate::spec::taylor)).
 pub fn ln(x: Interval) -> Interval {
     if x.is_empty() {
         return x;
@@ -237,7 +237,7 @@ pub fn ln(x: Interval) -> Interval {
     make(lo, hi)
 }
 
-/// Interval hyperbolic cosine (spec eq. (1.3.2)): decreasing on `x <= 0`, increasing on
+/// Interval hyperbolic cosine ([spec eq. (1.3.2)](crate::spec::scalars)): decreasing on `x <= 0`, increasing on
 /// `x >= 0`, minimum 1 at 0.
 pub fn cosh(x: Interval) -> Interval {
     if x.is_empty() {

@@ -1,4 +1,4 @@
-//! The typed failures of the library (spec/00-overview.md, 0.3 "Failure").
+//! The typed failures of the library ([spec/00-overview.md](crate::spec::overview), 0.3 "Failure").
 
 use std::fmt;
 
@@ -8,7 +8,7 @@ pub const OVER_BUDGET: &str = "not certified within the budget (the deadline pas
 /// The message of [`Error::over_work`].
 pub const OVER_WORK: &str = "not certified within the budget (the work limit was reached)";
 
-/// Why a request was not answered (spec 0.3 "Failure").
+/// Why a request was not answered ([spec 0.3](crate::spec::overview#03-failure) "Failure").
 ///
 /// Each variant carries a struct with a message in words and a kind a program can match:
 /// [`InputError::kind`] says which part of the request is at fault, [`Refusal::reason`]
@@ -137,7 +137,7 @@ pub enum Invariant {
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct Refusal {
-    /// The kind of refusal, for a program to match (spec 0.3).
+    /// The kind of refusal, for a program to match ([spec 0.3](crate::spec::overview#03-failure)).
     pub reason: Reason,
     /// For a [`Reason::Budget`] refusal: which budget was spent (`None` for the other
     /// reasons).
@@ -166,7 +166,7 @@ pub enum Limit {
     RetractionWork,
 }
 
-/// The kind of a [`Refusal`] (spec 0.3).
+/// The kind of a [`Refusal`] ([spec 0.3](crate::spec::overview#03-failure)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum Reason {

@@ -1,7 +1,7 @@
-//! The validated flow of a mechanical system (spec/05-enclosure.md, Theorem 5.1, eq.
+//! The validated flow of a mechanical system ([spec/05-enclosure.md](crate::spec::enclosure), Theorem 5.1, eq.
 //! (5.16)): a `Model`'s reduced equations carried by the generic validated integrator of
-//! the generic validated ODE layer (`enclosure`, spec chapter 5), from a state `(q, u)` given as exact f64, with the checks every
-//! query makes (dimensions, finite numbers, the scene at `q`, spec (3.17)).
+//! the generic validated ODE layer (`enclosure`, [spec chapter 5](crate::spec::enclosure)), from a state `(q, u)` given as exact f64, with the checks every
+//! query makes (dimensions, finite numbers, the scene at `q`, [spec (3.17)](crate::spec::scenes)).
 
 use crate::enclosure::{
     flow_set_jacobian_explained, flow_set_span_memo, too_many, FlowOptions, FlowStats, LohnerSet,
@@ -21,7 +21,7 @@ pub struct FlowEnclosure {
     pub q: Vec<Interval>,
     /// Contains the exact quasi-velocities `u(t)` in the scene's basis of D (n - k intervals).
     pub u: Vec<Interval>,
-    /// Contains the exact velocity `qd(t) = E(q(t))^T u(t)` (n intervals, spec eq. (4.2)).
+    /// Contains the exact velocity `qd(t) = E(q(t))^T u(t)` (n intervals, [spec eq. (4.2)](crate::spec::dynamics)).
     pub v: Vec<Interval>,
     /// What the integrator did between 0 and `t`.
     pub stats: FlowStats,
@@ -32,11 +32,11 @@ pub struct FlowEnclosure {
 ///
 /// # Containment
 /// For the exact f64 inputs, the returned `q`, `u`, `v` contain the exact `q(t)`, the
-/// quasi-velocities `u(t)` and `qd(t) = E(q(t))^T u(t)` of the trajectory (spec Theorem 5.1);
-/// the trajectory is proved to exist between 0 and `t`. A negative `t` flows backward (spec
-/// (5.17)). Fails with `Error::Input` for malformed input and `Error::Uncertified` when a
+/// quasi-velocities `u(t)` and `qd(t) = E(q(t))^T u(t)` of the trajectory ([spec Theorem 5.1](crate::spec::enclosure#theorem-51-what-flow-proves));
+/// the trajectory is proved to exist between 0 and `t`. A negative `t` flows backward ([spec
+/// (5.17)](crate::spec::enclosure)). Fails with `Error::Input` for malformed input and `Error::Uncertified` when a
 /// step cannot be proved: singular data near the state reached ([`Reason::Undefined`],
-/// naming them, spec (5.18)), blow-up, too many steps ([`Reason::Budget`]); never with a
+/// naming them, [spec (5.18)](crate::spec::enclosure)), blow-up, too many steps ([`Reason::Budget`]); never with a
 /// box that was not proved.
 ///
 /// # Example
@@ -64,14 +64,14 @@ pub fn flow(
 /// Dense output: enclosures of the exact nonholonomic state at each of the increasing
 /// times `t_1 < t_2 < ...` from `q(0) = q`, `qd(0) = sum_a u_a e_a(q)`, in one
 /// validated integration each way: the set at `t_i >= 0` is carried on to `t_{i+1}` over
-/// the span `t_{i+1} - t_i`, enclosed by outward rounding (spec eq. (5.16)); the times
+/// the span `t_{i+1} - t_i`, enclosed by outward rounding ([spec eq. (5.16)](crate::spec::enclosure)); the times
 /// below 0 are reached the same way by the time-reversed field from 0 down, nearest
-/// first (spec (5.17)). Each answer's `stats` count the steps from 0 to its time. [`flow`]
+/// first ([spec (5.17)](crate::spec::enclosure)). Each answer's `stats` count the steps from 0 to its time. [`flow`]
 /// is the one-time case.
 ///
 /// # Containment
 /// For the exact f64 inputs, the `i`-th enclosure contains the exact `q(t_i)`, `u(t_i)`,
-/// `qd(t_i)` (spec Theorem 5.1, eqs. (5.16), (5.17)); the trajectory is proved to exist on
+/// `qd(t_i)` ([spec Theorem 5.1](crate::spec::enclosure#theorem-51-what-flow-proves), eqs. (5.16), (5.17)); the trajectory is proved to exist on
 /// `[min(0, t_1), max(0, t_last)]`. `Error::Input` for malformed input (no times, a time
 /// not finite, times not strictly increasing); `Error::Uncertified` as [`flow`].
 pub fn flow_at(
@@ -203,7 +203,7 @@ fn carry(
 }
 
 /// The refusal of a flow stopped at time `at` in the state box `x` with steps of size `h`
-/// (0: none taken), when the scene's data say why (spec (5.18)).
+/// (0: none taken), when the scene's data say why ([spec (5.18)](crate::spec::enclosure)).
 fn explained(model: &Model, x: &[inari::Interval], h: f64, at: f64) -> Option<Error> {
     let why = model.explain_stop(x, h)?;
     // (+ 0.0: a start backward is at t = 0, not -0)
@@ -220,8 +220,8 @@ fn explained(model: &Model, x: &[inari::Interval], h: f64, at: f64) -> Option<Er
 }
 
 /// The initial state `x = (q, u)` of a flow query, after the checks every flow makes: the
-/// state (dimensions, finite numbers), the scene at `q` (spec eq. (3.17)), and `t` finite
-/// (of either sign: a negative time flows backward, spec (5.17)).
+/// state (dimensions, finite numbers), the scene at `q` ([spec eq. (3.17)](crate::spec::scenes)), and `t` finite
+/// (of either sign: a negative time flows backward, [spec (5.17)](crate::spec::enclosure)).
 fn flow_query(model: &Model, q: &[f64], u: &[f64], t: f64) -> Result<Vec<f64>, Error> {
     check_state(model, q, u)?;
     model.check_at(
@@ -297,8 +297,8 @@ fn finish(model: &Model, set: &LohnerSet, stats: FlowStats) -> Result<FlowEnclos
 /// rows and columns in the order q then u) of the trajectory from the exact f64 `(q, u)`.
 ///
 /// # Containment
-/// Theorem 5.1 for the state, and the true derivative lies in the returned matrix (spec
-/// Theorem 5.3); a negative `t` flows backward (spec (5.17)). Fails as [`flow`] does.
+/// Theorem 5.1 for the state, and the true derivative lies in the returned matrix ([spec
+/// Theorem 5.3](crate::spec::enclosure)); a negative `t` flows backward ([spec (5.17)](crate::spec::enclosure)). Fails as [`flow`] does.
 pub fn flow_c1(
     model: &Model,
     q: &[f64],

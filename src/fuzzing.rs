@@ -1,7 +1,7 @@
 //! The checks behind the cargo-fuzz targets (`fuzz/fuzz_targets/`), kept in the library so
 //! that `cargo test` replays the committed corpus on the stable toolchain
 //! (`tests/fuzz_corpus.rs`). Each function decodes arbitrary bytes and panics exactly when
-//! the invariant written above it is broken (spec/08-oracle.md, "Fuzzing").
+//! the invariant written above it is broken ([spec/08-oracle.md](crate::spec::oracle), "Fuzzing").
 //!
 //! The `panic!`, `expect` and `assert!` calls in this module are those invariants: a panic is
 //! how a fuzz target reports a finding, so each is reachable only through a bug of the crate
@@ -23,9 +23,9 @@ use std::cell::RefCell;
 /// The certified targets' budget: 8 validated steps a flow (the retraction's Newton: 32
 /// float steps in all) and [`FUZZ_WORK`] Taylor terms a call, so that a hard input is refused ([`crate::Reason::Budget`]) at the
 /// cost of a few ordinary ones. With the simplified tapes
-/// (spec (2.13)) the corpus's certified shares are the same as with 16. Steps, not time: a
+/// ([spec (2.13)](crate::spec::taylor)) the corpus's certified shares are the same as with 16. Steps, not time: a
 /// run replays the same on every machine.
-/// The certified targets' work limit per call (spec (5.8''')): 2 million Taylor terms, about
+/// The certified targets' work limit per call ([spec (5.8''')](crate::spec::enclosure)): 2 million Taylor terms, about
 /// 7 ms, above every answered input of the committed corpora (the costliest retraction there
 /// does 1.8 million).
 const FUZZ_WORK: u64 = 2_000_000;

@@ -1,4 +1,4 @@
-//! The interval of the crate's answers (spec/01-scalars.md, "The answers' interval"): a
+//! The interval of the crate's answers ([spec/01-scalars.md](crate::spec::scalars), "The answers' interval"): a
 //! closed set of reals `[lo, hi]` with f64 ends, as inari computes it, that prints, compares
 //! and serializes as its two ends.
 //!

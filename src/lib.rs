@@ -43,7 +43,7 @@
 //! # rustflags = ["-Ctarget-cpu=native"]         # this machine (AVX-512 where it has it)
 //! ```
 //!
-//! `-Ctarget-cpu=native` also lets inari and the kernels of spec (1.4) use AVX-512 where the
+//! `-Ctarget-cpu=native` also lets inari and the kernels of [spec (1.4)](crate::spec::scalars) use AVX-512 where the
 //! CPU has it: faster, the same answers bit for bit. AArch64 needs no flag.
 //!
 //! # The mathematics
@@ -115,11 +115,11 @@ macro_rules! internal {
     )*};
 }
 internal! {
-    /// The geometry of a scene at a configuration (spec chapters 3-4).
+    /// The geometry of a scene at a configuration ([spec chapters 3-4](crate::spec::scenes)).
     dynamics;
-    /// The generic validated ODE layer (spec chapter 5).
+    /// The generic validated ODE layer ([spec chapter 5](crate::spec::enclosure)).
     enclosure;
-    /// Recorded straight-line programs (spec eq. (3.16)).
+    /// Recorded straight-line programs ([spec eq. (3.16)](crate::spec::scenes)).
     tape;
 }
 

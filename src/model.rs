@@ -1,4 +1,4 @@
-//! A scene compiled once into tapes (spec/04-dynamics.md, eq. (4.11)): every later object
+//! A scene compiled once into tapes ([spec/04-dynamics.md](crate::spec::dynamics), eq. (4.11)): every later object
 //! (validated flow, retractions, float schemes) replays these tapes, so the float and the
 //! interval computations run the same program.
 
@@ -10,7 +10,7 @@ use crate::tape::{finite, Tape, Tracer};
 use crate::{Error, InputKind};
 use inari::Interval;
 
-/// The reduced field with the Lagrangian appended (spec eq. (6.8)).
+/// The reduced field with the Lagrangian appended ([spec eq. (6.8)](crate::spec::exact_discrete)).
 pub fn field_with_action<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
     let n = sc.dim();
     let d = x.len() - 1;
@@ -21,7 +21,7 @@ pub fn field_with_action<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
     f
 }
 
-/// A scene compiled once into tapes (spec eq. (4.11)); the reduced state is x = (q, u), of
+/// A scene compiled once into tapes ([spec eq. (4.11)](crate::spec::dynamics)); the reduced state is x = (q, u), of
 /// dimension n + (n - k). Built by [`Model::new`], read through its methods.
 pub struct Model {
     /// The scene's data recorded on tapes: every later computation reads the scene here.
@@ -30,24 +30,24 @@ pub struct Model {
     pub(crate) n: usize,
     /// Number of constraints k.
     pub(crate) k: usize,
-    /// x' = F(x), x = (q, u) (spec eq. (4.4)), and its variational equation.
+    /// x' = F(x), x = (q, u) ([spec eq. (4.4)](crate::spec::dynamics)), and its variational equation.
     pub(crate) dynamics: System,
-    /// x' = -F(x), the time-reversed field, recorded on the first backward flow (spec
-    /// (5.17)).
+    /// x' = -F(x), the time-reversed field, recorded on the first backward flow ([spec
+    /// (5.17)](crate::spec::enclosure)).
     reversed: std::sync::OnceLock<System>,
-    /// The same with the action: (q, u, l)' = (F(q, u), L(q, E^T u)) (spec eq. (6.8)).
+    /// The same with the action: (q, u, l)' = (F(q, u), L(q, E^T u)) ([spec eq. (6.8)](crate::spec::exact_discrete)).
     pub(crate) with_action: System,
-    /// x -> v = E(q)^T u (spec eq. (4.2)).
+    /// x -> v = E(q)^T u ([spec eq. (4.2)](crate::spec::dynamics)).
     pub(crate) velocity: Tape,
-    /// x -> (v, Dv/Dx) for the centred form (spec eq. (5.12)).
+    /// x -> (v, Dv/Dx) for the centred form ([spec eq. (5.12)](crate::spec::enclosure)).
     pub(crate) velocity_jac: Tape,
-    /// q -> mu(q), k x n row-major (spec eq. (3.1)).
+    /// q -> mu(q), k x n row-major ([spec eq. (3.1)](crate::spec::scenes)).
     pub(crate) constraints: Tape,
-    /// (q, v) -> p_a = <M(q) v + A(q), e_a(q)> (spec eq. (4.8)).
+    /// (q, v) -> p_a = <M(q) v + A(q), e_a(q)> ([spec eq. (4.8)](crate::spec::dynamics)).
     pub(crate) momentum_d: Tape,
-    /// (q, v) -> E_L(q, v) (spec eq. (4.9)).
+    /// (q, v) -> E_L(q, v) ([spec eq. (4.9)](crate::spec::dynamics)).
     pub(crate) energy: Tape,
-    /// (q, v) -> F_nh(q, v) (spec eq. (4.6)).
+    /// (q, v) -> F_nh(q, v) ([spec eq. (4.6)](crate::spec::dynamics)).
     #[cfg(feature = "internals")]
     pub(crate) nh_force: Tape,
 }
@@ -68,10 +68,10 @@ const WIDEST: f64 = 1.0 / 64.0;
 /// Largest number of coordinates a scene may have.
 pub const MAX_DIM: usize = 64;
 
-/// A scene's data recorded once on tapes (spec eq. (3.16)): q -> M(q) (as given, row-major),
+/// A scene's data recorded once on tapes ([spec eq. (3.16)](crate::spec::scenes)): q -> M(q) (as given, row-major),
 /// V(q), A(q), mu(q), E(q). It is itself a [`Scene`] (replaying the tapes over any scalar),
 /// so everything downstream reads any scene, built-in, file or user type, the same way.
-/// The mass matrix it hands on is the given one's upper triangle mirrored (spec eq. (3.17)).
+/// The mass matrix it hands on is the given one's upper triangle mirrored ([spec eq. (3.17)](crate::spec::scenes)).
 #[derive(Clone, Debug)]
 pub struct CompiledScene {
     description: Description,
@@ -82,7 +82,7 @@ pub struct CompiledScene {
     one_form: Option<Tape>,
     constraints: Tape,
     basis: Tape,
-    /// When the basis is the one derived from the constraints (spec eq. (3.15)): the free
+    /// When the basis is the one derived from the constraints ([spec eq. (3.15)](crate::spec::scenes)): the free
     /// coordinates and `q -> det B`, B the pivot block (the constraint columns of the other
     /// coordinates). Read only to name the cause of a refusal.
     derived: Option<(Vec<usize>, Tape)>,
@@ -127,7 +127,7 @@ impl Scene for CompiledScene {
 }
 
 /// Fixed sample configurations at which [`CompiledScene::compile`] checks the structure
-/// (spec eq. (3.17)): components of varied sign and size, none a multiple of pi/2.
+/// ([spec eq. (3.17)](crate::spec::scenes)): components of varied sign and size, none a multiple of pi/2.
 fn samples(n: usize) -> Vec<Vec<f64>> {
     let base = [
         0.3125, -0.71875, 1.15625, -0.4375, 0.90625, -1.40625, 0.5625,
@@ -143,11 +143,11 @@ fn samples(n: usize) -> Vec<Vec<f64>> {
 
 /// The most constraints whose pivot block is recorded for the messages of
 /// [`Model::explain_stop`] (the cofactor expansion of `det B` costs about k! operations; a
-/// derived basis takes at most 6, spec (10.1)).
+/// derived basis takes at most 6, [spec (10.1)](crate::spec::scene_files)).
 const MAX_PIVOT_K: usize = 6;
 
 /// `Some((free, q -> det B))` when `sc`'s basis is the one derived from its constraints and
-/// free coordinates (spec eq. (3.15)), B the pivot block: the basis recorded equals the
+/// free coordinates ([spec eq. (3.15)](crate::spec::scenes)), B the pivot block: the basis recorded equals the
 /// derived one at the sample configurations (to 1e-9). Only names a cause in a refusal's
 /// message; nothing is proved with it.
 fn derived_pivot<Sc: Scene + ?Sized>(
@@ -203,7 +203,7 @@ fn fmt_q(q: &[Interval]) -> String {
 }
 
 impl CompiledScene {
-    /// Record `sc`'s data on tapes and check its structure (spec eq. (3.17)): sizes, a mass
+    /// Record `sc`'s data on tapes and check its structure ([spec eq. (3.17)](crate::spec::scenes)): sizes, a mass
     /// matrix symmetric (identical entries, or not proved different at the sample points),
     /// basis rows in ker mu at the sample points. Input errors name what is wrong.
     pub fn compile<Sc: Scene + ?Sized>(sc: &Sc) -> Result<CompiledScene, Error> {
@@ -320,7 +320,7 @@ impl CompiledScene {
         Ok(c)
     }
 
-    /// The first property of spec eq. (3.17) found violated at the configuration box `q`, if any:
+    /// The first property of [spec eq. (3.17)](crate::spec::scenes) found violated at the configuration box `q`, if any:
     /// the structural ones (symmetry of the pairs `mirror`, basis rows in ker mu) and, when
     /// `at_use`, those that hold only where the scene is used (data defined, mass positive
     /// definite, full rank).
@@ -445,7 +445,7 @@ impl CompiledScene {
 }
 
 impl CompiledScene {
-    /// When the basis is derived (spec eq. (3.15)) and the determinant of its pivot block
+    /// When the basis is derived ([spec eq. (3.15)](crate::spec::scenes)) and the determinant of its pivot block
     /// is not proved nonzero on the box `q` (or, `rank_failed`, the rank of `[mu; E]` was
     /// not proved there): that, naming the block's coordinates and its determinant.
     fn singular_pivot(&self, q: &[Interval], rank_failed: bool) -> Option<Violation> {
@@ -493,14 +493,14 @@ enum Violation {
     Rank(String),
 }
 
-/// The reduced vector field of spec eq. (4.4) at x = (q, u), generic over the scalar.
+/// The reduced vector field of [spec eq. (4.4)](crate::spec::dynamics) at x = (q, u), generic over the scalar.
 pub fn reduced_field<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
     let n = sc.dim();
     let (qd, ud) = Geometry::at(sc, &x[..n]).reduced_field(&x[n..]);
     qd.into_iter().chain(ud).collect()
 }
 
-/// The time-reversed field `-F(x)` of spec (5.17).
+/// The time-reversed field `-F(x)` of [spec (5.17)](crate::spec::enclosure).
 fn reversed_field<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
     reduced_field(sc, x).into_iter().map(|y| -y).collect()
 }
@@ -523,7 +523,7 @@ impl Model {
     }
 
     /// x' = -F(x) and its variational equation: its flow over a time s >= 0 is the flow of
-    /// x' = F(x) over -s (spec (5.17)). Recorded on first use.
+    /// x' = F(x) over -s ([spec (5.17)](crate::spec::enclosure)). Recorded on first use.
     pub(crate) fn reversed(&self) -> &System {
         self.reversed.get_or_init(|| {
             let s = &self.scene;
@@ -543,7 +543,7 @@ impl Model {
         &self.dynamics
     }
 
-    /// The tape of the field with the action appended (spec eq. (6.8)) (internals feature).
+    /// The tape of the field with the action appended ([spec eq. (6.8)](crate::spec::exact_discrete)) (internals feature).
     #[cfg(feature = "internals")]
     #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
     pub fn with_action(&self) -> &System {
@@ -592,7 +592,7 @@ impl Model {
         &self.nh_force
     }
 
-    /// Compile any scene (spec eq. (4.11)): record its data and check their structure
+    /// Compile any scene ([spec eq. (4.11)](crate::spec::dynamics)): record its data and check their structure
     /// ([`CompiledScene::compile`]), then record the dynamics and the derived maps on tapes.
     pub fn new<Sc: Scene + ?Sized>(scene: &Sc) -> Result<Model, Error> {
         let s = &CompiledScene::compile(scene)?;
@@ -632,7 +632,7 @@ impl Model {
         })
     }
 
-    /// Check the scene at the configuration box `q` before it is used (spec eq. (3.17)): its data
+    /// Check the scene at the configuration box `q` before it is used ([spec eq. (3.17)](crate::spec::scenes)): its data
     /// finite there, a symmetric positive definite mass matrix, the basis rows in ker mu,
     /// and [mu; E] of full rank. A property the scene lacks is an input error; data or a
     /// rank not proved at `q` are uncertified (the motion may still be fine elsewhere).
@@ -675,7 +675,7 @@ impl Model {
     /// `r_i = s |v_i| + 2^-48 8^j (1 + |q_i|)`, `s = 2^j h` for j = 0 to 8 while every
     /// `r_i <= 2^-6 (1 + |q_i|)` (the configurations the next few hundred such steps could
     /// reach, and the rounding-level neighbourhood of `q`), on which the scene's data are
-    /// not proved defined or regular (spec eqs. (3.17), (5.18)), in words; `None` when they
+    /// not proved defined or regular ([spec eqs. (3.17)](crate::spec::scenes), (5.18)), in words; `None` when they
     /// are on all of them. Only a diagnosis for a refusal's message: nothing is proved or
     /// answered with it.
     pub(crate) fn explain_stop(&self, x: &[Interval], h: f64) -> Option<String> {

@@ -1,4 +1,4 @@
-//! A damped Newton solver with a typed result (spec/07-schemes.md, eq. (7.6)).
+//! A damped Newton solver with a typed result ([spec/07-schemes.md](crate::spec::schemes), eq. (7.6)).
 
 use nalgebra::{DMatrix, DVector};
 

@@ -1,5 +1,5 @@
 //! The oracle: certified verdicts on candidate discrete trajectories produced by any float
-//! integrator (spec/08-oracle.md). Small enough to use from a property test:
+//! integrator ([spec/08-oracle.md](crate::spec::oracle)). Small enough to use from a property test:
 //!
 //! ```
 //! # use dalembert::{AnyScene, Model, oracle};
@@ -51,7 +51,7 @@ impl Default for CheckOptions {
     }
 }
 
-/// Certified figures about a candidate trajectory `q_0 .. q_N` (spec Theorem 8.1).
+/// Certified figures about a candidate trajectory `q_0 .. q_N` ([spec Theorem 8.1](crate::spec::oracle)).
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
@@ -94,13 +94,13 @@ pub(crate) fn energy(model: &Model, q: &[Inari], v: &[Inari]) -> Result<Inari, E
 /// Check a candidate trajectory `q_0 .. q_N` against the exact discrete flow from
 /// `(q_0, q_1)`: with a uniform step `h` (`steps` an `f64` or [`Steps::Uniform`]), or at
 /// times `t_0 < t_1 < .. < t_N`, one per row ([`Steps::Times`], a `Vec<f64>` or `&[f64]`;
-/// non-uniform steps, spec eq. (8.4)). The rows are anything that is a slice of f64
+/// non-uniform steps, [spec eq. (8.4)](crate::spec::oracle)). The rows are anything that is a slice of f64
 /// (`Vec<f64>`, `[f64; n]`, `&[f64]`).
 ///
 /// # Containment
 /// If `Ok(v)`: for every k, `|q_k - q^e_k|_inf ∈ v.distance[k]`, where `q^e_k = q(t_k - t_0)`
 /// (`t_k = k h` for a uniform step) on the trajectory from `q_0` with `u_0` the unique
-/// solution of spec eq. (6.2) for `(q_0, q_1)` with `h_0 = t_1 - t_0` in the Krawczyk box
+/// solution of [spec eq. (6.2)](crate::spec::exact_discrete) for `(q_0, q_1)` with `h_0 = t_1 - t_0` in the Krawczyk box
 /// (the exact discrete flow through `(q_0, q_1 + N(q_1) s)`); so `v.max_distance.sup() <= e`
 /// proves "every iterate is within e of the exact discrete flow". The pair figures of
 /// `(q_k, q_{k+1})`, with `h_k = t_{k+1} - t_k`, are proved likewise (Theorems 6.1, 6.2).
@@ -175,7 +175,7 @@ pub fn check_trajectory<R: AsRef<[f64]>>(
 pub enum Steps {
     /// The same step `h > 0` between all consecutive rows.
     Uniform(f64),
-    /// `t_0 < t_1 < .. < t_N`, one per row (spec eq. (8.4)).
+    /// `t_0 < t_1 < .. < t_N`, one per row ([spec eq. (8.4)](crate::spec::oracle)).
     Times(Vec<f64>),
 }
 
@@ -262,7 +262,7 @@ pub struct PairVerdict {
     pub energy_error: Interval,
 }
 
-/// Certified figures about one row `q_k` of a candidate trajectory (spec Theorem 8.1).
+/// Certified figures about one row `q_k` of a candidate trajectory ([spec Theorem 8.1](crate::spec::oracle)).
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
@@ -292,7 +292,7 @@ pub struct CheckSummary {
     pub max_defect: Option<Interval>,
 }
 
-/// `t_{k+1} - t_k` as a float, when it is one: a retraction's step (spec eq. (8.4)).
+/// `t_{k+1} - t_k` as a float, when it is one: a retraction's step ([spec eq. (8.4)](crate::spec::oracle)).
 fn exact_step(k: usize, t0: f64, t1: f64) -> Result<f64, Error> {
     let d = point(t1) - point(t0);
     if d.inf() == d.sup() && d.inf() > 0.0 {
@@ -314,7 +314,7 @@ fn exact_step(k: usize, t0: f64, t1: f64) -> Result<f64, Error> {
 /// `rows` (`(t_k, q_k)`) is read as needed, and `sink` is given each row's verdict as soon
 /// as it is proved (row k once `q_{k+1}` is read, for its pair figures). With `h =
 /// Some(h)` the steps are uniform and the rows' times are not read (give `None`); with `h =
-/// None` every row carries its time `Some(t_k)` (non-uniform steps, spec eq. (8.4)), and a
+/// None` every row carries its time `Some(t_k)` (non-uniform steps, [spec eq. (8.4)](crate::spec::oracle)), and a
 /// row without one is an input error. An error from `rows` or `sink` stops the check and
 /// is returned as it is.
 ///
@@ -468,15 +468,15 @@ pub fn check_rows(
     })
 }
 
-/// The tolerances of a `check`: on the distance (`tol`, spec (8.3)) and on the pairs'
-/// defects (`defect_tol`, spec (8.5)). `Tolerances::default()` (none) and the `with_*`
+/// The tolerances of a `check`: on the distance (`tol`, [spec (8.3)](crate::spec::oracle)) and on the pairs'
+/// defects (`defect_tol`, [spec (8.5)](crate::spec::oracle)). `Tolerances::default()` (none) and the `with_*`
 /// setters.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[non_exhaustive]
 pub struct Tolerances {
-    /// Tolerance on `max_k |q_k - q^e_k|_inf` (spec (8.3)); `None`: not decided.
+    /// Tolerance on `max_k |q_k - q^e_k|_inf` ([spec (8.3)](crate::spec::oracle)); `None`: not decided.
     pub tol: Option<f64>,
-    /// Tolerance on `max_k |s_k|_inf`, the pairs' defects (spec (8.5)); `None`: not decided.
+    /// Tolerance on `max_k |s_k|_inf`, the pairs' defects ([spec (8.5)](crate::spec::oracle)); `None`: not decided.
     pub defect_tol: Option<f64>,
 }
 
@@ -502,7 +502,7 @@ impl Tolerances {
         Ok(())
     }
 
-    /// Whether a check passes both tolerances (spec (8.3), (8.5)): `true` when each given
+    /// Whether a check passes both tolerances ([spec (8.3)](crate::spec::oracle), (8.5)): `true` when each given
     /// one is proved met (`sup <= tol`), `false` when one is proved exceeded (`inf > tol`),
     /// else undecided and refused (`Error::Uncertified`, exit 3). `max_defect` is the
     /// enclosure of `max_k |s_k|_inf` (`None` without pair figures).
@@ -554,7 +554,7 @@ pub struct StepVerdict {
     pub defect: Vec<Interval>,
 }
 
-/// Check one step against the exact discrete flow (spec Theorem 8.1 with N = 2).
+/// Check one step against the exact discrete flow ([spec Theorem 8.1](crate::spec::oracle) with N = 2).
 ///
 /// # Containment
 /// As [`check_trajectory`]: `|q2 - q(2h)|_inf ∈ distance`, `s ∈ defect`.

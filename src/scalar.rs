@@ -1,7 +1,7 @@
-//! The scalar abstraction: mechanics is written once over `S: Scalar` (spec/01-scalars.md).
+//! The scalar abstraction: mechanics is written once over `S: Scalar` ([spec/01-scalars.md](crate::spec::scalars)).
 //!
 //! Instances: `f64` (fast float schemes), `inari::Interval` (rigorous point evaluation; its
-//! elementary functions are those of [`crate::elementary`], spec (1.3)),
+//! elementary functions are those of [`crate::elementary`], [spec (1.3)](crate::spec::scalars)),
 //! [`Dual`] (forward-mode derivatives in several directions, nestable) and
 //! a tracer (`tape::Tracer`) (records the computation once so that it can be replayed over
 //! Taylor series of intervals).
@@ -14,11 +14,11 @@ use inari::Interval;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// A commutative ring with division and the analytic elementary functions scenes and scene
-/// files use (spec/01-scalars.md): sin, cos, sqrt, exp, ln, atan, sinh, cosh, and from them
+/// files use ([spec/01-scalars.md](crate::spec::scalars)): sin, cos, sqrt, exp, ln, atan, sinh, cosh, and from them
 /// tan = sin / cos and tanh = sinh / cosh; the constant pi.
 ///
 /// The laws are those of the real numbers; an implementation may return a superset
-/// (intervals) but never a value that misses the real result (spec eq. (1.1)).
+/// (intervals) but never a value that misses the real result ([spec eq. (1.1)](crate::spec::scalars)).
 pub trait Scalar:
     Clone
     + Add<Output = Self>
@@ -33,7 +33,7 @@ pub trait Scalar:
     fn sin(&self) -> Self;
     /// The cosine (argument in radians).
     fn cos(&self) -> Self;
-    /// The square root, defined for arguments `>= 0` (over tapes, checked `> 0`: spec (2.8)).
+    /// The square root, defined for arguments `>= 0` (over tapes, checked `> 0`: [spec (2.8)](crate::spec::taylor)).
     fn sqrt(&self) -> Self;
     /// The exponential.
     fn exp(&self) -> Self;
@@ -155,7 +155,7 @@ pub fn iv(lo: f64, hi: f64) -> Interval {
     Interval::try_from((lo, hi)).unwrap_or(Interval::ENTIRE)
 }
 
-/// Forward-mode dual number `v + sum_j d_j eps_j` with `eps_i eps_j = 0` (spec eq. (1.2)).
+/// Forward-mode dual number `v + sum_j d_j eps_j` with `eps_i eps_j = 0` ([spec eq. (1.2)](crate::spec::scalars)).
 ///
 /// The number of directions is set by the values that enter a computation; a constant has
 /// none and broadcasts. Nesting (`Dual<Dual<S>>`) gives mixed second derivatives.

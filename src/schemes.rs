@@ -1,5 +1,5 @@
 //! The floating-point schemes DLA and MLA of the contract, generic over the scene
-//! (spec/07-schemes.md, eqs. (7.1)-(7.7)). The discrete equations are written once over
+//! ([spec/07-schemes.md](crate::spec::schemes), eqs. (7.1)-(7.7)). The discrete equations are written once over
 //! `S: Scalar`, recorded as tapes with their Jacobians (forward-mode duals), and replayed
 //! over f64 inside a damped Newton solver with a typed result.
 
@@ -38,7 +38,7 @@ impl std::str::FromStr for SchemeKind {
 }
 
 /// `(D1 L_d, D2 L_d)` of the midpoint discrete Lagrangian
-/// `L_d(q0, q1) = h L((q0 + q1)/2, (q1 - q0)/h)` (spec eq. (7.1)).
+/// `L_d(q0, q1) = h L((q0 + q1)/2, (q1 - q0)/h)` ([spec eq. (7.1)](crate::spec::schemes)).
 pub fn ld_gradients<Sc: Scene, S: Scalar>(sc: &Sc, q0: &[S], q1: &[S], h: &S) -> (Vec<S>, Vec<S>) {
     let n = q0.len();
     let half = S::cst(0.5);
@@ -58,7 +58,7 @@ pub fn ld_gradients<Sc: Scene, S: Scalar>(sc: &Sc, q0: &[S], q1: &[S], h: &S) ->
     (d1, d2)
 }
 
-/// The discrete force `F^+ = F^- = (h/2) F_nh((q0+q1)/2, (q1-q0)/h)` of MLA (spec eq. (7.2));
+/// The discrete force `F^+ = F^- = (h/2) F_nh((q0+q1)/2, (q1-q0)/h)` of MLA ([spec eq. (7.2)](crate::spec::schemes));
 /// zero for DLA.
 pub fn discrete_force<Sc: Scene, S: Scalar>(
     sc: &Sc,
@@ -85,7 +85,7 @@ pub fn discrete_force<Sc: Scene, S: Scalar>(
         .collect()
 }
 
-/// The discrete constraint `mu((q0+q1)/2) (q1 - q0)` of M_h^d (spec eq. (7.3)).
+/// The discrete constraint `mu((q0+q1)/2) (q1 - q0)` of M_h^d ([spec eq. (7.3)](crate::spec::schemes)).
 pub fn discrete_constraint<Sc: Scene, S: Scalar>(sc: &Sc, q0: &[S], q1: &[S]) -> Vec<S> {
     let n = q0.len();
     let mid: Vec<S> = (0..n)
@@ -101,7 +101,7 @@ pub fn discrete_constraint<Sc: Scene, S: Scalar>(sc: &Sc, q0: &[S], q1: &[S]) ->
         .collect()
 }
 
-/// `(F^- l_d, F^+ l_d)` in the basis of D (spec eq. (7.5)):
+/// `(F^- l_d, F^+ l_d)` in the basis of D ([spec eq. (7.5)](crate::spec::schemes)):
 /// `p^-_a = -<D1 L_d + F^-, e_a(q0)>`, `p^+_a = <D2 L_d + F^+, e_a(q1)>`.
 pub fn legendre<Sc: Scene, S: Scalar>(
     sc: &Sc,
@@ -128,7 +128,7 @@ pub fn legendre<Sc: Scene, S: Scalar>(
     )
 }
 
-/// The residual of one step (spec eq. (7.4)): the projection onto D*_{q_k} of
+/// The residual of one step ([spec eq. (7.4)](crate::spec::schemes)): the projection onto D*_{q_k} of
 /// `D2 L_d(q_{k-1}, q_k) + D1 L_d(q_k, q_{k+1}) + F^+(q_{k-1}, q_k) + F^-(q_k, q_{k+1})`,
 /// i.e. `p^+(q_{k-1}, q_k) - p^-(q_k, q_{k+1})`, followed by the discrete constraint at
 /// `(q_k, q_{k+1})`.
@@ -150,7 +150,7 @@ pub fn step_residual<Sc: Scene, S: Scalar>(
         .collect()
 }
 
-/// `H|_{D*}(q, p) = 1/2 p'^T (E M E^T)^{-1} p' + V(q)`, `p' = p - <A, e>` (spec eq. (7.7)).
+/// `H|_{D*}(q, p) = 1/2 p'^T (E M E^T)^{-1} p' + V(q)`, `p' = p - <A, e>` ([spec eq. (7.7)](crate::spec::schemes)).
 pub fn hamiltonian_d<Sc: Scene, S: Scalar>(sc: &Sc, q: &[S], p: &[S]) -> S {
     let g = Geometry::at(sc, q);
     let p: Vec<S> = match g.one_form_d() {
@@ -196,7 +196,7 @@ fn record_with_jacobian(
     })
 }
 
-/// A scheme compiled for one scene (spec eq. (7.8)).
+/// A scheme compiled for one scene ([spec eq. (7.8)](crate::spec::schemes)).
 pub struct Scheme {
     /// Which scheme was compiled.
     pub kind: SchemeKind,
@@ -233,7 +233,7 @@ impl std::fmt::Debug for Scheme {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct Trajectory {
-    /// `q_0 .. q_N`: `q_0` as given, `q_1` moved onto M_h^d (spec eq. (7.3)), then the steps
+    /// `q_0 .. q_N`: `q_0` as given, `q_1` moved onto M_h^d ([spec eq. (7.3)](crate::spec::schemes)), then the steps
     /// (7.4).
     pub q: Vec<Vec<f64>>,
     /// `p_k` in D* coordinates: `F^- l_d(q_0, q_1)` at k = 0, `F^+ l_d(q_{k-1}, q_k)` after.
@@ -257,7 +257,7 @@ pub struct Row<'a> {
     pub q: &'a [f64],
     /// `p_k` in D* coordinates, as in [`Trajectory::p`]; `None` when `steps = 0`.
     pub p: Option<&'a [f64]>,
-    /// `H|_{D*}(q_k, p_k)` (spec eq. (7.7)); `None` when `steps = 0`.
+    /// `H|_{D*}(q_k, p_k)` ([spec eq. (7.7)](crate::spec::schemes)); `None` when `steps = 0`.
     pub energy: Option<f64>,
     /// Newton iterations of the solve that gave `q` (the projection of q_1 for k = 1).
     pub iterations: Option<usize>,
@@ -272,7 +272,7 @@ pub enum SchemeError {
     Newton {
         /// The index `k` of the solve that failed (`q_{k+1}` was sought; 0: the projection).
         step: usize,
-        /// Why Newton stopped (spec eq. (7.6)).
+        /// Why Newton stopped ([spec eq. (7.6)](crate::spec::schemes)).
         failure: NewtonFailure,
     },
     /// The states are finite but the momentum or energy at `step` is not (overflow).
@@ -320,7 +320,7 @@ impl From<SchemeError> for Error {
 }
 
 impl Scheme {
-    /// Record the scheme for a compiled scene (spec eq. (7.8)): the residual of (7.4) and
+    /// Record the scheme for a compiled scene ([spec eq. (7.8)](crate::spec::schemes)): the residual of (7.4) and
     /// the projection (7.3) with their Jacobians, the Legendre transforms (7.5) and
     /// `H|_{D*}` (7.7).
     pub fn new(model: &Model, kind: SchemeKind) -> Scheme {
@@ -360,7 +360,7 @@ impl Scheme {
         (r, j)
     }
 
-    /// Move `q1` along `N(q1)` onto M_h^d at `q0` (spec eq. (7.3)).
+    /// Move `q1` along `N(q1)` onto M_h^d at `q0` ([spec eq. (7.3)](crate::spec::schemes)).
     pub fn project(
         &self,
         q0: &[f64],
@@ -397,7 +397,7 @@ impl Scheme {
         }
     }
 
-    /// One step: `q_{k+1}` from `(q_{k-1}, q_k)` (spec eq. (7.4)), with the Newton iterations
+    /// One step: `q_{k+1}` from `(q_{k-1}, q_k)` ([spec eq. (7.4)](crate::spec::schemes)), with the Newton iterations
     /// and the final residual `|R|_inf`. The guess is `2 q_k - q_{k-1}`.
     ///
     /// # Example

@@ -1,5 +1,5 @@
 //! `dalembert order`: the certified local and global order of DLA or MLA on a scene
-//! (spec chapter 11): the flags read into a [`Query::Order`], answered by the protocol
+//! ([spec chapter 11](crate::spec::testing)): the flags read into a [`Query::Order`], answered by the protocol
 //! (the batch query `order` takes the same path).
 
 use super::{scene_spec, SceneArgs};

@@ -1,4 +1,4 @@
-//! Step and order control (spec eqs. (5.7), (5.8) (a)-(d), (5.8'), (5.8'')): the loop that
+//! Step and order control ([spec eqs. (5.7)](crate::spec::enclosure), (5.8) (a)-(d), (5.8'), (5.8'')): the loop that
 //! carries a set over a span of time, choosing each step before trying it and the last
 //! step's order.
 
@@ -294,7 +294,7 @@ pub(super) fn short_span(lo: f64, hi: f64, h: f64) -> bool {
     h < lo && within_short_rest(hi, h)
 }
 
-/// The lower orders a last step may take instead of the flow's order (spec (5.8')).
+/// The lower orders a last step may take instead of the flow's order ([spec (5.8')](crate::spec::enclosure)).
 pub(super) const LOW_ORDERS: [usize; 5] = [6, 8, 10, 12, 15];
 
 /// The remainder's width, relative to REMAINDER_TOL, that the step rule (5.8) aims at: the
@@ -313,7 +313,7 @@ pub(crate) fn too_many(max: usize, t: f64) -> Error {
 }
 
 /// Round a positive step down to three significant bits (`{1, 1.25, 1.5, 1.75} * 2^e`), so
-/// that sums of steps stay exact in f64 for long (spec eq. (5.7)).
+/// that sums of steps stay exact in f64 for long ([spec eq. (5.7)](crate::spec::enclosure)).
 pub(super) fn round_step(h: f64) -> f64 {
     if h.is_nan() || h <= 0.0 || !h.is_finite() {
         return h;
@@ -324,7 +324,7 @@ pub(super) fn round_step(h: f64) -> f64 {
 }
 
 /// Round a positive step down to five significant bits (`{16, ..., 31} / 16 * 2^e`): sums of
-/// steps stay exact in f64 for long (spec eq. (5.7)), and the step rule (5.8) can follow
+/// steps stay exact in f64 for long ([spec eq. (5.7)](crate::spec::enclosure)), and the step rule (5.8) can follow
 /// the remainder's steep growth with h (about h^(p+2)) more closely than with three bits.
 pub(super) fn round_step_fine(h: f64) -> f64 {
     if h.is_nan() || h <= 0.0 || !h.is_finite() {
@@ -336,7 +336,7 @@ pub(super) fn round_step_fine(h: f64) -> f64 {
 }
 
 /// The factor by which to multiply a step whose remainder was `ratio` times its tolerance
-/// so that the next one is about REMAINDER_TARGET times the tolerance (spec eq. (5.8)): the remainder grows
+/// so that the next one is about REMAINDER_TARGET times the tolerance ([spec eq. (5.8)](crate::spec::enclosure)): the remainder grows
 /// like `h^(p+2)` (`h^(p+1)` and the width of the slices of the a priori box, about `h`).
 /// At most `max`, at least 1/4.
 pub(super) fn rescale(ratio: f64, p: usize, max: f64) -> f64 {
@@ -351,7 +351,7 @@ pub(super) fn rescale(ratio: f64, p: usize, max: f64) -> f64 {
         .clamp(0.25, max)
 }
 
-/// The step-size rule of spec eq. (5.8) from float Taylor coefficients at the state `x`.
+/// The step-size rule of [spec eq. (5.8)](crate::spec::enclosure) from float Taylor coefficients at the state `x`.
 pub(super) fn step_size(c: Rows<'_, f64>, p: usize, x: &[f64]) -> f64 {
     round_step(step_bound(c, p, x).min(f64::MAX))
 }

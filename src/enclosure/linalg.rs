@@ -1,5 +1,5 @@
 //! Small dense linear algebra over intervals, and the one rigorous inverse the method needs
-//! (spec/05-enclosure.md, eq. (5.9)). Float matrices (nalgebra) are only ever *chosen*
+//! ([spec/05-enclosure.md](crate::spec::enclosure), eq. (5.9)). Float matrices (nalgebra) are only ever *chosen*
 //! objects (a basis, an approximate inverse): every set they act on is computed in intervals.
 
 use crate::scalar::point;
@@ -90,7 +90,7 @@ pub fn identity_minus(a: &IMat) -> IMat {
 }
 
 /// `a b` in interval arithmetic (sums by fused multiply-add, outward rounded; a row at a
-/// time by the kernel, spec (1.4)). A float factor enters as `imat` (its points are exact).
+/// time by the kernel, [spec (1.4)](crate::spec::scalars)). A float factor enters as `imat` (its points are exact).
 pub fn mul(a: &IMat, b: &IMat) -> IMat {
     let rows: Vec<&[Interval]> = b.rows().collect();
     let mut flat = Vec::with_capacity(a.rows * b.cols);
@@ -115,18 +115,18 @@ pub fn add(a: &IMat, b: &IMat) -> IMat {
 }
 
 /// `a x` in interval arithmetic (sums by fused multiply-add, outward rounded; a dot product
-/// per row, spec (1.4)).
+/// per row, [spec (1.4)](crate::spec::scalars)).
 pub fn mul_vec(a: &IMat, x: &[Interval]) -> Vec<Interval> {
     a.rows().map(|r| row_dot(r, x)).collect()
 }
 
-/// `sum_j r_j x_j` over the common length, by the dot kernel (spec (1.4)).
+/// `sum_j r_j x_j` over the common length, by the dot kernel ([spec (1.4)](crate::spec::scalars)).
 fn row_dot(r: &[Interval], x: &[Interval]) -> Interval {
     let n = r.len().min(x.len());
     crate::dot::dot(point(0.0), false, &r[..n], &x[..n], false)
 }
 
-/// The midpoints of the entries, as a float matrix (a choice, spec 0.2).
+/// The midpoints of the entries, as a float matrix (a choice, [spec 0.2](crate::spec::overview#02-the-global-promise)).
 pub fn mid(a: &IMat) -> DMatrix<f64> {
     DMatrix::from_fn(a.rows, a.cols, |i, j| a[i][j].mid())
 }
@@ -152,7 +152,7 @@ pub fn all_finite(a: &IMat) -> bool {
 }
 
 /// An interval matrix containing `B^{-1}` for the float matrix `b`, given any float
-/// approximate inverse `x` (spec eq. (5.9)): with `E = I - X B` and `d >= ||E||_inf < 1`,
+/// approximate inverse `x` ([spec eq. (5.9)](crate::spec::enclosure)): with `E = I - X B` and `d >= ||E||_inf < 1`,
 /// `B^{-1} = (I - E)^{-1} X in (I + E + [-eps, eps]) X`, `eps = d^2 / (1 - d)`.
 /// `None` when `d >= 1/2` (the approximate inverse is too poor to prove anything useful).
 pub fn enclose_inverse(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IMat> {

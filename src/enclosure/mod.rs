@@ -1,6 +1,6 @@
 //! The validated integrator: interval Taylor series + a priori enclosure (Picard-Lindelof
 //! in the high-order form of Corliss and Rihm) + Lohner's QR control of the wrapping effect
-//! (spec/05-enclosure.md, eqs. (5.1)-(5.10)).
+//! ([spec/05-enclosure.md](crate::spec::enclosure), eqs. (5.1)-(5.10)).
 
 mod control;
 mod float;
@@ -30,17 +30,17 @@ use linalg::IMat;
 #[non_exhaustive]
 pub struct FlowOptions {
     /// Taylor order `p` of the steps. `None` (default): `p = 22` (`DEFAULT_ORDER`), or 28
-    /// for a span of two or three steps (spec (5.8) (e)), and a step that reaches the end
-    /// may take a lower order that also reaches it (spec eqs. (5.8), (5.8')); `Some(p)`:
+    /// for a span of two or three steps ([spec (5.8)](crate::spec::enclosure) (e)), and a step that reaches the end
+    /// may take a lower order that also reaches it ([spec eqs. (5.8)](crate::spec::enclosure), (5.8')); `Some(p)`:
     /// `p` for every step (`Some(0)` is taken as `None`).
     pub order: Option<usize>,
     /// Refuse ([`crate::Reason::Budget`], [`crate::Limit::TaylorSteps`]) rather than take
     /// more accepted steps of the validated Taylor integrator than this (default 20000).
     pub max_taylor_steps: usize,
-    /// `None` (default): step sizes chosen by spec eq. (5.8). `Some(h)`, `h > 0`: every step
+    /// `None` (default): step sizes chosen by [spec eq. (5.8)](crate::spec::enclosure). `Some(h)`, `h > 0`: every step
     /// tries the size `h` (rounded down to three significant bits) without the width
     /// tolerances of (5.8); a step whose a priori enclosure fails is retried smaller as in
-    /// (5.8) (spec eq. (5.13)). `Some(h)` with `h` not > 0 is taken as `None`.
+    /// (5.8) ([spec eq. (5.13)](crate::spec::enclosure)). `Some(h)` with `h` not > 0 is taken as `None`.
     pub fixed_h: Option<f64>,
     /// Told `("flow", reached, t)` after each accepted step (for a progress display; it
     /// sees nothing else and cannot change the result). Silent by default.
@@ -52,19 +52,19 @@ pub struct FlowOptions {
     /// Refuse with [`Error::over_work`] (exit 3, [`crate::Reason::Budget`]) once
     /// [`crate::work_done`] on this thread has reached this count: checked where the
     /// deadline is, and before every try of a step. [`FlowOptions::allow_work`]`(W)` sets it
-    /// for a call that may do the work `W` (spec (5.8''')); unlike a deadline it replays the
+    /// for a call that may do the work `W` ([spec (5.8''')](crate::spec::enclosure)); unlike a deadline it replays the
     /// same on every machine. `None` (default): no work limit.
     pub work_limit: Option<u64>,
-    /// How the basis of the set is renewed at each step (spec eq. (5.10)).
+    /// How the basis of the set is renewed at each step ([spec eq. (5.10)](crate::spec::enclosure)).
     pub basis: Basis,
     /// `true` (default): the set is a doubleton whose step errors are folded into its
-    /// propagated part once they are 10 times wider (spec (5.10')). `false`: they never
+    /// propagated part once they are 10 times wider ([spec (5.10')](crate::spec::enclosure)). `false`: they never
     /// are, and a point's flow is the single parallelepiped `m + B r` of the previous
     /// version (for comparisons; on knife-eps at T = 600 it is 2.3 times wider).
     pub reorganise: bool,
 }
 
-/// The basis `B'` of the next set in Lohner's update (spec eq. (5.10)).
+/// The basis `B'` of the next set in Lohner's update ([spec eq. (5.10)](crate::spec::enclosure)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Basis {
     /// `B' = mid([J] B)`, the propagated parallelepiped (its inverse proved by (5.9); the
@@ -119,7 +119,7 @@ impl FlowOptions {
         self
     }
 
-    /// The Taylor order given, `None` when it is to be chosen (spec (5.8)).
+    /// The Taylor order given, `None` when it is to be chosen ([spec (5.8)](crate::spec::enclosure)).
     pub(crate) fn given_order(&self) -> Option<usize> {
         self.order.filter(|&p| p > 0)
     }
@@ -129,7 +129,7 @@ impl FlowOptions {
         self.fixed_h.filter(|&h| h > 0.0)
     }
 
-    /// These options with the work `w` allowed from now (spec (5.8''')): `work_limit`
+    /// These options with the work `w` allowed from now ([spec (5.8''')](crate::spec::enclosure)): `work_limit`
     /// becomes [`crate::work_done`]` + w`, or stays where it is if that is lower.
     pub fn allow_work(mut self, w: u64) -> Self {
         let limit = crate::tape::work_done().saturating_add(w);
@@ -168,7 +168,7 @@ impl Default for FlowOptions {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct FlowStats {
-    /// The Taylor order `p` of the steps (a last step may have used a lower one, spec (5.8')).
+    /// The Taylor order `p` of the steps (a last step may have used a lower one, [spec (5.8')](crate::spec::enclosure)).
     pub order: usize,
     /// Accepted steps.
     pub steps: usize,
@@ -181,11 +181,11 @@ pub struct FlowStats {
     pub h_max: f64,
 }
 
-/// The order used when none is given (spec eq. (5.8): measured, fewer and longer steps than
+/// The order used when none is given ([spec eq. (5.8)](crate::spec::enclosure): measured, fewer and longer steps than
 /// the textbook -ln(2^-53)/2 pay, because each step also renews the set's basis).
 pub const DEFAULT_ORDER: usize = 22;
 
-/// Carry a set through time `t` (spec Theorem 5.1): the returned set contains the exact
+/// Carry a set through time `t` ([spec Theorem 5.1](crate::spec::enclosure#theorem-51-what-flow-proves)): the returned set contains the exact
 /// state at time t of every solution starting in `set`.
 pub fn flow_set(
     sys: &System,
@@ -198,8 +198,8 @@ pub fn flow_set(
 
 /// As [`flow_set`] over a span of time known by an enclosure `span` (`span.inf() >= 0`):
 /// the returned set contains the exact state at time `d` of every solution starting in
-/// `set`, for every `d` in `span` (the last step is an interval step, spec eq. (5.7)). A
-/// difference of float times `t_1 - t_0` is carried this way (spec eq. (5.16)).
+/// `set`, for every `d` in `span` (the last step is an interval step, [spec eq. (5.7)](crate::spec::enclosure)). A
+/// difference of float times `t_1 - t_0` is carried this way ([spec eq. (5.16)](crate::spec::enclosure)).
 pub fn flow_set_span(
     sys: &System,
     set: LohnerSet,
@@ -232,7 +232,7 @@ pub(crate) fn flow_set_span_memo(
 }
 
 /// As [`flow_set`], and also an interval matrix containing the derivative `D x(t) / D x(0)`
-/// at every initial point of `set` (spec Theorem 5.2).
+/// at every initial point of `set` ([spec Theorem 5.2](crate::spec::enclosure)).
 pub fn flow_set_c1(
     sys: &System,
     set: LohnerSet,
@@ -246,8 +246,8 @@ pub fn flow_set_c1(
 }
 
 /// As [`flow_set_c1`] with each step's Jacobian enclosed to the rounding level (its
-/// variational order raised until its remainder is below 16 ulps of its size, spec eq.
-/// (5.6)): slower, but the derivative stays narrow over long times (spec Theorem 5.3).
+/// variational order raised until its remainder is below 16 ulps of its size, [spec eq.
+/// (5.6)](crate::spec::enclosure)): slower, but the derivative stays narrow over long times ([spec Theorem 5.3](crate::spec::enclosure)).
 // used through the `internals` feature (and its tests); the crate's own flows go through
 // `flow_set_jacobian_explained`
 #[cfg_attr(not(feature = "internals"), allow(dead_code))]

@@ -1,4 +1,4 @@
-//! The set representation (spec eqs. (5.1), (5.10'), (5.15)): Lohner's parallelepiped in
+//! The set representation ([spec eqs. (5.1)](crate::spec::enclosure), (5.10'), (5.15)): Lohner's parallelepiped in
 //! two parts (a doubleton) with a box, its marked subset, and the derivative carried as
 //! `C + B [R]`.
 
@@ -9,10 +9,10 @@ use inari::Interval;
 use nalgebra::DMatrix;
 
 /// A set `{ m + C r0 + B r : r0 in [r0], r in [r] } ∩ boxed` (a doubleton: Lohner's
-/// parallelepiped in two parts, and a box, all enclosures of the same states; spec eq.
-/// (5.1)): `m`, `C` and `B` are exact f64 data, `[r0]` and `[r]` interval vectors that
+/// parallelepiped in two parts, and a box, all enclosures of the same states; [spec eq.
+/// (5.1)](crate::spec::enclosure)): `m`, `C` and `B` are exact f64 data, `[r0]` and `[r]` interval vectors that
 /// contain 0. `C r0` is the propagated part (the initial set, and the errors folded into it
-/// by a reorganisation, spec (5.10')); `B r` gathers the errors of the steps since.
+/// by a reorganisation, [spec (5.10')](crate::spec::enclosure)); `B r` gathers the errors of the steps since.
 #[derive(Clone, PartialEq)]
 pub struct LohnerSet {
     /// The centre `m` (exact f64 data).
@@ -25,10 +25,10 @@ pub struct LohnerSet {
     pub b: DMatrix<f64>,
     /// `[r]`, containing 0.
     pub r: Vec<Interval>,
-    /// A box that also contains every state of the set (the box of spec eq. (5.12)).
+    /// A box that also contains every state of the set (the box of [spec eq. (5.12)](crate::spec::enclosure)).
     pub boxed: Vec<Interval>,
     /// A marked subset `{ m + C r0 + B r : r0 in sub.r0, r in sub.r } ∩ sub.boxed` carried
-    /// along with the same centre, bases and Jacobians (spec eq. (5.14)): e.g. the image of
+    /// along with the same centre, bases and Jacobians ([spec eq. (5.14)](crate::spec::enclosure)): e.g. the image of
     /// the initial centre, which the Krawczyk test needs beside the image of the whole box.
     pub sub: Option<SubSet>,
 }
@@ -46,9 +46,9 @@ crate::readable::readable_debug!(LohnerSet {
 /// The marked subset of a [`LohnerSet`]: its own `[r0]`, `[r]` (inside the set's) and box.
 #[derive(Clone, PartialEq)]
 pub struct SubSet {
-    /// The subset's `[r0_S]` (spec eq. (5.14)).
+    /// The subset's `[r0_S]` ([spec eq. (5.14)](crate::spec::enclosure)).
     pub r0: Vec<Interval>,
-    /// The subset's `[r_S]` (spec eq. (5.14)).
+    /// The subset's `[r_S]` ([spec eq. (5.14)](crate::spec::enclosure)).
     pub r: Vec<Interval>,
     /// The subset's box `[x_S]`.
     pub boxed: Vec<Interval>,
@@ -109,7 +109,7 @@ impl LohnerSet {
             ..Self::centred(m, x)
         }
     }
-    /// An interval box containing the set (spec eq. (5.2)): the parallelepiped's hull
+    /// An interval box containing the set ([spec eq. (5.2)](crate::spec::enclosure)): the parallelepiped's hull
     /// intersected with the box (both contain the set, so the intersection is not empty).
     pub fn hull(&self) -> Vec<Interval> {
         self.hull_of(&self.r0, &self.r, &self.boxed)
@@ -171,7 +171,7 @@ impl LohnerSet {
     }
 
     /// An enclosure of `{ G(x) : x in the set }` by the centred form
-    /// `G(m) + (DG([X]) C) [r0] + (DG([X]) B) [r]`, intersected with `G([X])` (spec eq. (5.12)); `g_jac` is the
+    /// `G(m) + (DG([X]) C) [r0] + (DG([X]) B) [r]`, intersected with `G([X])` ([spec eq. (5.12)](crate::spec::enclosure)); `g_jac` is the
     /// tape of `(G, DG)` (`G` then `DG` row-major). `None` if an evaluation is not proved.
     pub fn image(&self, g_jac: &crate::tape::Tape) -> Option<Vec<Interval>> {
         let d = self.m.len();
@@ -197,7 +197,7 @@ impl LohnerSet {
     }
 }
 
-/// The derivative `D x(t) / D x(0)` carried as `C + B [R]` (spec eq. (5.15)): `C` a float
+/// The derivative `D x(t) / D x(0)` carried as `C + B [R]` ([spec eq. (5.15)](crate::spec::enclosure)): `C` a float
 /// matrix, `B` the state set's basis, `[R]` interval columns.
 pub(super) struct JacobianSet {
     pub(super) c: DMatrix<f64>,
@@ -218,7 +218,7 @@ impl JacobianSet {
         let r = linalg::add(&linalg::mul(ba, &self.r), &linalg::mul(b_inv, &off));
         JacobianSet { c, r }
     }
-    /// The same derivative after the state's reorganisation (spec (5.10')) replaced the
+    /// The same derivative after the state's reorganisation ([spec (5.10')](crate::spec::enclosure)) replaced the
     /// basis `B` by `I`: `C + B [R] ⊂ C + I ([B] [R])`.
     pub(super) fn rebase(&self, b: &DMatrix<f64>) -> Self {
         JacobianSet {

@@ -1,4 +1,4 @@
-//! One step of the method (spec eqs. (5.3)-(5.6), (5.9)-(5.12)): the a priori enclosure, the
+//! One step of the method ([spec eqs. (5.3)-(5.6)](crate::spec::enclosure), (5.9)-(5.12)): the a priori enclosure, the
 //! Taylor polynomial and its remainder, the derivative factor and Lohner's update.
 
 use super::linalg::{self, IMat};
@@ -19,10 +19,10 @@ pub(super) enum StepFail {
     Fatal(String),
 }
 
-/// Number of time slices over which the remainder's coefficient is enclosed (spec (5.5)).
+/// Number of time slices over which the remainder's coefficient is enclosed ([spec (5.5)](crate::spec::enclosure)).
 pub(super) const SLICES: usize = 8;
 
-/// How a try's remainder (5.5) is held to the tolerance (spec (5.8)).
+/// How a try's remainder (5.5) is held to the tolerance ([spec (5.8)](crate::spec::enclosure)).
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(super) enum Tolerance {
     /// Accepted whatever its width (a fixed step (5.13), or after 12 tries).
@@ -40,7 +40,7 @@ pub(super) const REMAINDER_TOL: f64 = f64::EPSILON;
 /// Horner's scheme in intervals, for the components `cols` of every row at once: entry `i`
 /// encloses `sum_k c_k[cols.start + i] t^k` for every `t` in `h` and every choice of
 /// coefficients in the enclosures, with `c_k` the rows and then `top` if given (fused
-/// multiply-adds, each outward rounded: spec (1.4)).
+/// multiply-adds, each outward rounded: [spec (1.4)](crate::spec::scalars)).
 pub(super) fn horner(
     rows: Rows<'_, Interval>,
     cols: std::ops::Range<usize>,
@@ -59,7 +59,7 @@ pub(super) fn horner(
 pub(super) struct StepOut {
     pub(super) set: LohnerSet,
     /// For C^1 output: the step's derivative factor `[J]`, `[B'^{-1}][J B]` and
-    /// `[B'^{-1}]` (spec eq. (5.15)).
+    /// `[B'^{-1}]` ([spec eq. (5.15)](crate::spec::enclosure)).
     pub(super) jac: Option<(IMat, IMat, IMat)>,
     /// The basis `B'` that a reorganisation (5.10') replaced by `I`, if any.
     pub(super) rebased: Option<DMatrix<f64>>,
@@ -69,7 +69,7 @@ pub(super) struct StepOut {
 
 /// The a priori enclosure (5.4) of the centre's trajectory proved by a rejected try of a
 /// step: the box `y` holds the trajectory over `[0, span]`, so over every shorter span too,
-/// and `ty` are the coefficients over it up to `order + 1` (spec (5.4')).
+/// and `ty` are the coefficients over it up to `order + 1` ([spec (5.4')](crate::spec::enclosure)).
 pub(super) struct Prior {
     span: f64,
     order: usize,
@@ -77,7 +77,7 @@ pub(super) struct Prior {
     ty: Coeffs<Interval>,
 }
 
-/// One step of the method (spec eqs. (5.3)-(5.6), (5.9)-(5.12)). `prior` carries the a
+/// One step of the method ([spec eqs. (5.3)-(5.6)](crate::spec::enclosure), (5.9)-(5.12)). `prior` carries the a
 /// priori box of a rejected try to the next try of the same step (5.4').
 #[allow(clippy::too_many_arguments)]
 pub(super) fn lohner_step(
@@ -226,8 +226,8 @@ pub(super) fn lohner_step(
 /// this many times the propagated part's.
 pub(super) const REORGANISE: f64 = 10.0;
 
-/// The basis `B'` of the next set and an interval matrix containing its inverse (spec eqs.
-/// (5.9)-(5.10)): `mid([A])` itself for [`Basis::Parallelepiped`] (its inverse proved by
+/// The basis `B'` of the next set and an interval matrix containing its inverse ([spec eqs.
+/// (5.9)-(5.10)](crate::spec::enclosure)): `mid([A])` itself for [`Basis::Parallelepiped`] (its inverse proved by
 /// (5.9) from a float inverse), the orthogonal factor of its QR factorisation for
 /// [`Basis::Orthogonal`] or when the parallelepiped's inverse is not proved, and `I` when
 /// neither is.
@@ -249,7 +249,7 @@ pub(super) fn choose_basis(am: DMatrix<f64>, basis: Basis) -> (DMatrix<f64>, IMa
     }
 }
 
-/// The orders tried for the Taylor series of the variational equation (spec eq. (5.6)),
+/// The orders tried for the Taylor series of the variational equation ([spec eq. (5.6)](crate::spec::enclosure)),
 /// lowest first.
 pub(super) const JAC_ORDERS: [usize; 6] = [3, 5, 8, 12, 16, 20];
 
@@ -301,7 +301,7 @@ pub(super) fn box_enclosure(
     Ok((z, full_jacobian(&jac, &sys.var_cols), ratio))
 }
 
-/// The Picard-Lindelof test in the high-order form of Corliss and Rihm (spec eq. (5.4)):
+/// The Picard-Lindelof test in the high-order form of Corliss and Rihm ([spec eq. (5.4)](crate::spec::enclosure)):
 /// with `b` the Taylor coefficients `0..=q` at the initial set, find a box `Y` with
 /// `sum_{i<q} b_i [0,h]^i + T_q(Y) [0,h]^q  in  Y`. Returns `Y` and the coefficients
 /// `T_0..T_{q+1}` over `Y` (the last one for the Lagrange remainder). The first trial box
@@ -527,7 +527,7 @@ pub(super) fn step_jacobian(
     }
 }
 
-/// `(x, W0)`: a box with the seed of the variational equation (spec eq. (4.11)) for the
+/// `(x, W0)`: a box with the seed of the variational equation ([spec eq. (4.11)](crate::spec::dynamics)) for the
 /// columns `cols` of `D x(t) / D x(0)`: `W0` is `d x cols.len()`, row-major, with
 /// `W0[cols[k]][k] = 1` and 0 elsewhere.
 pub(super) fn with_seed(x: &[Interval], cols: &[usize]) -> Vec<Interval> {
@@ -539,7 +539,7 @@ pub(super) fn with_seed(x: &[Interval], cols: &[usize]) -> Vec<Interval> {
 }
 
 /// `D x(h) / D x(0)` from its columns `cols` (`w`, d x cols.len()): every other column `j`
-/// is `e_j`, exactly, since the field does not read component `j` (spec eq. (5.6')).
+/// is `e_j`, exactly, since the field does not read component `j` ([spec eq. (5.6')](crate::spec::enclosure)).
 pub(super) fn full_jacobian(w: &IMat, cols: &[usize]) -> IMat {
     let d = w.nrows();
     let mut jac = linalg::identity(d);

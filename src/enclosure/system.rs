@@ -1,5 +1,5 @@
 //! The ODE the validated integrator carries sets through: a vector field and its
-//! variational equations recorded as tapes (spec eq. (5.6)). It knows nothing of mechanics;
+//! variational equations recorded as tapes ([spec eq. (5.6)](crate::spec::enclosure)). It knows nothing of mechanics;
 //! `Model` (one layer up) records its reduced equations into one.
 
 use crate::scalar::Dual;
@@ -7,7 +7,7 @@ use crate::tape::{Tape, Tracer};
 
 /// An autonomous ODE `x' = F(x)` as tapes: `field: x -> F(x)`,
 /// `field_var: (x, V) -> (F(x), DF(x) V)` with V a d x c matrix row-major, its columns
-/// those of `var_cols` (spec eq. (5.6)), and `field_var_tail`, the same for a d x `tail`
+/// those of `var_cols` ([spec eq. (5.6)](crate::spec::enclosure)), and `field_var_tail`, the same for a d x `tail`
 /// matrix W: the derivatives with respect to the last `tail` components of the initial
 /// state only (the shooting Jacobian of the retraction needs D x / D u0, not D x / D q0).
 #[derive(Debug)]
@@ -18,7 +18,7 @@ pub struct System {
     pub field_var: Tape,
     /// The components of the state that `field` reads, increasing. Column `j` of
     /// `D x(t) / D x(0)` for a component `j` not read is the unit vector `e_j`, exactly
-    /// (spec eq. (5.6'), cyclic components): only the others are carried by `field_var`.
+    /// ([spec eq. (5.6')](crate::spec::enclosure), cyclic components): only the others are carried by `field_var`.
     pub var_cols: Vec<usize>,
     /// `(x, W) -> (F(x), DF(x) W)`, `W` a `d x tail` matrix row-major.
     pub field_var_tail: Tape,

@@ -1,4 +1,4 @@
-//! The Krawczyk operator with epsilon-inflation (spec eq. (6.3), Theorem 6.1).
+//! The Krawczyk operator with epsilon-inflation ([spec eq. (6.3)](crate::spec::exact_discrete), Theorem 6.1).
 
 use crate::enclosure::linalg::{self, IMat};
 use crate::scalar::{iv, point};
@@ -11,7 +11,7 @@ use nalgebra::DMatrix;
 /// (best an approximate inverse of `DG(guess)`).
 ///
 /// `gd(X)` must return an enclosure of `G(guess)` (for every parameter value) and one of
-/// `DG` over the box `X` (one call: a flow of the box `X` gives both, spec eq. (6.3)).
+/// `DG` over the box `X` (one call: a flow of the box `X` gives both, [spec eq. (6.3)](crate::spec::exact_discrete)).
 /// `rad` is the first radius tried: about twice the expected Newton correction.
 /// `scale` is the magnitude the solution's rounding is measured against (the retraction
 /// passes `max |u0|`): every component gets at least a few ulps of it.
@@ -19,8 +19,8 @@ use nalgebra::DMatrix;
 /// # Containment
 /// If `K(X) = z~ - C G(z~) + (I - C DG(X)) (X - z~)` lies in the interior of `X` (checked
 /// componentwise in intervals), then `G` has exactly one zero in `X` and it lies in `K(X)`
-/// (Krawczyk 1969; Moore 1977; spec Theorem 6.1); `K(X)` is returned, narrowed by the
-/// passes of spec (6.3') (each keeps the zero). After 8 inflations without that inclusion:
+/// (Krawczyk 1969; Moore 1977; [spec Theorem 6.1](crate::spec::exact_discrete)); `K(X)` is returned, narrowed by the
+/// passes of [spec (6.3')](crate::spec::exact_discrete) (each keeps the zero). After 8 inflations without that inclusion:
 /// `Error::Uncertified`.
 pub fn krawczyk(
     guess: &[f64],
@@ -133,7 +133,7 @@ fn inflate(
     )))
 }
 
-/// `z~ - C [G(z~)] + M (Y - z~)` (spec (6.3)), `cg = C [G(z~)]` and `m = I - C [DG](X)`:
+/// `z~ - C [G(z~)] + M (Y - z~)` ([spec (6.3)](crate::spec::exact_discrete)), `cg = C [G(z~)]` and `m = I - C [DG](X)`:
 /// `K(X)` for `Y = X`, and each pass of (6.3').
 fn image(zt: &[Interval], cg: &[Interval], m: &IMat, y: &[Interval]) -> Vec<Interval> {
     let dy: Vec<Interval> = y.iter().zip(zt).map(|(a, z)| *a - *z).collect();
@@ -150,7 +150,7 @@ const REFINE_PASSES: usize = 64;
 /// to `z*`, which lies in the convex `X`). So `Y <- (z~ - C G(z~) + M (Y - z~)) ∩ Y` from
 /// `Y = K(X)` keeps `z*` and costs no flow. Passes stop once no component narrows to below
 /// 7/8 of its width, or after REFINE_PASSES. An empty intersection can only come from a
-/// fault of the crate (spec 0.4).
+/// fault of the crate ([spec 0.4](crate::spec::overview#04-self-checks-vnode-lp-and-capd-style)).
 fn refine(
     zt: &[Interval],
     cg: &[Interval],

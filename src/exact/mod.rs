@@ -1,4 +1,4 @@
-//! The exact discrete objects of the paper, certified (spec/06-exact-discrete.md):
+//! The exact discrete objects of the paper, certified ([spec/06-exact-discrete.md](crate::spec::exact_discrete)):
 //! the nonholonomic exponential map, the exact retractions R^{e-}, R^{e+} and the defect of
 //! membership in M_h^{e,nh} (Krawczyk), the exact discrete flow and Legendre transforms.
 
@@ -21,7 +21,7 @@ use nalgebra::{DMatrix, DVector};
 
 pub use krawczyk::krawczyk;
 
-/// The nonholonomic exponential map with its derivative (spec eq. (6.1)).
+/// The nonholonomic exponential map with its derivative ([spec eq. (6.1)](crate::spec::exact_discrete)).
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
@@ -42,7 +42,7 @@ pub struct Exponential {
 /// # Containment
 /// For every `q0` in the box `q0` and `u0` in the box `u0`, the exact `q(h)` and `qd(h)` of the
 /// trajectory with `q(0) = q0`, `qd(0) = E(q0)^T u0` lie in `q1`, `v1`, and
-/// `D q(h)/D u0 (q0, u0)` lies in `dq_du` (spec Theorem 5.2). `Error::Uncertified` otherwise.
+/// `D q(h)/D u0 (q0, u0)` lies in `dq_du` ([spec Theorem 5.2](crate::spec::enclosure)). `Error::Uncertified` otherwise.
 pub fn exponential(
     model: &Model,
     q0: &[Interval],
@@ -75,13 +75,13 @@ fn velocity(model: &Model, x: &[Inari]) -> Result<Vec<Inari>, Error> {
         .ok_or_else(|| Error::refused(Reason::Unbounded, "velocity enclosure is not finite"))
 }
 
-/// Velocities over a state set, by the centred form (spec eq. (5.12)).
+/// Velocities over a state set, by the centred form ([spec eq. (5.12)](crate::spec::enclosure)).
 fn set_velocity(model: &Model, set: &LohnerSet) -> Result<Vec<Inari>, Error> {
     set.image(&model.velocity_jac)
         .ok_or_else(|| Error::refused(Reason::Unbounded, "velocity enclosure is not finite"))
 }
 
-/// `N(q) = mu(q)^T`, n x k, enclosed over a box (spec eq. (6.2)).
+/// `N(q) = mu(q)^T`, n x k, enclosed over a box ([spec eq. (6.2)](crate::spec::exact_discrete)).
 pub fn normal_matrix(model: &Model, q: &[Interval]) -> Result<Vec<Vec<Interval>>, Error> {
     Ok(wrap_rows(normal_rows(model, &unwrap(q))?))
 }
@@ -98,7 +98,7 @@ fn normal_rows(model: &Model, q: &[Inari]) -> Result<Vec<Vec<Inari>>, Error> {
         .collect())
 }
 
-/// The exact retraction at a pair (spec eqs. (6.2)-(6.4)).
+/// The exact retraction at a pair ([spec eqs. (6.2)-(6.4)](crate::spec::exact_discrete)).
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
@@ -125,11 +125,11 @@ impl Retraction {
     }
 }
 
-/// Solve `q(h; Q0, u0) = Q1 + N(Q1) s` for `(u0, s)` (spec eq. (6.2)).
+/// Solve `q(h; Q0, u0) = Q1 + N(Q1) s` for `(u0, s)` ([spec eq. (6.2)](crate::spec::exact_discrete)).
 ///
 /// # Containment
 /// For every `Q0`, `Q1` in the input boxes there is exactly one solution `(u0, s)` in a box
-/// that was proved to contain it (Krawczyk, spec Theorem 6.1), and it lies in
+/// that was proved to contain it (Krawczyk, [spec Theorem 6.1](crate::spec::exact_discrete)), and it lies in
 /// `(u0, s)`; `v0`, `v1`, `q1` enclose `R^{e-}`, `R^{e+}` and `q(h)` of that solution.
 /// `Error::Uncertified` when Newton does not converge, the Jacobian is singular, or the
 /// Krawczyk test fails (e.g. h too large for uniqueness); nothing unproved is returned.
@@ -284,7 +284,7 @@ fn retract_in(
     })
 }
 
-/// Two enclosures of one object must intersect (spec 0.4); their intersection encloses it.
+/// Two enclosures of one object must intersect ([spec 0.4](crate::spec::overview#04-self-checks-vnode-lp-and-capd-style)); their intersection encloses it.
 pub fn intersect_checked(a: &[Interval], b: &[Interval]) -> Result<Vec<Interval>, Error> {
     Ok(wrap(intersect(&unwrap(a), &unwrap(b))?))
 }
@@ -327,7 +327,7 @@ type NewtonGuess = (Vec<f64>, DMatrix<f64>, DVector<f64>);
 const NEWTON_WORK: usize = 4;
 
 /// Work bound of the validated flows of all Krawczyk boxes of one retraction, in multiples
-/// of `FlowOptions::max_taylor_steps` (spec (6.3)).
+/// of `FlowOptions::max_taylor_steps` ([spec (6.3)](crate::spec::exact_discrete)).
 const KRAWCZYK_WORK: usize = 3;
 
 /// A float Newton iteration for (u0, s), started from the least-squares velocity
@@ -486,12 +486,12 @@ fn newton_guess(
     })
 }
 
-/// The exact discrete flow and Legendre transforms at a pair (spec eqs. (6.5)-(6.7)).
+/// The exact discrete flow and Legendre transforms at a pair ([spec eqs. (6.5)-(6.7)](crate::spec::exact_discrete)).
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct ExactStep {
-    /// The retraction of `(Q0, Q1)` the step starts from (spec eqs. (6.2)-(6.4)).
+    /// The retraction of `(Q0, Q1)` the step starts from ([spec eqs. (6.2)-(6.4)](crate::spec::exact_discrete)).
     pub retraction: Retraction,
     /// `q(h)`, the point of M_h^{e,nh}.
     pub q1: Vec<Interval>,
@@ -506,9 +506,9 @@ pub struct ExactStep {
 /// One step of the exact discrete flow, with the Legendre transforms.
 ///
 /// # Containment
-/// For every `(Q0, Q1)` in the boxes, with `(u0, s)` the unique solution of spec eq. (6.2)
+/// For every `(Q0, Q1)` in the boxes, with `(u0, s)` the unique solution of [spec eq. (6.2)](crate::spec::exact_discrete)
 /// in the Krawczyk box: `q1 ∋ q(h)`, `q2 ∋ q(2h)`, `p_minus ∋ F^- l`, `p_plus ∋ F^+ l`
-/// (spec Theorem 6.2).
+/// ([spec Theorem 6.2](crate::spec::exact_discrete)).
 ///
 /// # Example
 /// ```
@@ -546,7 +546,7 @@ pub fn step(
     })
 }
 
-/// `p_a = <M(q) v + A(q), e_a(q)>` over boxes (spec eq. (4.8); `A = 0` unless the scene has
+/// `p_a = <M(q) v + A(q), e_a(q)>` over boxes ([spec eq. (4.8)](crate::spec::dynamics); `A = 0` unless the scene has
 /// a one-form).
 pub fn momentum(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Vec<Interval>, Error> {
     Ok(wrap(momentum_in(model, &unwrap(q), &unwrap(v))?))
@@ -561,12 +561,12 @@ fn momentum_in(model: &Model, q: &[Inari], v: &[Inari]) -> Result<Vec<Inari>, Er
         .ok_or_else(|| Error::refused(Reason::Unbounded, "momentum enclosure not finite"))
 }
 
-/// The exact discrete trajectory `q_0 .. q_N` from `(Q0, Q1)` (spec eq. (6.6)).
+/// The exact discrete trajectory `q_0 .. q_N` from `(Q0, Q1)` ([spec eq. (6.6)](crate::spec::exact_discrete)).
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
 pub struct ExactTrajectory {
-    /// The retraction of `(Q0, Q1)`: its `u0` box fixes the trajectory (spec eq. (6.2)).
+    /// The retraction of `(Q0, Q1)`: its `u0` box fixes the trajectory ([spec eq. (6.2)](crate::spec::exact_discrete)).
     pub retraction: Retraction,
     /// `q_k ∋ q(k h)`, k = 0..=N.
     pub q: Vec<Vec<Interval>>,
@@ -587,7 +587,7 @@ pub struct ExactTrajectory {
 ///
 /// # Containment
 /// `q[k] ∋ q(kh)`, `v[k] ∋ qd(kh)`, `p[k] ∋` the D*-momentum at `kh`, for the trajectory
-/// of the unique solution of (6.2) in the Krawczyk box (spec Theorem 6.3).
+/// of the unique solution of (6.2) in the Krawczyk box ([spec Theorem 6.3](crate::spec::exact_discrete)).
 pub fn trajectory(
     model: &Model,
     q0: &[Interval],
@@ -621,16 +621,16 @@ pub struct Iterate {
     /// The index `k` of the iterate (0 for `Q0`).
     pub k: usize,
     /// Contains `q(kh)` (with non-uniform steps, `q(t_k - t_0)`); for `k = 1`, the
-    /// intersection of the flow's box with `Q1 + N(Q1) s` (spec eq. (6.4)).
+    /// intersection of the flow's box with `Q1 + N(Q1) s` ([spec eq. (6.4)](crate::spec::exact_discrete)).
     pub q: Vec<Interval>,
     /// Contains `qd(kh)`; for `k = 0`, `R^{e-}(Q0, Q1)` of the retraction.
     pub v: Vec<Interval>,
-    /// Contains the D*-momentum `(<FL(qd(kh)), e_a(q(kh))>)_a` (spec eq. (4.8)).
+    /// Contains the D*-momentum `(<FL(qd(kh)), e_a(q(kh))>)_a` ([spec eq. (4.8)](crate::spec::dynamics)).
     pub p: Vec<Interval>,
 }
 
 /// The exact discrete flow from `(Q0, Q1)` one iterate at a time, in memory independent of
-/// the number of iterates (spec eq. (6.6)): the state is the trajectory's Lohner set at
+/// the number of iterates ([spec eq. (6.6)](crate::spec::exact_discrete)): the state is the trajectory's Lohner set at
 /// the last iterate. [`trajectory`] and the oracle's streaming check
 /// ([`crate::oracle::check_rows`]) are built on it.
 ///
@@ -662,7 +662,7 @@ impl std::fmt::Debug for ExactFlow<'_> {
 }
 
 impl<'m> ExactFlow<'m> {
-    /// Retract `(Q0, Q1)` (spec eq. (6.2)); nothing is flown yet.
+    /// Retract `(Q0, Q1)` ([spec eq. (6.2)](crate::spec::exact_discrete)); nothing is flown yet.
     pub fn start(
         model: &'m Model,
         q0: &[Interval],
@@ -688,7 +688,7 @@ impl<'m> ExactFlow<'m> {
         self.next_iterate_after(Interval::point(self.h))
     }
 
-    /// Non-uniform steps (spec eq. (8.4)): as [`ExactFlow::next_iterate`], the set flown
+    /// Non-uniform steps ([spec eq. (8.4)](crate::spec::oracle)): as [`ExactFlow::next_iterate`], the set flown
     /// from the last iterate over every span of time in `dt` (the exact `t_k - t_{k-1}`
     /// enclosed) instead of `h`: the `k`-th iterate, `k >= 2`, encloses `q(t_k - t_0)` when
     /// the spans given enclose `t_2 - t_1, .., t_k - t_{k-1}` and `h = t_1 - t_0`. The
@@ -724,7 +724,7 @@ impl<'m> ExactFlow<'m> {
 }
 
 /// The exact discrete Lagrangian `l^{e,h}_{d,nh}(Q0, Q1) = int_0^h L(q(t), qd(t)) dt` along
-/// the trajectory of [`retract`] (paper section 6; spec eq. (6.8)).
+/// the trajectory of [`retract`] (paper section 6; [spec eq. (6.8)](crate::spec::exact_discrete)).
 ///
 /// # Containment
 /// The returned interval contains the action over `[0, h]` of the trajectory from `Q0` with

@@ -21,9 +21,9 @@ use std::io::Write;
 pub enum Answer {
     /// `flow` at one time `t`; with `jacobian`, also D(q, u)(t) / D(q, u)(0).
     Flow {
-        /// The certified state at `t` (spec Theorem 5.1).
+        /// The certified state at `t` ([spec Theorem 5.1](crate::spec::enclosure#theorem-51-what-flow-proves)).
         enclosure: FlowEnclosure,
-        /// Contains `D(q, u)(t) / D(q, u)(0)`, rows and columns q then u (spec Theorem 5.3);
+        /// Contains `D(q, u)(t) / D(q, u)(0)`, rows and columns q then u ([spec Theorem 5.3](crate::spec::enclosure));
         /// `None` unless asked for.
         jacobian: Option<Vec<Vec<Interval>>>,
     },
@@ -31,7 +31,7 @@ pub enum Answer {
     FlowAt {
         /// The times asked for, increasing.
         times: Vec<f64>,
-        /// The certified state at each of `times`, in order (spec Theorem 5.4).
+        /// The certified state at each of `times`, in order ([spec Theorem 5.4](crate::spec::enclosure)).
         enclosures: Vec<FlowEnclosure>,
     },
     /// `retract`: the exact retractions and the defect of the pair.
@@ -40,19 +40,19 @@ pub enum Answer {
     Step(ExactStep),
     /// `lagrangian`: the exact discrete Lagrangian and the retraction it integrates along.
     Lagrangian {
-        /// Contains the action `int_0^h L(q, qd) dt` (spec eqs. (6.7)-(6.8)).
+        /// Contains the action `int_0^h L(q, qd) dt` ([spec eqs. (6.7)-(6.8)](crate::spec::exact_discrete)).
         l: Interval,
         /// The retraction of the pair, whose trajectory the action is taken along.
         retraction: Retraction,
     },
     /// `check`: the verdict, the tolerances it was decided on, and the decision.
     Check {
-        /// The certified figures (spec Theorem 8.1).
+        /// The certified figures ([spec Theorem 8.1](crate::spec::oracle)).
         verdict: Verdict,
         /// The tolerances given (none, one or both).
         tolerances: Tolerances,
         /// `true` when every given tolerance is proved met (or none is given), `false` when
-        /// one is proved exceeded (spec (8.3), (8.5)).
+        /// one is proved exceeded ([spec (8.3)](crate::spec::oracle), (8.5)).
         passed: bool,
     },
     /// `integrate`: the float trajectory of a scheme.

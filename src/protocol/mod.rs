@@ -33,7 +33,7 @@ use std::collections::HashMap;
 use std::rc::Rc;
 
 /// A scene by name with its parameters, or a user's scene definition (a scene file or an
-/// inline JSON object, spec chapter 10) with the parameters that override its defaults.
+/// inline JSON object, [spec chapter 10](crate::spec::scene_files)) with the parameters that override its defaults.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneSpec {
     /// The built-in scene's name, or a user's scene's name (then for messages only).
@@ -68,7 +68,7 @@ impl SceneSpec {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Query {
     /// `flow` (contract command 1): the state at `t` from `q(0) = q`, `qd(0) = E(q)^T u`
-    /// (spec Theorem 5.1).
+    /// ([spec Theorem 5.1](crate::spec::enclosure#theorem-51-what-flow-proves)).
     Flow {
         /// The scene.
         scene: SceneSpec,
@@ -76,24 +76,24 @@ pub enum Query {
         q: Vec<f64>,
         /// The initial quasi-velocities (n - k numbers).
         u: Vec<f64>,
-        /// One time (`t`) or many (`times`, dense output: spec eq. (5.16), contract E11).
+        /// One time (`t`) or many (`times`, dense output: [spec eq. (5.16)](crate::spec::enclosure), contract E11).
         t: At,
-        /// The Taylor order: 2 to 60, or 0 (not given) for the automatic choice (spec (5.8)).
+        /// The Taylor order: 2 to 60, or 0 (not given) for the automatic choice ([spec (5.8)](crate::spec::enclosure)).
         order: usize,
         /// Also the derivative D(q, u)(t) / D(q, u)(0) (`flow --jacobian`).
         jacobian: bool,
     },
-    /// `retract` (contract command 2): the exact retraction at the pair (spec eqs.
-    /// (6.2)-(6.4)).
+    /// `retract` (contract command 2): the exact retraction at the pair ([spec eqs.
+    /// (6.2)-(6.4)](crate::spec::exact_discrete)).
     Retract(Pair),
     /// `step` (contract command 3): one step of the exact discrete flow with the Legendre
-    /// transforms (spec Theorem 6.2).
+    /// transforms ([spec Theorem 6.2](crate::spec::exact_discrete)).
     Step(Pair),
-    /// `lagrangian`: the exact discrete Lagrangian of the pair (spec eqs. (6.7)-(6.8)).
+    /// `lagrangian`: the exact discrete Lagrangian of the pair ([spec eqs. (6.7)-(6.8)](crate::spec::exact_discrete)).
     Lagrangian(Pair),
     /// `integrate` (contract command 4): the float sequence `q_0 .. q_N` of DLA or MLA.
     Integrate {
-        /// The scene, `q0`, `q1` (moved onto M_h^d by the scheme, spec eq. (7.3)) and `h`.
+        /// The scene, `q0`, `q1` (moved onto M_h^d by the scheme, [spec eq. (7.3)](crate::spec::schemes)) and `h`.
         pair: Pair,
         /// DLA or MLA.
         scheme: SchemeKind,
@@ -118,8 +118,8 @@ pub enum Query {
         /// Also the per-pair defects and energies (default true).
         pairs: bool,
     },
-    /// `order` (contract E15): the certified local and global order of DLA or MLA (spec
-    /// chapter 11).
+    /// `order` (contract E15): the certified local and global order of DLA or MLA ([spec
+    /// chapter 11](crate::spec::testing)).
     Order {
         /// The scene.
         scene: SceneSpec,
@@ -173,8 +173,8 @@ pub struct Session {
     pub max_integrate_steps: usize,
     /// Time budget in seconds of every query that names no budget (`batch --deadline`).
     pub deadline: Option<f64>,
-    /// Work allowed to every query that names no budget ([`crate::work_done`] terms, spec
-    /// (5.8''')), on top of `flow.work_limit` (`batch --work`; the fuzz target
+    /// Work allowed to every query that names no budget ([`crate::work_done`] terms, [spec
+    /// (5.8''')](crate::spec::enclosure)), on top of `flow.work_limit` (`batch --work`; the fuzz target
     /// `batch_line` sets it). When neither this nor [`Session::deadline`] is set, a query
     /// without a budget of its own gets [`default_work`]. Unlike a deadline a work limit
     /// replays the same on every machine.
@@ -201,7 +201,7 @@ impl std::fmt::Debug for Session {
 /// wall-clock backstop of that size; no query gets it by default any more.
 pub const STEP_DEADLINE: f64 = 5.0;
 
-/// The default work budget ([`crate::work_done`] terms, spec (5.8''')) of a single-step
+/// The default work budget ([`crate::work_done`] terms, [spec (5.8''')](crate::spec::enclosure)) of a single-step
 /// query (`retract`, `step`, `lagrangian`, and each pair that `check` certifies) that names
 /// no budget: far above what any ordinary query takes (contract E14 says how it was sized),
 /// so it only stops a pathological one, and stops it at the same point on every machine.
@@ -263,7 +263,7 @@ fn scene_key(s: &SceneSpec) -> String {
 }
 
 impl Session {
-    /// The compiled model of a scene (spec eq. (3.16)): from the session's cache, or compiled
+    /// The compiled model of a scene ([spec eq. (3.16)](crate::spec::scenes)): from the session's cache, or compiled
     /// and cached now.
     pub fn model(&mut self, s: &SceneSpec) -> Result<Rc<Model>, Error> {
         let key = scene_key(s);
@@ -464,7 +464,7 @@ impl Session {
     }
 
     /// An `integrate` query row by row in constant memory (the command line's `integrate`
-    /// and batch's both run here): the scene is checked at `q0` and `q1` (spec (3.17)), then `row` gets q_k, p_k and the
+    /// and batch's both run here): the scene is checked at `q0` and `q1` ([spec (3.17)](crate::spec::scenes)), then `row` gets q_k, p_k and the
     /// energy for k = 0..=steps in order, as soon as each is known; returns the largest
     /// Newton residual. Within `seconds` when given, else the session's budget; past it, or
     /// when `row` fails, the integration stops with that error.
@@ -615,7 +615,7 @@ fn points(v: &[f64]) -> Vec<Interval> {
     v.iter().map(|x| Interval::point(*x)).collect()
 }
 
-/// Whether a verdict passes the tolerance (spec (8.3)): `true` when `max_distance <= tol`
+/// Whether a verdict passes the tolerance ([spec (8.3)](crate::spec::oracle)): `true` when `max_distance <= tol`
 /// is proved (or no tolerance is given), `false` when `max_distance > tol` is proved; a
 /// distance enclosure straddling `tol` decides nothing and is refused (exit 3).
 pub fn tolerance_verdict(v: &crate::oracle::Verdict, tol: Option<f64>) -> Result<bool, Error> {

@@ -1,5 +1,5 @@
 //! The `order` query (the `order` command's and batch's, contract E15): the certified local
-//! and global order of DLA or MLA on a scene (spec chapter 11,
+//! and global order of DLA or MLA on a scene ([spec chapter 11](crate::spec::testing),
 //! `crate::testing::{local_order, global_order}`), its answer and the answer's renderings.
 
 use super::{interval, intervals};

@@ -122,7 +122,7 @@ pub fn parse_steps(s: &str) -> Result<usize, Error> {
     }
 }
 
-/// `--order`: a Taylor order, an integer in `2..=60` (spec (5.8)).
+/// `--order`: a Taylor order, an integer in `2..=60` ([spec (5.8)](crate::spec::enclosure)).
 pub fn parse_order(s: &str) -> Result<usize, Error> {
     match s.trim().parse::<usize>() {
         Ok(p) if (2..=60).contains(&p) => Ok(p),
@@ -149,7 +149,7 @@ fn check_seconds(name: &str, x: f64) -> Result<f64, Error> {
     }
 }
 
-/// A work budget ([`crate::work_done`] terms, spec (5.8''')): an integer >= 1 (`--work`).
+/// A work budget ([`crate::work_done`] terms, [spec (5.8''')](crate::spec::enclosure)): an integer >= 1 (`--work`).
 pub fn parse_work(name: &str, s: &str) -> Result<u64, Error> {
     match s.trim().parse::<u64>() {
         Ok(w) if w >= 1 => Ok(w),
@@ -376,7 +376,7 @@ pub fn check_keys(o: &Map<String, Value>, known: &[&str], whose: &str) -> Result
 
 /// The scene of a batch query: its `"scene"` and `"params"` keys (the one place where a
 /// JSON query's scene is read). `"scene"` is a scene name, or an object defining the scene
-/// with the keys of a scene file (spec chapter 10); `"params"` is an object of numbers; a
+/// with the keys of a scene file ([spec chapter 10](crate::spec::scene_files)); `"params"` is an object of numbers; a
 /// parameter the scene does not have is refused when the scene is built.
 pub fn scene_spec_from_json(o: &Map<String, Value>) -> Result<SceneSpec, Error> {
     let mut params = Vec::new();

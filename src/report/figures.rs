@@ -1,5 +1,5 @@
 //! The paper's figures (section 5 examples), reproduced from this crate's own runs, and a
-//! work-precision diagram (spec/09-report.md, (9.1)-(9.4)).
+//! work-precision diagram ([spec/09-report.md](crate::spec::report), (9.1)-(9.4)).
 
 use super::orders::{self, Orders, SCHEMES};
 use super::{max_width, points, Figure, Panel, Progress, Series, Style, Table};
@@ -20,17 +20,17 @@ pub struct Settings {
     pub particle_steps: usize,
     /// Steps of the knife runs (paper: 600).
     pub knife_steps: usize,
-    /// The M_h^{e,nh} figure (spec (9.3)): the abscissae `x1`.
+    /// The M_h^{e,nh} figure ([spec (9.3)](crate::spec::report)): the abscissae `x1`.
     pub space_x: Vec<f64>,
     /// The M_h^{e,nh} figure: the values of `y1`, one slice each.
     pub space_y: Vec<f64>,
-    /// Work-precision (spec (9.4)): the final time `T`.
+    /// Work-precision ([spec (9.4)](crate::spec::report)): the final time `T`.
     pub wp_time: f64,
     /// Work-precision: the schemes' step sizes.
     pub wp_scheme_h: Vec<f64>,
     /// Work-precision: the Taylor orders of the certified flow.
     pub wp_orders: Vec<usize>,
-    /// Work-precision: the certified flow's fixed steps (spec eq. (5.13)).
+    /// Work-precision: the certified flow's fixed steps ([spec eq. (5.13)](crate::spec::enclosure)).
     pub wp_flow_h: Vec<f64>,
     /// Work-precision: each time is the shortest of runs repeated for at least this many
     /// seconds (and at least three times when `> 0`).
@@ -38,7 +38,7 @@ pub struct Settings {
     /// Work-precision, second panel: the horizons `T` at which the two bases of (5.10) are
     /// compared on the knife (automatic steps).
     pub wp_set_times: Vec<f64>,
-    /// Orders (spec (9.6)): the step sizes of the local ladder.
+    /// Orders ([spec (9.6)](crate::spec::report)): the step sizes of the local ladder.
     pub orders_local_h: Vec<f64>,
     /// Orders: the step sizes of the global ladder over `[0, 1]`.
     pub orders_global_h: Vec<f64>,
@@ -48,7 +48,7 @@ pub struct Settings {
 }
 
 impl Settings {
-    /// The paper's settings (spec (9.1)-(9.6)).
+    /// The paper's settings ([spec (9.1)-(9.6)](crate::spec::report)).
     pub fn paper() -> Self {
         Settings {
             particle_steps: 1200,

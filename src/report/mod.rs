@@ -1,5 +1,5 @@
 //! Data for the figures and the stability table (`dalembert figures`, `dalembert stability`;
-//! spec/09-report.md). This module only computes: the command line renders the data
+//! [spec/09-report.md](crate::spec::report)). This module only computes: the command line renders the data
 //! (`src/cli/render.rs` writes SVG with plotters and CSV; `src/cli/stability.rs` prints the
 //! Markdown table or JSON). Long computations report progress through a [`Progress`].
 

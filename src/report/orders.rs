@@ -1,6 +1,6 @@
 //! The certified local and global orders of DLA and MLA on every scene: the starts and
 //! ladders of the README table "Certified orders of DLA and MLA" (`examples/orders.rs`) and
-//! of the figure `orders` (`dalembert figures`; spec (9.6)). One list, so that the table and
+//! of the figure `orders` (`dalembert figures`; [spec (9.6)](crate::spec::report)). One list, so that the table and
 //! the figure show the same runs.
 
 use super::Progress;
@@ -61,9 +61,9 @@ pub fn starts() -> Vec<Start> {
 pub struct Orders {
     /// The start the ladders were run from.
     pub start: Start,
-    /// The local ladders (spec (11.1)) of DLA and MLA, or why each was refused.
+    /// The local ladders ([spec (11.1)](crate::spec::testing)) of DLA and MLA, or why each was refused.
     pub local: [Result<Ladder, Error>; 2],
-    /// The global ladders (spec (11.3)) of DLA and MLA, or why each was refused.
+    /// The global ladders ([spec (11.3)](crate::spec::testing)) of DLA and MLA, or why each was refused.
     pub global: [Result<Ladder, Error>; 2],
 }
 

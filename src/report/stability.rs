@@ -1,4 +1,4 @@
-//! The stability table at the extremes (spec/09-report.md, (9.5)): for each case, does the
+//! The stability table at the extremes ([spec/09-report.md](crate::spec::report), (9.5)): for each case, does the
 //! certified step answer or refuse, how wide is its answer, do the DLA and MLA Newton solves
 //! converge and in how many iterations.
 
@@ -20,11 +20,11 @@ pub struct Case {
     pub h: f64,
     /// The first configuration.
     pub q0: Vec<f64>,
-    /// `q0 + h E(q0)^T u`, `u = (0.8, 0.8)`, in f64 (spec (9.5)).
+    /// `q0 + h E(q0)^T u`, `u = (0.8, 0.8)`, in f64 ([spec (9.5)](crate::spec::report)).
     pub q1: Vec<f64>,
 }
 
-/// What the certified step (`exact::step`, spec Theorem 6.2) did.
+/// What the certified step (`exact::step`, [spec Theorem 6.2](crate::spec::exact_discrete)) did.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Certified {
     /// Answered.
@@ -57,7 +57,7 @@ pub enum Solve {
         /// Where: 0 the projection of q1, 1 the step to q2 (for a momentum or energy not
         /// finite, its row k = 0..=2).
         step: usize,
-        /// The named failure (spec eq. (7.6)), or why the input or the result was refused.
+        /// The named failure ([spec eq. (7.6)](crate::spec::schemes)), or why the input or the result was refused.
         failure: String,
     },
 }

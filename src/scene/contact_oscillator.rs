@@ -1,5 +1,5 @@
 //! The nonholonomic (contact) oscillator of McLachlan and Perlmutter (J. Nonlinear Sci. 16,
-//! 2006, sec. 5.2) and its non-reversible variant (spec eqs. (3.8)-(3.9)).
+//! 2006, sec. 5.2) and its non-reversible variant ([spec eqs. (3.8)-(3.9)](crate::spec::scenes)).
 //! Coordinates q = (x, y, z); constraint dx + y dz = 0.
 //!
 //! The variant `contact-oscillator-nr` is the one of Verdier's `odelab` library (class
@@ -38,7 +38,7 @@ const INVARIANTS: &[&str] = &[
     "E - E_y = 1/2 (x^2 + (1 + eps x^2) z^2 + (1 + y^2) zd^2)",
 ];
 
-/// `contact-oscillator` (spec eq. (3.8)).
+/// `contact-oscillator` ([spec eq. (3.8)](crate::spec::scenes)).
 pub const INFO: SceneInfo = SceneInfo {
     name: "contact-oscillator",
     summary: "the nonholonomic contact oscillator (McLachlan and Perlmutter 2006, sec. 5.2)",
@@ -54,7 +54,7 @@ pub const INFO: SceneInfo = SceneInfo {
     build: build_plain,
 };
 
-/// `contact-oscillator-nr` (spec eq. (3.9)).
+/// `contact-oscillator-nr` ([spec eq. (3.9)](crate::spec::scenes)).
 pub const NR_INFO: SceneInfo = SceneInfo {
     name: "contact-oscillator-nr",
     summary: "the contact oscillator with H = 1/2(|q|^2 + eps x^2 z^2 + |p + grad S|^2), \

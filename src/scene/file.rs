@@ -1,4 +1,4 @@
-//! Scene files (spec/10-scene-files.md): a system posed as a TOML file or as an inline JSON
+//! Scene files ([spec/10-scene-files.md](crate::spec::scene_files)): a system posed as a TOML file or as an inline JSON
 //! object with the same keys, read into a checked [`SceneFile`] that is a [`Scene`] like any
 //! other (its expressions are evaluated over any scalar by walking their parsed trees).
 //!
@@ -46,7 +46,7 @@ struct Entry {
 #[derive(Clone, Debug, PartialEq)]
 enum BasisSpec {
     Given(Vec<Vec<Entry>>),
-    /// The free coordinates of the derived basis (spec eq. (3.15)).
+    /// The free coordinates of the derived basis ([spec eq. (3.15)](crate::spec::scenes)).
     Free(Vec<usize>),
 }
 
@@ -843,7 +843,7 @@ impl Scene for SceneFile {
             .collect()
     }
     /// The given mass matrix; an entry below the diagonal written as its mirror image is
-    /// the same value (so symmetry is structural, spec 3.6).
+    /// the same value (so symmetry is structural, [spec 3.6](crate::spec::scenes)).
     fn mass<S: Scalar>(&self, q: &[S]) -> Mat<S> {
         let Some(m) = &self.mass else {
             return identity(self.dim());

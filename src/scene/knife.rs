@@ -1,5 +1,5 @@
-//! The knife edge on an inclined plane and its perturbation (paper section 5; spec
-//! eqs. (3.3)-(3.4)). Coordinates in the contract's order q = (x, y, phi).
+//! The knife edge on an inclined plane and its perturbation (paper section 5; [spec
+//! eqs. (3.3)-(3.4)](crate::spec::scenes)). Coordinates in the contract's order q = (x, y, phi).
 
 use super::{identity, AnyScene, Mat, ParamInfo, Params, Scene, SceneInfo};
 use crate::scalar::Scalar;
@@ -12,7 +12,7 @@ pub struct Knife;
 /// As [`Knife`] with constraint sin(phi) xd - (cos(phi) - eps) yd = 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KnifeEps {
-    /// The `eps` of `cos(phi) - eps`; [`AnyScene::new`] requires `|eps| < 1` (spec eq. (3.4)).
+    /// The `eps` of `cos(phi) - eps`; [`AnyScene::new`] requires `|eps| < 1` ([spec eq. (3.4)](crate::spec::scenes)).
     pub eps: f64,
 }
 
@@ -35,7 +35,7 @@ fn knife_potential<S: Scalar>(q: &[S]) -> S {
     -(q[0].clone() * S::cst(0.5))
 }
 
-/// `knife` (contract; spec eq. (3.3)).
+/// `knife` (contract; [spec eq. (3.3)](crate::spec::scenes)).
 pub const KNIFE_INFO: SceneInfo = SceneInfo {
     name: "knife",
     summary: "the knife edge on an inclined plane (paper section 5)",
@@ -54,7 +54,7 @@ pub const KNIFE_INFO: SceneInfo = SceneInfo {
     build: build_knife,
 };
 
-/// `knife-eps` (contract; spec eq. (3.4)).
+/// `knife-eps` (contract; [spec eq. (3.4)](crate::spec::scenes)).
 pub const KNIFE_EPS_INFO: SceneInfo = SceneInfo {
     name: "knife-eps",
     summary: "the perturbed knife edge of the paper's section 5 (not a knife for eps != 0)",

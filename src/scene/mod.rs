@@ -1,5 +1,5 @@
 //! Scenes: the data of one natural mechanical system with linear nonholonomic constraints
-//! (spec/03-scenes.md). A scene is nothing but data, written once over `S: Scalar`:
+//! ([spec/03-scenes.md](crate::spec::scenes)). A scene is nothing but data, written once over `S: Scalar`:
 //!
 //! - `L(q, qd) = 1/2 qd^T M(q) qd + A(q) qd - V(q)` on `Q = R^n` (angles as real
 //!   coordinates; the one-form `A` is absent, i.e. zero, unless a scene declares one),
@@ -37,18 +37,18 @@ use crate::{Error, InputKind};
 /// Dense matrix as rows.
 pub type Mat<S> = Vec<Vec<S>>;
 
-/// The data of one nonholonomic system (spec eq. (3.1)); `q` has length `dim()`.
+/// The data of one nonholonomic system ([spec eq. (3.1)](crate::spec::scenes)); `q` has length `dim()`.
 ///
 /// Any type that implements it builds a [`crate::Model`]: the built-in scenes, scene files
 /// (`SceneFile`) and users' own types alike. Only [`Scene::name`], [`Scene::dim`] and
 /// [`Scene::constraints`] are required; every other datum has its natural default (M = I,
-/// V = 0, A = 0, the basis of D derived from the constraints, spec eq. (3.15)). The data are
-/// written once over `S: Scalar` and must be analytic where they are evaluated (spec
-/// eq. (3.17) says what [`crate::Model::new`] and [`crate::Model::check_at`] check and what
+/// V = 0, A = 0, the basis of D derived from the constraints, [spec eq. (3.15)](crate::spec::scenes)). The data are
+/// written once over `S: Scalar` and must be analytic where they are evaluated ([spec
+/// eq. (3.17)](crate::spec::scenes) says what [`crate::Model::new`] and [`crate::Model::check_at`] check and what
 /// stays assumed).
 ///
 /// # Example
-/// The particle of spec eq. (3.2) as a user's own type: only its constraint is given, so
+/// The particle of [spec eq. (3.2)](crate::spec::scenes) as a user's own type: only its constraint is given, so
 /// `M = I`, `V = 0` and the basis is derived with the free coordinates `(x, y)`:
 /// `e_1 = (1, 0, y)`, `e_2 = (0, 1, 0)`.
 /// ```
@@ -91,17 +91,17 @@ pub trait Scene {
         S::zero()
     }
     /// The one-form `A(q)` of a Lagrangian term `A(q) qd` linear in the velocities
-    /// (spec eq. (3.1)); `None`, the default, for a natural Lagrangian (A = 0).
+    /// ([spec eq. (3.1)](crate::spec::scenes)); `None`, the default, for a natural Lagrangian (A = 0).
     fn one_form<S: Scalar>(&self, _q: &[S]) -> Option<Vec<S>> {
         None
     }
-    /// The free coordinates of the derived basis (spec eq. (3.15)): n - k indices into q.
+    /// The free coordinates of the derived basis ([spec eq. (3.15)](crate::spec::scenes)): n - k indices into q.
     /// Default: the first n - k coordinates. Used only by the default [`Scene::basis`].
     fn free(&self) -> Vec<usize> {
         (0..self.dim().saturating_sub(self.n_constraints())).collect()
     }
     /// Basis of D_q: row a is e_a(q) ((n-k) x n) with mu(q) e_a(q) = 0. Default: the basis
-    /// derived from the constraints and [`Scene::free`] (spec eq. (3.15)).
+    /// derived from the constraints and [`Scene::free`] ([spec eq. (3.15)](crate::spec::scenes)).
     fn basis<S: Scalar>(&self, q: &[S]) -> Mat<S> {
         derived_basis(&self.constraints(q), &self.free(), self.dim())
     }
@@ -116,7 +116,7 @@ pub trait Scene {
     }
 }
 
-/// The basis of D_q derived from the constraints (spec eq. (3.15)): with `free` the n - k
+/// The basis of D_q derived from the constraints ([spec eq. (3.15)](crate::spec::scenes)): with `free` the n - k
 /// free coordinates and the other k coordinates `dep`, e_a is the vector of ker mu(q) whose
 /// components on the free coordinates are the a-th unit vector; its components on `dep` are
 /// `-B^{-1} mu[:, free_a]`, B = mu[:, dep] the k x k pivot block, computed by Cramer's rule
@@ -389,17 +389,17 @@ impl Params<'_> {
 /// A scene chosen by name at run time, with its parameters fixed.
 #[derive(Clone, Debug, PartialEq)]
 pub enum AnyScene {
-    /// `particle` (spec eq. (3.2)).
+    /// `particle` ([spec eq. (3.2)](crate::spec::scenes)).
     Particle(Particle),
-    /// `knife` (spec eq. (3.3)).
+    /// `knife` ([spec eq. (3.3)](crate::spec::scenes)).
     Knife(Knife),
-    /// `knife-eps` (spec eq. (3.4)).
+    /// `knife-eps` ([spec eq. (3.4)](crate::spec::scenes)).
     KnifeEps(KnifeEps),
-    /// `rolling-disk` (spec eq. (3.6)).
+    /// `rolling-disk` ([spec eq. (3.6)](crate::spec::scenes)).
     RollingDisk(RollingDisk),
-    /// `sleigh` (spec eq. (3.7)).
+    /// `sleigh` ([spec eq. (3.7)](crate::spec::scenes)).
     Sleigh(Sleigh),
-    /// `contact-oscillator` (spec eq. (3.8)), or `contact-oscillator-nr` (3.9) when `delta` is
+    /// `contact-oscillator` ([spec eq. (3.8)](crate::spec::scenes)), or `contact-oscillator-nr` (3.9) when `delta` is
     /// given.
     ContactOscillator(ContactOscillator),
 }

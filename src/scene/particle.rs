@@ -1,4 +1,4 @@
-//! The nonholonomic particle (paper Example 2.1; spec eq. (3.2)).
+//! The nonholonomic particle (paper Example 2.1; [spec eq. (3.2)](crate::spec::scenes)).
 
 use super::{identity, AnyScene, Mat, ParamInfo, Params, Scene, SceneInfo};
 use crate::scalar::Scalar;
@@ -8,7 +8,7 @@ use crate::Error;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Particle;
 
-/// `particle` (contract; spec eq. (3.2)).
+/// `particle` (contract; [spec eq. (3.2)](crate::spec::scenes)).
 pub const INFO: SceneInfo = SceneInfo {
     name: "particle",
     summary: "the nonholonomic particle (paper Example 2.1)",

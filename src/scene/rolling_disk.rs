@@ -1,5 +1,5 @@
-//! The vertical rolling disk (Bloch, *Nonholonomic Mechanics and Control*, sec. 1.4; spec
-//! eq. (3.6)): a disk of radius R rolling without slipping, upright, on the plane.
+//! The vertical rolling disk (Bloch, *Nonholonomic Mechanics and Control*, sec. 1.4; [spec
+//! eq. (3.6)](crate::spec::scenes)): a disk of radius R rolling without slipping, upright, on the plane.
 //! Coordinates q = (x, y, theta, phi): contact point, rolling angle, heading.
 //! Two constraints (k = 2).
 
@@ -21,7 +21,7 @@ pub struct RollingDisk {
     pub r: f64,
 }
 
-/// `rolling-disk` (spec eq. (3.6)).
+/// `rolling-disk` ([spec eq. (3.6)](crate::spec::scenes)).
 pub const INFO: SceneInfo = SceneInfo {
     name: "rolling-disk",
     summary: "the vertical rolling disk (Bloch, Nonholonomic Mechanics and Control, sec. 1.4)",

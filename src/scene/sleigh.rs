@@ -1,4 +1,4 @@
-//! The Chaplygin sleigh (spec eq. (3.7)): a rigid body on the plane supported by a blade
+//! The Chaplygin sleigh ([spec eq. (3.7)](crate::spec::scenes)): a rigid body on the plane supported by a blade
 //! that cannot slip sideways, with its centre of mass at distance `a` ahead of the blade's
 //! contact point, on the blade's line. Coordinates q = (x, y, theta): the contact point and
 //! the heading. The mass matrix depends on the configuration.
@@ -20,7 +20,7 @@ pub struct Sleigh {
     pub a: f64,
 }
 
-/// `sleigh` (spec eq. (3.7)).
+/// `sleigh` ([spec eq. (3.7)](crate::spec::scenes)).
 pub const INFO: SceneInfo = SceneInfo {
     name: "sleigh",
     summary:

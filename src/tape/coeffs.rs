@@ -2,7 +2,7 @@
 //! rows ([`Rows`]): one flat buffer, row `k` the coefficient `x_k` of every component.
 
 /// Taylor coefficients `x_0 .. x_{len-1}`, each of `width` components, in one buffer: row
-/// `k` is `x_k` (spec eq. (2.2)). [`Tape::ode_taylor`](super::Tape::ode_taylor)'s result.
+/// `k` is `x_k` ([spec eq. (2.2)](crate::spec::taylor)). [`Tape::ode_taylor`](super::Tape::ode_taylor)'s result.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Coeffs<T> {
     pub(super) width: usize,

@@ -1,6 +1,6 @@
 //! Recording a computation once and replaying it: over any
 //! [`Scalar`](crate::scalar::Scalar) (one value per node) and over truncated Taylor series
-//! of intervals (spec/02-taylor.md, eqs. (2.1)-(2.7)).
+//! of intervals ([spec/02-taylor.md](crate::spec::taylor), eqs. (2.1)-(2.7)).
 //!
 //! A scene's vector field is written once over `S: Scalar`. Instantiated with
 //! [`Tracer`](crate::tape::Tracer), it records a straight-line program (a tape); the
@@ -16,7 +16,7 @@
 //! - `program`: the operations of a tape and the passes over a recorded program;
 //! - `record`: recording with hash-consing, the [`Tracer`](crate::tape::Tracer) scalar, the stack of open
 //!   recordings;
-//! - `simplify`: the exact normal forms of cancelling sums (spec (2.13));
+//! - `simplify`: the exact normal forms of cancelling sums ([spec (2.13)](crate::spec::taylor));
 //! - `replay`: evaluation over a scalar, Taylor series of `x' = F(x)`;
 //! - `series`: the Taylor recurrences over a coefficient type ([`Coef`](crate::tape::Coef));
 //! - `coeffs`: the coefficients a series returns ([`Coeffs`](crate::tape::Coeffs),

@@ -348,7 +348,7 @@ impl Tape {
         .without_dead_code()
     }
 
-    /// [`Tape::record`], then simplified exactly (spec (2.13)): the cancelling sums are
+    /// [`Tape::record`], then simplified exactly ([spec (2.13)](crate::spec::taylor)): the cancelling sums are
     /// replaced by their normal forms. Used for the vector fields the validated integrator
     /// carries sets through, where the cancelled terms' widths cap the steps; the float
     /// schemes' tapes are recorded as written (an expanded normal form can round worse in
@@ -357,7 +357,7 @@ impl Tape {
         Tape::record(n_inputs, f).simplified()
     }
 
-    /// This program with its cancelling sums replaced by their normal forms (spec (2.13)).
+    /// This program with its cancelling sums replaced by their normal forms ([spec (2.13)](crate::spec::taylor)).
     fn simplified(self) -> Tape {
         #[cfg(test)]
         if !simplify::ENABLED.with(|e| e.get()) {

@@ -1,5 +1,5 @@
-//! Replaying a tape: over any [`Scalar`] (one value per node, spec eq. (2.1)), and over
-//! truncated Taylor series for the solutions of `x' = F(x)` (spec eqs. (2.2)-(2.8)).
+//! Replaying a tape: over any [`Scalar`] (one value per node, [spec eq. (2.1)](crate::spec::taylor)), and over
+//! truncated Taylor series for the solutions of `x' = F(x)` ([spec eqs. (2.2)-(2.8)](crate::spec::taylor)).
 
 use super::program::Op;
 use super::series::{Coef, Series};
@@ -8,7 +8,7 @@ use super::{Coeffs, Rows, Tape};
 use crate::scalar::Scalar;
 
 impl Tape {
-    /// Replay over any scalar: the outputs at `x` (spec eq. (2.1)).
+    /// Replay over any scalar: the outputs at `x` ([spec eq. (2.1)](crate::spec::taylor)).
     pub fn eval<S: Scalar>(&self, x: &[S]) -> Vec<S> {
         let mut v: Vec<S> = Vec::with_capacity(self.ops.len());
         for op in &self.ops {
@@ -43,12 +43,12 @@ impl Tape {
     /// Taylor coefficients `x_0 .. x_order` at t = 0 of every solution of `x' = F(x)` with
     /// `x(0)` in the box `x0`, where F is this tape (inputs and outputs of equal number):
     /// for every such solution, its k-th coefficient `x^(k)(0)/k!` lies in `result[k]`
-    /// (spec eqs. (2.2)-(2.7)). Division by an interval containing 0 yields a non-finite or
+    /// ([spec eqs. (2.2)-(2.7)](crate::spec::taylor)). Division by an interval containing 0 yields a non-finite or
     /// empty coefficient, which the caller must treat as failure.
     ///
     /// Returns `None` when the tape is not proved smooth on the box: a divisor enclosure
     /// containing 0, a square root of an enclosure not in (0, inf), or a non-finite
-    /// coefficient (spec eq. (2.8)).
+    /// coefficient ([spec eq. (2.8)](crate::spec::taylor)).
     pub fn ode_taylor<T: Coef>(&self, x0: &[T], order: usize) -> Option<Coeffs<T>> {
         self.ode_taylor_until(x0, order, order, |_| true)
     }
@@ -131,7 +131,7 @@ impl Tape {
 
     /// Rigorous evaluation over intervals, with the same smoothness checks as
     /// [`Tape::ode_taylor`]: `None` unless every output is a finite enclosure of the exact
-    /// value at every point of the box (spec eq. (2.8)).
+    /// value at every point of the box ([spec eq. (2.8)](crate::spec::taylor)).
     pub fn eval_checked<T: Coef>(&self, x: &[T]) -> Option<Vec<T>> {
         let mut s = Series::new(self.ops.len(), 1);
         s.step(&self.ops, 0, x);

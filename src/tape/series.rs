@@ -1,5 +1,5 @@
 //! Taylor-series arithmetic: the coefficients of every node of a tape, computed order by
-//! order by the recurrences of automatic differentiation (spec eqs. (2.3)-(2.12)), over a
+//! order by the recurrences of automatic differentiation ([spec eqs. (2.3)-(2.12)](crate::spec::taylor)), over a
 //! coefficient type ([`Coef`]: intervals, rigorous; or f64, to choose things).
 
 use super::program::Op;
@@ -62,7 +62,7 @@ impl<T: Coef> Series<T> {
         self.c[self.aux_at + node as usize * self.n + k]
     }
 
-    /// Coefficient k of every node, given all coefficients below k (spec eq. (2.3)-(2.7)).
+    /// Coefficient k of every node, given all coefficients below k ([spec eq. (2.3)-(2.7)](crate::spec::taylor)).
     pub(super) fn step(&mut self, ops: &[Op], k: usize, input_k: &[T]) {
         let zero = T::zero();
         let kf = T::cst(k as f64);
@@ -252,7 +252,7 @@ impl<T: Coef> Series<T> {
     }
 
     /// The indices j in [from, to] for which both a_j and b_{k-j} may be non-zero: terms
-    /// with an exactly zero factor are zero and are skipped (spec eq. (2.3)).
+    /// with an exactly zero factor are zero and are skipped ([spec eq. (2.3)](crate::spec::taylor)).
     fn terms(
         &self,
         a: u32,
@@ -287,7 +287,7 @@ thread_local! {
 }
 
 /// A coefficient type for the Taylor recurrences: intervals (rigorous, with the domain
-/// checks of spec eq. (2.8)) or f64 (only to *choose* things, e.g. Newton guesses).
+/// checks of [spec eq. (2.8)](crate::spec::taylor)) or f64 (only to *choose* things, e.g. Newton guesses).
 pub trait Coef: Scalar + Copy + 'static {
     /// The per-thread storage reused by the Taylor series of this coefficient type.
     fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>>;
@@ -303,10 +303,10 @@ pub trait Coef: Scalar + Copy + 'static {
     /// encloses the exact value as the unfused form does, and is tighter and faster.
     fn mul_acc(self, a: Self, b: Self) -> Self;
     /// `acc + sum_j x_j y_{n-1-j}` (`acc - ...` when `neg`), `n = x.len() = y.len()`: the
-    /// convolutions of (2.3)-(2.5). Intervals: spec (1.4); f64: four partial sums.
+    /// convolutions of (2.3)-(2.5). Intervals: [spec (1.4)](crate::spec::scalars); f64: four partial sums.
     fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self;
-    /// `self / b`, with `b` proved non-zero where the recurrences divide (intervals: spec
-    /// (1.4), inari's quotient).
+    /// `self / b`, with `b` proved non-zero where the recurrences divide (intervals: [spec
+    /// (1.4)](crate::spec::scalars), inari's quotient).
     fn quot(self, b: Self) -> Self;
 }
 

@@ -1,4 +1,4 @@
-//! Exact simplification of a recorded tape (spec eq. (2.13)): sums whose terms cancel as
+//! Exact simplification of a recorded tape ([spec eq. (2.13)](crate::spec::taylor)): sums whose terms cancel as
 //! polynomials are replaced by what is left, so that an interval evaluation does not carry
 //! the cancelled terms' widths (the dependency effect).
 //!
@@ -67,7 +67,7 @@ fn constant_form(c: f64) -> Poly {
     }
 }
 
-/// The largest constant that is an atom of normal forms (spec eq. (2.13)). The bound keeps
+/// The largest constant that is an atom of normal forms ([spec eq. (2.13)](crate::spec::taylor)). The bound keeps
 /// expansions well conditioned: `(cos x - e)^2 + sin(x)^2` becomes `1 - 2 e cos x + e e`,
 /// whose terms are up to `(1 + |e|)^2 / (1 - |e|)^2` times its value (9 at |e| = 1/2). Near
 /// |e| = 1 that ratio amplifies rounding into the high Taylor coefficients of a quotient by
@@ -379,7 +379,7 @@ mod tests {
             .count()
     }
 
-    /// The knife's reduced field as the generic dynamics records it (spec (4.4)): the
+    /// The knife's reduced field as the generic dynamics records it ([spec (4.4)](crate::spec::dynamics)): the
     /// cancelling terms `-u1 u2 sin cos + u1 u2 sin cos` and the denominator
     /// `cos^2 + sin^2` leave exactly `u1' = cos(phi) / 2`, as derived by hand.
     #[test]
@@ -463,7 +463,7 @@ mod tests {
         assert!(tape.ops.iter().any(|o| matches!(o, Op::Sub(..))), "{:?}", tape.ops);
     }
 
-    /// Nodes that are 0 as functions (spec (2.13)): in the particle's pattern
+    /// Nodes that are 0 as functions ([spec (2.13)](crate::spec::taylor)): in the particle's pattern
     /// `(-(0 / d) * x, y / d)`, `d = 1 + y^2`, the first output is the constant 0 and one
     /// quotient is left, whose check still refuses a box where `d` may vanish. A zero
     /// quotient whose divisor no other quotient checks keeps its division, and a zero
@@ -510,7 +510,7 @@ mod tests {
         assert!(product.eval_checked(&[point(1.0), point(0.0)]).is_none());
     }
 
-    /// The domain never grows (spec (2.13), claim): tapes mixing zero quotients, zero
+    /// The domain never grows ([spec (2.13)](crate::spec::taylor), claim): tapes mixing zero quotients, zero
     /// products and cancelling sums with quotients by `d = y^2 - c`, recorded and
     /// simplified, at random boxes, many of which reach `d = 0`: where the recorded tape
     /// refuses, so does the simplified one, and where both answer they intersect.
@@ -554,7 +554,7 @@ mod tests {
         }
     }
 
-    /// A small inexact constant is an atom (spec (2.13)): `(cos x - e)^2 + sin(x)^2` with
+    /// A small inexact constant is an atom ([spec (2.13)](crate::spec::taylor)): `(cos x - e)^2 + sin(x)^2` with
     /// e = +-0.1 becomes `1 - 2 e cos x + e e`, whose width over a box of width `w` is
     /// `2 |e| |sin x| w` to first order (derived by hand), where the recorded form's is about
     /// `2 w`; it still meets the recorded form's enclosure. With e = 0.9 (above the bound

@@ -1,5 +1,5 @@
 //! The work meter: a count of the coefficient terms this thread's Taylor series computed, a
-//! measure of work that replays the same on every machine (spec (5.8''')).
+//! measure of work that replays the same on every machine ([spec (5.8''')](crate::spec::enclosure)).
 
 use std::cell::Cell;
 
@@ -7,7 +7,7 @@ thread_local! {
     static WORK: Cell<u64> = const { Cell::new(0) };
 }
 
-/// The arithmetic work this thread has done in Taylor series so far (spec (5.8''')): every
+/// The arithmetic work this thread has done in Taylor series so far ([spec (5.8''')](crate::spec::enclosure)): every
 /// series of order `p` on a tape of `L` operations (`Tape::ode_taylor`) adds
 /// `L (p + 1) (p + 2) / 2`, the number of coefficient terms a tape of products computes. A
 /// measure of work that replays the same on every machine;

@@ -1,4 +1,4 @@
-//! Fuzzing a user's Newton solver against the oracle (feature `fuzzing`; spec eq. (11.7)).
+//! Fuzzing a user's Newton solver against the oracle (feature `fuzzing`; [spec eq. (11.7)](crate::spec::testing)).
 //!
 //! A user's solver computes one step `q2` of a two-step integrator from `(q0, q1, h)` and says
 //! whether its Newton iteration converged. [`fuzz_solver`] decodes arbitrary bytes into such
@@ -131,14 +131,14 @@ impl<S: Stepper> NewtonSolver for Claimed<S> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PairKind {
     /// `q1 = mid(flow(q0, u0, h).q)`: on `M_h^{e,nh}` up to the certified flow's width and
-    /// rounding (the pair builder of spec eq. (11.6)).
+    /// rounding (the pair builder of [spec eq. (11.6)](crate::spec::testing)).
     OnManifold,
     /// An on-manifold `q1` moved by `distance` along the unit first constraint normal.
     Near {
         /// The signed distance moved.
         distance: f64,
     },
-    /// `q1 = q0 + h E(q0)^T u0` (spec eq. (9.5)), off `M_h^{e,nh}` by `O(h^2 |u0|^2)`:
+    /// `q1 = q0 + h E(q0)^T u0` ([spec eq. (9.5)](crate::spec::report)), off `M_h^{e,nh}` by `O(h^2 |u0|^2)`:
     /// where the certified flow refused, or chosen as such.
     Euler,
 }
@@ -332,7 +332,7 @@ pub struct FuzzOptions {
     /// are the same input on every machine.
     pub budget: Duration,
     /// Arithmetic work allowed to the pair builder and, separately, to the oracle's check
-    /// ([`crate::work_done`] terms, spec (5.8''')). Default 20 million: about 50 ms here,
+    /// ([`crate::work_done`] terms, [spec (5.8''')](crate::spec::enclosure)). Default 20 million: about 50 ms here,
     /// 20 times the costliest input of the example corpus. Unlike the deadline it refuses
     /// the same input on every machine.
     pub max_work: u64,
@@ -392,7 +392,7 @@ pub enum FuzzOutcome {
     /// `|q2 - q^e_2|_inf` and its lower end is within `tol` (its upper end may not be: the
     /// enclosure's width is not held against the solver).
     Certified {
-        /// Contains `|q2 - q^e_2|_inf` (spec Theorem 8.1 with N = 2).
+        /// Contains `|q2 - q^e_2|_inf` ([spec Theorem 8.1](crate::spec::oracle) with N = 2).
         distance: Interval,
         /// The tolerance stated for this input.
         tol: f64,
@@ -409,7 +409,7 @@ pub enum FuzzOutcome {
 }
 
 /// Decode `data` ([`SolverInput::decode`], default [`FuzzOptions`]), run `solver` and check
-/// its answer against the oracle (spec eq. (11.7)); panics on a finding (module docs).
+/// its answer against the oracle ([spec eq. (11.7)](crate::spec::testing)); panics on a finding (module docs).
 /// `tol` states the accuracy the solver claims, for each input, of a converged answer
 /// against the exact discrete step (`|q2 - q^e_2|_inf`; see [`SolverInput::tolerance`]);
 /// it must not be NaN or negative (that is a finding against the fuzz target).

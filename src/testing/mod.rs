@@ -1,5 +1,5 @@
 //! Tools for people who test their own nonholonomic integrators against the oracle
-//! (spec/11-testing.md): a [`Stepper`] trait for a user's one-step map, and
+//! ([spec/11-testing.md](crate::spec::testing)): a [`Stepper`] trait for a user's one-step map, and
 //! the certified local error of a stepper on a ladder of step sizes with the observed order
 //! between consecutive rungs as an interval.
 //!
@@ -110,7 +110,7 @@ fn stepper_failed(k: Option<usize>, message: String) -> Error {
     Error::input_at(crate::InputKind::Stepper { step: k }, message)
 }
 
-/// The certified local errors of a stepper on a ladder of step sizes (spec eq. (11.1)).
+/// The certified local errors of a stepper on a ladder of step sizes ([spec eq. (11.1)](crate::spec::testing)).
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
@@ -133,7 +133,7 @@ pub struct Ladder {
 ///
 /// # Containment
 /// `error[i]` contains the distance from the stepper's `q2` to `q(2 h_i)` of the exact
-/// discrete flow from its pair (spec Theorem 8.1), and `orders[i]` contains the quotient of
+/// discrete flow from its pair ([spec Theorem 8.1](crate::spec::oracle)), and `orders[i]` contains the quotient of
 /// logarithms (11.2) of the true errors (interval arithmetic, outward rounded). A stepper
 /// failure is an `Error::Input` naming the rung; an oracle that cannot conclude,
 /// `Error::Uncertified`.
@@ -160,7 +160,7 @@ pub fn local_order<St: Stepper + ?Sized>(
 }
 
 /// The certified global error of a stepper over `[0, t_end]` on a ladder of step sizes
-/// (spec eq. (11.3)): for each `h`, `N = t_end / h` steps (an integer, else an input error)
+/// ([spec eq. (11.3)](crate::spec::testing)): for each `h`, `N = t_end / h` steps (an integer, else an input error)
 /// from `(q0, q1)`, `q1` as in [`local_order`]; `error[i]` encloses
 /// `max_k |q_k - q^e_k|_inf` against the exact discrete flow from that pair, and `orders`
 /// the observed orders between rungs (11.2).
@@ -237,7 +237,7 @@ fn ladder(hs: &[f64], error: Vec<Interval>) -> Ladder {
     }
 }
 
-/// Certified verdicts on a stepper's run (spec eq. (11.4)).
+/// Certified verdicts on a stepper's run ([spec eq. (11.4)](crate::spec::testing)).
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
@@ -255,7 +255,7 @@ pub struct StepperVerdict {
 impl StepperVerdict {
     /// Whether the run passes the tolerance `tol` on the distance to the exact discrete
     /// flow and `defect_tol` on its pairs' defects (`discrete.max_defect`), decided as the
-    /// `check` command decides (spec (8.3), (8.5)): `Ok(false)` when one is proved
+    /// `check` command decides ([spec (8.3)](crate::spec::oracle), (8.5)): `Ok(false)` when one is proved
     /// exceeded, `Error::Uncertified` when undecided.
     pub fn passes(&self, tol: Option<f64>, defect_tol: Option<f64>) -> Result<bool, Error> {
         crate::oracle::Tolerances { tol, defect_tol }
@@ -264,7 +264,7 @@ impl StepperVerdict {
 }
 
 /// Run `stepper` for `steps` steps from `(q0, q1)` and check the run against the exact
-/// discrete flow from that pair (spec eq. (11.4)).
+/// discrete flow from that pair ([spec eq. (11.4)](crate::spec::testing)).
 ///
 /// # Containment
 /// As `oracle::check_trajectory` (Theorem 8.1). A stepper failure is an `Error::Input`
@@ -294,7 +294,7 @@ pub fn check_stepper<St: Stepper + ?Sized>(
 /// ([`Stepper::start`] from `(q0, v0)`, `v0 = E(q0)^T u0`) or, without one, the float point
 /// of the exact motion from `(q0, u0)` at time h (as in (11.1)); the run is also checked
 /// against that motion at every `t_k = k h`, so that a scheme whose start is first order
-/// shows it (spec eq. (11.5)).
+/// shows it ([spec eq. (11.5)](crate::spec::testing)).
 ///
 /// # Containment
 /// `continuous[k]` contains `|q_k - q(t_k)|_inf` for the exact motion from `(q0, u0)`
@@ -386,7 +386,7 @@ fn run_flat<St: Stepper + ?Sized>(
     Ok(q)
 }
 
-/// `{ln(a / b) / ln(ha / hb) : a in ea, b in eb}` enclosed (spec eq. (11.2)), ha > hb > 0;
+/// `{ln(a / b) / ln(ha / hb) : a in ea, b in eb}` enclosed ([spec eq. (11.2)](crate::spec::testing)), ha > hb > 0;
 /// the whole line when `ea` or `eb` reaches 0.
 pub fn observed_order(ea: Interval, eb: Interval, ha: f64, hb: f64) -> Interval {
     let r = (point(ha) / point(hb)).ln();
@@ -408,11 +408,11 @@ pub struct Pair {
     /// The quasi-velocities the pair was made from.
     pub u0: Vec<f64>,
     /// The second configuration: `mid(flow(q0, u0, h).q)`, possibly moved a chosen distance
-    /// off `M_h^{e,nh}` along the first constraint normal (spec eq. (11.6)).
+    /// off `M_h^{e,nh}` along the first constraint normal ([spec eq. (11.6)](crate::spec::testing)).
     pub q1: Vec<f64>,
     /// The step `h > 0` of the pair.
     pub h: f64,
-    /// Encloses the defect s of `(q0, q1)` with respect to `M_h^{e,nh}` (spec eq. (6.2)).
+    /// Encloses the defect s of `(q0, q1)` with respect to `M_h^{e,nh}` ([spec eq. (6.2)](crate::spec::exact_discrete)).
     pub defect: Vec<Interval>,
 }
 

@@ -1,5 +1,5 @@
-//! quickcheck producers of admissible inputs for any [`Model`] (feature `quickcheck`; spec
-//! eq. (11.6)): the same objects as `testing::strategies`, drawn from a `quickcheck::Gen`.
+//! quickcheck producers of admissible inputs for any [`Model`] (feature `quickcheck`; [spec
+//! eq. (11.6)](crate::spec::testing)): the same objects as `testing::strategies`, drawn from a `quickcheck::Gen`.
 //! A `Pair` needs its model, so these are functions of `(g, model)`, not `Arbitrary` impls;
 //! call them from a property over seeds, or from your own `Arbitrary` type that holds the
 //! model.

@@ -1,5 +1,5 @@
-//! proptest strategies of admissible inputs for any [`Model`] (feature `proptest`; spec
-//! eq. (11.6)): configurations where the scene passes its checks, pairs on
+//! proptest strategies of admissible inputs for any [`Model`] (feature `proptest`; [spec
+//! eq. (11.6)](crate::spec::testing)): configurations where the scene passes its checks, pairs on
 //! `M_h^{e,nh}` from the exact exponential map with their certified defect, pairs at a chosen
 //! distance from it, and the extreme step sizes of the stability table. Values shrink toward
 //! the origin and the smallest step of the range.
@@ -23,8 +23,8 @@ use proptest::prelude::*;
 use std::ops::RangeInclusive;
 use std::sync::Arc;
 
-/// Configurations in `[-bound, bound]^n` at which the scene passes the checks of spec
-/// eq. (3.17) (others are rejected, not answered).
+/// Configurations in `[-bound, bound]^n` at which the scene passes the checks of [spec
+/// eq. (3.17)](crate::spec::scenes) (others are rejected, not answered).
 pub fn configurations(model: Arc<Model>, bound: f64) -> impl Strategy<Value = Vec<f64>> {
     proptest::collection::vec(-bound..=bound, model.n)
         .prop_filter("the scene's checks at q (3.17)", move |q| {

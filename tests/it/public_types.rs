@@ -111,7 +111,7 @@ fn library_input_errors_carry_their_kind() {
             expected: 3
         })
     );
-    let e = flow(&m, &[0.0; 3], &[0.8, 0.8], -1.0, &o).unwrap_err();
+    let e = flow(&m, &[0.0; 3], &[0.8, 0.8], f64::NAN, &o).unwrap_err();
     assert_eq!(e.input_kind(), Some(&InputKind::Number("t".into())));
     let e = flow_at(&m, &[0.0; 3], &[0.8, 0.8], &[1.0, 0.5], &o).unwrap_err();
     assert_eq!(e.input_kind(), Some(&InputKind::Times));

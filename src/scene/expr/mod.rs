@@ -1,4 +1,4 @@
-//! Expressions of scene files (spec/10-scene-files.md, "Expressions"): parsed once into a
+//! Expressions of scene files ([spec/10-scene-files.md](crate::spec::scene_files), "Expressions"): parsed once into a
 //! small tree whose names are resolved to coordinate and parameter indices, then evaluated
 //! over any `S: Scalar` by walking the tree (so a scene file records on the same tapes as a
 //! built-in scene).
