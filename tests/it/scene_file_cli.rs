@@ -4,11 +4,11 @@
 //! answers), batch answers inline scenes as it answers files, and every refusal is one
 //! `error:` line with the right exit status.
 
+use crate::common::{batch_answers, run_args};
 use dalembert::scene::{AnyScene, SceneFile};
 use dalembert::Model;
-use std::io::Write;
 use std::path::PathBuf;
-use std::process::{Command, Output, Stdio};
+use std::process::Output;
 
 const PARTICLE: &str = r#"
 name = "particle"
@@ -35,35 +35,6 @@ fn file(name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);
     std::fs::write(&p, text).unwrap();
     p
-}
-
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dalembert"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn batch(input: &str) -> Vec<serde_json::Value> {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_dalembert"))
-        .arg("batch")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(input.as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success());
-    String::from_utf8(out.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect()
 }
 
 fn ok_stdout(o: &Output) -> String {
@@ -175,9 +146,9 @@ fn every_command_takes_a_scene_file_and_answers_as_the_built_in() {
         a.extend(rest);
         let mut b = vec![*cmd, "--scene", "particle"];
         b.extend(rest);
-        assert_eq!(ok_stdout(&run(&a)), ok_stdout(&run(&b)), "{cmd}");
+        assert_eq!(ok_stdout(&run_args(&a)), ok_stdout(&run_args(&b)), "{cmd}");
     }
-    let traj = ok_stdout(&run(&[
+    let traj = ok_stdout(&run_args(&[
         "integrate",
         "--scene-file",
         p,
@@ -193,7 +164,7 @@ fn every_command_takes_a_scene_file_and_answers_as_the_built_in() {
         "10",
     ]));
     let t = file("traj.csv", &traj);
-    let check = run(&[
+    let check = run_args(&[
         "check",
         "--scene-file",
         p,
@@ -209,7 +180,7 @@ fn every_command_takes_a_scene_file_and_answers_as_the_built_in() {
     assert!(v.is_object());
     // `scenes --scene-file` describes the compiled scene, the basis as given
     let d: serde_json::Value =
-        serde_json::from_str(&ok_stdout(&run(&["scenes", "--scene-file", p, "--json"]))).unwrap();
+        serde_json::from_str(&ok_stdout(&run_args(&["scenes", "--scene-file", p, "--json"]))).unwrap();
     let s = &d["scenes"][0];
     assert_eq!(s["name"], "particle");
     assert_eq!((s["n"].as_u64(), s["k"].as_u64()), (Some(3), Some(1)));
@@ -236,11 +207,11 @@ fn parameters_of_a_file_are_overridden_on_the_command_line() {
         a.extend(args);
         let mut b = vec!["step", "--scene", "knife-eps", "--param", &pe];
         b.extend(args);
-        assert_eq!(ok_stdout(&run(&a)), ok_stdout(&run(&b)), "eps = {eps}");
+        assert_eq!(ok_stdout(&run_args(&a)), ok_stdout(&run_args(&b)), "eps = {eps}");
     }
     let mut a = vec!["step", "--scene-file", k, "--param", "epsilon=0.1"];
     a.extend(args);
-    refused(&run(&a), 2, "no parameter `epsilon`");
+    refused(&run_args(&a), 2, "no parameter `epsilon`");
 }
 
 /// A scene given inline in a batch query is answered as the same scene from a file.
@@ -254,7 +225,7 @@ fn batch_answers_inline_scenes_as_files() {
          {{\"id\":3,\"cmd\":\"step\",\"scene\":{{\"coordinates\":[\"x\"]}},{q}}}\n\
          {{\"id\":4,\"cmd\":\"step\",\"scene\":7,{q}}}\n"
     );
-    let a = batch(&input);
+    let a = batch_answers(&input);
     assert_eq!(a.len(), 4);
     assert_eq!(a[0]["ok"], a[1]["ok"]);
     assert!(a[0]["ok"]["q2"].is_array());
@@ -269,7 +240,7 @@ fn batch_answers_inline_scenes_as_files() {
 #[test]
 fn bad_scene_files_are_one_line_input_errors() {
     refused(
-        &run(&[
+        &run_args(&[
             "flow",
             "--scene-file",
             "/nonexistent/x.toml",
@@ -285,13 +256,13 @@ fn bad_scene_files_are_one_line_input_errors() {
     );
     let bad = file("bad.toml", "coordinates = [\"x\", \"y\"\nconstraints = 3\n");
     refused(
-        &run(&["scenes", "--scene-file", bad.to_str().unwrap()]),
+        &run_args(&["scenes", "--scene-file", bad.to_str().unwrap()]),
         2,
         "line",
     );
     let p = file("particle2.toml", PARTICLE);
     refused(
-        &run(&[
+        &run_args(&[
             "flow",
             "--scene",
             "particle",
@@ -313,7 +284,7 @@ fn bad_scene_files_are_one_line_input_errors() {
         "coordinates = [\"x\", \"y\"]\nmass = [[\"x\", 0], [0, 1]]\nconstraints = [[0, 1]]\nfree = [\"x\"]\n",
     );
     refused(
-        &run(&[
+        &run_args(&[
             "flow",
             "--scene-file",
             indefinite.to_str().unwrap(),
@@ -335,7 +306,7 @@ fn bad_scene_files_are_one_line_input_errors() {
 fn the_readme_unicycle_answers_and_refuses_where_its_basis_is_singular() {
     let u = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/scenes/unicycle.toml");
     let flow_to = |t: &str| {
-        run(&[
+        run_args(&[
             "flow",
             "--scene-file",
             u,
@@ -362,7 +333,7 @@ fn the_readme_unicycle_answers_and_refuses_where_its_basis_is_singular() {
 #[test]
 fn batch_check_answers_what_the_check_command_prints() {
     let p = file("particle_check.toml", PARTICLE);
-    let traj = ok_stdout(&run(&[
+    let traj = ok_stdout(&run_args(&[
         "integrate",
         "--scene",
         "particle",
@@ -381,7 +352,7 @@ fn batch_check_answers_what_the_check_command_prints() {
     let t: serde_json::Value = serde_json::from_str(&traj).unwrap();
     let q = t["q"].to_string();
     let tf = file("traj_check.json", &format!("{{\"q\": {q}}}"));
-    let cli: serde_json::Value = serde_json::from_str(&ok_stdout(&run(&[
+    let cli: serde_json::Value = serde_json::from_str(&ok_stdout(&run_args(&[
         "check",
         "--scene-file",
         p.to_str().unwrap(),
@@ -404,7 +375,7 @@ fn batch_check_answers_what_the_check_command_prints() {
          {{\"id\":5,\"cmd\":\"check\",\"scene\":\"particle\",\"h\":0.5,\"q\":{q},\"tolerance\":1}}\n\
          {{\"id\":6,\"cmd\":\"check\",\"scene\":\"particle\",\"h\":0.5,\"q\":{q},\"tol\":1e-12}}\n"
     );
-    let a = batch(&input);
+    let a = batch_answers(&input);
     assert_eq!(a.len(), 6);
     assert_eq!(a[0]["ok"], cli);
     assert_eq!(a[1]["ok"], cli);
@@ -433,7 +404,7 @@ fn integrate_checks_the_scene_at_its_start_on_the_command_line_as_in_batch() {
     );
     let f = f.to_str().unwrap();
     let cli = |q0: &str, q1: &str| {
-        run(&[
+        run_args(&[
             "integrate",
             "--scene-file",
             f,
@@ -460,7 +431,7 @@ fn integrate_checks_the_scene_at_its_start_on_the_command_line_as_in_batch() {
         "id": 1, "cmd": "integrate", "scene": scene, "scheme": "dla",
         "q0": [-1.0, 0.0], "q1": [-1.1, 0.0], "h": 0.1, "steps": 2
     });
-    let a = batch(&format!("{line}\n"));
+    let a = batch_answers(&format!("{line}\n"));
     assert_eq!(a[0]["error"]["code"], 2, "{}", a[0]);
     assert!(a[0]["error"]["message"]
         .as_str()

@@ -9,15 +9,14 @@
 //! - `order` as a batch query answers what `dalembert order --json` prints;
 //! - the two scene-file mistakes get messages that say what to do.
 
-use crate::common::{model, show};
+use crate::common::{batch_answers, model, run_args, show};
 use dalembert::flow::{flow_at, flow_c1};
 use dalembert::scalar::{point, Scalar};
 use dalembert::scene::SceneFile;
 use dalembert::{flow, Error, FlowOptions, Model, Reason};
 use inari::Interval;
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::Output;
 
 fn example(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -27,35 +26,6 @@ fn example(name: &str) -> PathBuf {
 
 fn file_model(name: &str) -> Model {
     Model::new(&SceneFile::read(&example(name)).expect("scene file")).expect("model")
-}
-
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dalembert"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn batch(input: &str) -> Vec<serde_json::Value> {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_dalembert"))
-        .arg("batch")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(input.as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success());
-    String::from_utf8(out.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect()
 }
 
 fn json_stdout(o: &Output) -> serde_json::Value {
@@ -145,7 +115,7 @@ fn the_inclined_knife_with_free_x_phi_is_refused_at_its_pivot_naming_the_time() 
 fn the_command_line_and_batch_name_the_pivot_and_the_time() {
     let path = example("inclined_knife_free.toml");
     let p = path.to_str().unwrap();
-    let o = run(&[
+    let o = run_args(&[
         "flow",
         "--scene-file",
         p,
@@ -169,7 +139,7 @@ fn the_command_line_and_batch_name_the_pivot_and_the_time() {
     let line = serde_json::json!({
         "id": 1, "cmd": "flow", "scene": table, "q": [0, 0, 0], "u": [0.5, 1.3], "t": 2
     });
-    let a = &batch(&format!("{line}\n"))[0];
+    let a = &batch_answers(&format!("{line}\n"))[0];
     let e = &a["error"];
     assert_eq!(e["code"], 3, "{a}");
     assert_eq!(e["reason"], "undefined", "{a}");
@@ -391,10 +361,10 @@ fn the_derivative_backward_is_the_reversed_derivative_and_the_knife_closed_form(
 
 #[test]
 fn the_issue_query_backward_overlaps_the_reversed_forward_one_on_the_command_line() {
-    let back = json_stdout(&run(&[
+    let back = json_stdout(&run_args(&[
         "flow", "--scene", "knife", "--q", "0,0,0", "--u", "0.8,0.8", "--t", "-1", "--json",
     ]));
-    let fwd = json_stdout(&run(&[
+    let fwd = json_stdout(&run_args(&[
         "flow",
         "--scene",
         "knife",
@@ -411,7 +381,7 @@ fn the_issue_query_backward_overlaps_the_reversed_forward_one_on_the_command_lin
         assert!(meets(b, f), "q[{i}]: {} vs {}", show(b), show(f));
     }
     // and the derivative
-    let jb = json_stdout(&run(&[
+    let jb = json_stdout(&run_args(&[
         "flow",
         "--scene",
         "knife",
@@ -426,7 +396,7 @@ fn the_issue_query_backward_overlaps_the_reversed_forward_one_on_the_command_lin
     ]));
     assert!(json_interval(&jb["jacobian"][2][4]).contains(-1.0), "{jb}");
     // --times below 0
-    let d = json_stdout(&run(&[
+    let d = json_stdout(&run_args(&[
         "flow",
         "--scene",
         "knife",
@@ -448,7 +418,7 @@ fn the_issue_query_backward_overlaps_the_reversed_forward_one_on_the_command_lin
         assert!(meets(b, json_interval(&back["q"][i])), "{text}");
     }
     // a time that is not finite keeps its message
-    let o = run(&[
+    let o = run_args(&[
         "flow", "--scene", "knife", "--q", "0,0,0", "--u", "0.8,0.8", "--t", "inf",
     ]);
     assert_eq!(o.status.code(), Some(2));
@@ -475,9 +445,9 @@ fn a_batch_order_query_answers_what_the_command_prints() {
         "3",
         "--json",
     ];
-    let cmd = json_stdout(&run(&args));
+    let cmd = json_stdout(&run_args(&args));
     let line = r#"{"id": "o", "cmd": "order", "scene": "particle", "scheme": "mla", "q": [0.1, 0.2, 0], "u": [0.5, 0.25], "h": 0.25, "rungs": 3}"#;
-    let a = &batch(&format!("{line}\n"))[0];
+    let a = &batch_answers(&format!("{line}\n"))[0];
     assert_eq!(a["id"], "o");
     assert_eq!(a["ok"], cmd, "batch {a}\ncommand {cmd}");
     // the ladder is what was asked for: 3 rungs from 0.25, the global one from 0.125
@@ -485,7 +455,7 @@ fn a_batch_order_query_answers_what_the_command_prints() {
     assert_eq!(cmd["global"]["ladder"]["h"][0], 0.125);
     // defaults: h = 0.125 and 5 rungs, as the command's
     let line = r#"{"id": 2, "cmd": "order", "scene": "particle", "scheme": "dla", "q": [0, 0, 0], "u": [0.5, 0.25]}"#;
-    let a = &batch(&format!("{line}\n"))[0];
+    let a = &batch_answers(&format!("{line}\n"))[0];
     assert_eq!(a["ok"]["local"]["h"][0], 0.125, "{a}");
     assert_eq!(a["ok"]["local"]["h"].as_array().unwrap().len(), 5, "{a}");
     // bad keys are input errors naming the key
@@ -497,7 +467,7 @@ fn a_batch_order_query_answers_what_the_command_prints() {
         let line = format!(
             r#"{{"id": 3, "cmd": "order", "scene": "particle", "q": [0, 0, 0], "u": [0.5, 0.25], {bad}}}"#
         );
-        let a = &batch(&format!("{line}\n"))[0];
+        let a = &batch_answers(&format!("{line}\n"))[0];
         assert_eq!(a["error"]["code"], 2, "{a}");
         assert!(a["error"]["message"].as_str().unwrap().contains(key), "{a}");
     }

@@ -66,3 +66,34 @@ pub fn run_binary(args: Vec<OsString>, stdin: &[u8], limit: Duration) -> Run {
         stderr,
     }
 }
+
+/// The binary run with `args` (no stdin), its whole output.
+pub fn run_args(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_dalembert"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// `dalembert batch` fed `input`; it must exit 0; its answers parsed, one per line.
+pub fn batch_answers(input: &str) -> Vec<serde_json::Value> {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_dalembert"))
+        .arg("batch")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success());
+    String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
