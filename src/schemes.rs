@@ -24,6 +24,16 @@ pub enum SchemeKind {
     Mla,
 }
 
+impl SchemeKind {
+    /// The name the command line and the protocol use (`"dla"`, `"mla"`); `parse` reads it.
+    pub fn name(self) -> &'static str {
+        match self {
+            SchemeKind::Dla => "dla",
+            SchemeKind::Mla => "mla",
+        }
+    }
+}
+
 impl std::str::FromStr for SchemeKind {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self, Error> {

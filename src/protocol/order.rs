@@ -76,13 +76,6 @@ pub(super) fn answer(
     })
 }
 
-fn scheme_name(kind: SchemeKind) -> &'static str {
-    match kind {
-        SchemeKind::Dla => "dla",
-        SchemeKind::Mla => "mla",
-    }
-}
-
 impl OrderAnswer {
     /// The object `order --json` prints, and the `ok` of a batch `order` answer.
     pub fn to_json(&self) -> Value {
@@ -95,7 +88,7 @@ impl OrderAnswer {
         };
         json!({
             "scene": self.scene,
-            "scheme": scheme_name(self.scheme),
+            "scheme": self.scheme.name(),
             "local": ladder(&self.local),
             "global": json!({"t": self.t_end, "ladder": ladder(&self.global)}),
         })
@@ -105,7 +98,7 @@ impl OrderAnswer {
     pub fn to_text(&self) -> String {
         let mut out = format!(
             "{} on `{}` from q = {:?}, u = {:?} (certified intervals; spec chapter 11)\n",
-            scheme_name(self.scheme).to_uppercase(),
+            self.scheme.name().to_uppercase(),
             self.scene,
             self.q,
             self.u
