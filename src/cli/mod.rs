@@ -1,6 +1,23 @@
 //! The command line: parsing flags into `crate::protocol::Query`, printing answers, exit
 //! codes (contract.md). No mathematics here.
 
+/// `println!` to stdout that ends quietly when stdout is closed (a reader such as `head` that
+/// stopped reading): a closed pipe is not an error of the query, and never a panic.
+macro_rules! outln {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($t)*);
+    }};
+}
+
+/// `print!` to stdout, as `outln!`.
+macro_rules! out {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout(), $($t)*);
+    }};
+}
+
 mod batch;
 mod check;
 pub(crate) mod demo;
@@ -290,7 +307,7 @@ pub(crate) fn run(args: Vec<String>) -> i32 {
         Err(e) => {
             use clap::error::ErrorKind;
             if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
-                print!("{e}");
+                out!("{e}");
                 return 0;
             }
             // clap's message spans several lines: keep the part before the usage, on one line
@@ -365,7 +382,7 @@ pub(crate) fn run(args: Vec<String>) -> i32 {
     };
     match result {
         Ok(Some(text)) => {
-            println!("{text}");
+            outln!("{text}");
             0
         }
         Ok(None) => 0,

@@ -706,3 +706,22 @@ fn batch_refusals_carry_their_reason_and_the_time_reached() {
     assert_eq!(e["code"], 2, "{e}");
     assert!(e.get("reason").is_none(), "{e}");
 }
+
+/// A reader that stops reading (`dalembert --help | head -1`) closes stdout: the command ends
+/// quietly, with no panic message, whatever it was printing.
+#[test]
+fn a_closed_stdout_is_no_panic() {
+    for args in [&["--help"][..], &["scenes"], &[]] {
+        let (reader, writer) = std::io::pipe().unwrap();
+        drop(reader);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_dalembert"))
+            .args(args)
+            .stdout(writer)
+            .stderr(std::process::Stdio::piped())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {err}");
+    }
+}

@@ -179,8 +179,13 @@ fn every_command_takes_a_scene_file_and_answers_as_the_built_in() {
     let v: serde_json::Value = serde_json::from_str(&ok_stdout(&check)).unwrap();
     assert!(v.is_object());
     // `scenes --scene-file` describes the compiled scene, the basis as given
-    let d: serde_json::Value =
-        serde_json::from_str(&ok_stdout(&run_args(&["scenes", "--scene-file", p, "--json"]))).unwrap();
+    let d: serde_json::Value = serde_json::from_str(&ok_stdout(&run_args(&[
+        "scenes",
+        "--scene-file",
+        p,
+        "--json",
+    ])))
+    .unwrap();
     let s = &d["scenes"][0];
     assert_eq!(s["name"], "particle");
     assert_eq!((s["n"].as_u64(), s["k"].as_u64()), (Some(3), Some(1)));
@@ -207,7 +212,11 @@ fn parameters_of_a_file_are_overridden_on_the_command_line() {
         a.extend(args);
         let mut b = vec!["step", "--scene", "knife-eps", "--param", &pe];
         b.extend(args);
-        assert_eq!(ok_stdout(&run_args(&a)), ok_stdout(&run_args(&b)), "eps = {eps}");
+        assert_eq!(
+            ok_stdout(&run_args(&a)),
+            ok_stdout(&run_args(&b)),
+            "eps = {eps}"
+        );
     }
     let mut a = vec!["step", "--scene-file", k, "--param", "epsilon=0.1"];
     a.extend(args);
