@@ -39,8 +39,8 @@ impl fmt::Debug for Show<'_, Option<Interval>> {
 /// `impl Debug` for a struct whose fields are listed with their kind: `iv` (an interval, or
 /// a vector, matrix or option of them: shown by [`Show`]) or `dbg` (their own `Debug`).
 macro_rules! readable_debug {
-    ($ty:ident { $($field:ident: $kind:ident),* $(,)? }) => {
-        impl std::fmt::Debug for $ty {
+    ($ty:ident $(<$gen:ty>)? { $($field:ident: $kind:ident),* $(,)? }) => {
+        impl std::fmt::Debug for $ty $(<$gen>)? {
             fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
                 let mut d = f.debug_struct(stringify!($ty));
                 $( $crate::readable::readable_debug!(@field d, self, $field, $kind); )*

@@ -6,10 +6,9 @@ use super::linalg::{self, IMat};
 use super::set::*;
 use super::step::*;
 use super::*;
-use crate::scalar::{iv, point};
-use crate::tape::{finite, Coeffs, Rows};
+use super::ival::Ival;
+use crate::tape::{Coeffs, Rows};
 use crate::{Error, Reason};
-use inari::Interval;
 
 /// What a flow computes besides the set.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -26,21 +25,21 @@ pub(super) enum C1 {
 /// tolerance (5.8), read at the start and left for a continuation.
 /// `explain`, when given, is asked why the flow cannot go on when its steps collapse (see
 /// [`Explain`]); its answer replaces the step budget's or the step-size underflow's refusal.
-pub(super) fn flow_set_general(
+pub(super) fn flow_set_general<I: Ival>(
     sys: &System,
-    mut set: LohnerSet,
-    total: Interval,
+    mut set: LohnerSet<I>,
+    total: I,
     opts: &FlowOptions,
     c1_mode: C1,
     memo: &mut Option<(f64, f64)>,
     explain: Option<Explain<'_>>,
-) -> Result<(LohnerSet, Option<IMat>, FlowStats), Error> {
+) -> Result<(LohnerSet<I>, Option<IMat<I>>, FlowStats), Error> {
     let t = total.sup();
     let c1 = c1_mode != C1::No;
     let precise = c1_mode == C1::Precise;
-    let mut total_jac: Option<JacobianSet> = None;
+    let mut total_jac: Option<JacobianSet<I>> = None;
     let d = set.m.len();
-    let mut p = opts.given_order().unwrap_or(DEFAULT_ORDER);
+    let mut p = opts.given_order().unwrap_or(I::ORDER);
     // (5.8) (e) whether the order of a short span is still to be chosen (at the first step)
     let mut choose_order = opts.given_order().is_none() && opts.given_h().is_none();
     let mut stats = FlowStats {
@@ -51,7 +50,7 @@ pub(super) fn flow_set_general(
         h_max: 0.0,
     };
     // Time done so far, exactly enclosed (spec eq. (5.7)).
-    let mut done = point(0.0);
+    let mut done = I::zero();
     // The end is reached by the step marked last (whose span is `total - done`), not by a
     // rounded sum of steps that only touches `t`.
     let mut reached = t <= 0.0;
@@ -64,12 +63,12 @@ pub(super) fn flow_set_general(
     // it names one, else `fallback`. A stop by the step budget is explained only when the
     // steps have collapsed (64 times below the largest one taken): a flow that is merely
     // long is refused for its budget.
-    let stop = |fallback: Error, set: &LohnerSet, h: f64, done: Interval, stats: &FlowStats| {
+    let stop = |fallback: Error, set: &LohnerSet<I>, h: f64, done: I, stats: &FlowStats| {
         let collapsed = h * 64.0 < stats.h_max;
         let budget = fallback.reason() == Some(Reason::Budget);
         let cause = explain
             .filter(|_| collapsed || !budget)
-            .and_then(|f| f(&set.hull(), h, done.inf()));
+            .and_then(|f| f(&hull_f64(&set.hull()), h, done.inf()));
         cause.unwrap_or(fallback).reached(done.inf())
     };
     // the last accepted step (0 before the first)
@@ -81,13 +80,14 @@ pub(super) fn flow_set_general(
             return Err(stop(too_many(opts.max_taylor_steps, t), &set, last_h, done, &stats));
         }
         opts.check_budget().map_err(|e| e.reached(done.inf()))?;
-        let rem = (total - done).intersection(iv(0.0, f64::MAX));
+        let rem = (total - done).intersection(I::iv(0.0, f64::MAX));
         // (5.3) Taylor coefficients at the centre, for every try of this step.
-        let centre: Vec<Interval> = set.m.iter().map(|x| point(*x)).collect();
+        let centre: Vec<I> = set.m.iter().map(|x| I::pt(*x)).collect();
+        let m_f64: Vec<f64> = set.m.iter().map(|x| I::pt_f64(*x)).collect();
         // the step of the rule (5.8) (a)-(c) at order `p`, from the coefficients' midpoints
         // (choices only)
         let rule_at = |mid: Rows<'_, f64>, p: usize| {
-            let rule = step_size(mid.first(p + 1), p, &set.m);
+            let rule = step_size(mid.first(p + 1), p, &m_f64, I::EPS);
             let predicted = memo.map_or(rule, |(h0, ratio)| h0 * rescale(ratio, p, 1.5));
             let cap = ceiling.map_or(f64::INFINITY, |(hc, k)| {
                 hc * 0.97 * (1.0 + CEILING_GROWTH).powi(k)
@@ -97,11 +97,11 @@ pub(super) fn flow_set_general(
         // (5.8) (e) A span that takes two or three steps at order `p` from its start is
         // taken at SHORT_ORDER: fewer, longer steps where the span sets their number. The
         // series goes on from order p to SHORT_ORDER when it does.
-        let short = |c: Rows<'_, Interval>| {
+        let short = |c: Rows<'_, I>| {
             let h = rule_at(c.map(|x| x.mid()).rows(), p);
             short_span(rem.inf(), rem.sup(), h)
         };
-        let more = if choose_order { SHORT_ORDER } else { p };
+        let more = if choose_order { I::SHORT_ORDER } else { p };
         let c = sys
             .field
             .ode_taylor_until(&centre, p, more, |c| !short(c))
@@ -140,7 +140,7 @@ pub(super) fn flow_set_general(
         if last && !fixed && opts.given_order().is_none() {
             p_step = LOW_ORDERS
                 .into_iter()
-                .find(|&q| q < p && step_size(mid.rows().first(q + 1), q, &set.m) >= rem.sup())
+                .find(|&q| q < p && step_size(mid.rows().first(q + 1), q, &m_f64, I::EPS) >= rem.sup())
                 .unwrap_or(p);
         }
         let mut tries = 0;
@@ -150,7 +150,7 @@ pub(super) fn flow_set_general(
             if tries > 0 {
                 opts.check_budget().map_err(|e| e.reached(done.inf()))?;
             }
-            let hi = if last { rem } else { point(h) };
+            let hi = if last { rem } else { I::cst(h) };
             let tol = match (fixed || tries >= 12, short_rest) {
                 (true, _) => Tolerance::Loose,
                 (false, true) => Tolerance::Unsliced,
@@ -254,7 +254,7 @@ pub(super) fn flow_set_general(
     }
     // No answer with an infinite endpoint (contract, Numbers): every consumer of a flow
     // reads the set through its hull.
-    if !set.hull().iter().all(|x| finite(*x)) {
+    if !set.hull().iter().all(|x| x.is_finite()) {
         return Err(Error::refused(
             Reason::Unbounded,
             "the state enclosure is not finite",
@@ -274,7 +274,12 @@ pub(super) fn flow_set_general(
 /// there and the time done: a refusal naming the cause (the system's data not proved
 /// regular near the state, say), or `None` when it sees none. It only words the refusal:
 /// what is proved does not depend on it.
-pub(crate) type Explain<'a> = &'a dyn Fn(&[Interval], f64, f64) -> Option<Error>;
+pub(crate) type Explain<'a> = &'a dyn Fn(&[inari::Interval], f64, f64) -> Option<Error>;
+
+/// A box of f64 intervals containing `x` (for [`Explain`], which only words a refusal).
+fn hull_f64<I: Ival>(x: &[I]) -> Vec<inari::Interval> {
+    x.iter().map(|v| crate::scalar::iv(v.inf(), v.sup())).collect()
+}
 
 /// (5.8) (d): in a rest of the span that takes at most this many steps, the steps are not
 /// sliced.
@@ -352,14 +357,15 @@ pub(super) fn rescale(ratio: f64, p: usize, max: f64) -> f64 {
 }
 
 /// The step-size rule of [spec eq. (5.8)](crate::spec::enclosure) from float Taylor coefficients at the state `x`.
-pub(super) fn step_size(c: Rows<'_, f64>, p: usize, x: &[f64]) -> f64 {
-    round_step(step_bound(c, p, x).min(f64::MAX))
+/// `eps` is the rounding level of the precision ([`Ival::EPS`]).
+pub(super) fn step_size(c: Rows<'_, f64>, p: usize, x: &[f64], eps: f64) -> f64 {
+    round_step(step_bound(c, p, x, eps).min(f64::MAX))
 }
 
 /// The bound of the rule (5.8) before rounding.
-fn step_bound(c: Rows<'_, f64>, p: usize, x: &[f64]) -> f64 {
+fn step_bound(c: Rows<'_, f64>, p: usize, x: &[f64], eps: f64) -> f64 {
     let scale = x.iter().fold(1.0f64, |a, v| a.max(v.abs()));
-    let tol = scale * f64::EPSILON * 0.25;
+    let tol = scale * eps * 0.25;
     let mut h = f64::INFINITY;
     // `min(h, bound^(1/i))`, the root taken only when it can lower h. The minimum does not
     // depend on the order of the terms: the highest coefficients, whose bounds are the
@@ -468,10 +474,10 @@ mod tests {
                 })
                 .collect();
             let flat = Coeffs::from_rows(d, c.iter().map(|r| &r[..]));
-            let fast = step_bound(flat.rows(), p, &x);
+            let fast = step_bound(flat.rows(), p, &x, f64::EPSILON);
             let slow = bound_by_definition(&c, p, &x);
             assert_eq!(fast.to_bits(), slow.to_bits(), "case {case}: {fast} != {slow}");
-            assert_eq!(step_size(flat.rows(), p, &x), round_step(slow.min(f64::MAX)));
+            assert_eq!(step_size(flat.rows(), p, &x, f64::EPSILON), round_step(slow.min(f64::MAX)));
             finite += usize::from(fast.is_finite());
         }
         assert!(finite > 10_000);

@@ -60,7 +60,7 @@ pub(super) fn float_flow_var(
             return Some((xw[..d].to_vec(), w, steps));
         }
         let more = if choose_order { SHORT_ORDER } else { p };
-        let short = |c: Rows<'_, f64>| short_span(t - done, t - done, step_size(c, p, &xw));
+        let short = |c: Rows<'_, f64>| short_span(t - done, t - done, step_size(c, p, &xw, f64::EPSILON));
         let c = tape.ode_taylor_until::<f64>(&xw, p, more, |c| !short(c))?;
         if choose_order {
             choose_order = false;
@@ -69,7 +69,7 @@ pub(super) fn float_flow_var(
         // The step rule (5.8) on the state AND the variational series: the Jacobian's series
         // can have a smaller radius of convergence than the state's (e.g. the particle with
         // u1 = 0: x(t) stays 0 while D x / D u1 = asinh(u2 t) / u2 is singular at t = i/u2).
-        let h = step_size(c.rows(), p, &xw).min(t - done);
+        let h = step_size(c.rows(), p, &xw, f64::EPSILON).min(t - done);
         xw = (0..xw.len())
             .map(|i| c.iter().rev().fold(0.0, |acc, ck| acc * h + ck[i]))
             .collect();

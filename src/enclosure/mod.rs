@@ -4,23 +4,23 @@
 
 mod control;
 mod float;
+mod ival;
 pub mod linalg;
 mod set;
 mod step;
 mod system;
 
 pub use float::{float_flow_counted, float_flow_tail_counted};
+pub use ival::Ival;
 // the marked subset is a field of the set (named here for the internals feature)
 #[allow(unused_imports)]
 pub use set::{LohnerSet, SubSet};
 pub use system::System;
 
 use crate::progress::Progress;
-use crate::scalar::point;
 use crate::Error;
 pub(crate) use control::{too_many, Explain};
 use control::{flow_set_general, C1};
-use inari::Interval;
 use linalg::IMat;
 
 /// Settings of the validated integrator: `FlowOptions::default()` and the `with_*` setters,
@@ -187,39 +187,39 @@ pub const DEFAULT_ORDER: usize = 22;
 
 /// Carry a set through time `t` ([spec Theorem 5.1](crate::spec::enclosure#theorem-51-what-flow-proves)): the returned set contains the exact
 /// state at time t of every solution starting in `set`.
-pub fn flow_set(
+pub fn flow_set<I: Ival>(
     sys: &System,
-    set: LohnerSet,
+    set: LohnerSet<I>,
     t: f64,
     opts: &FlowOptions,
-) -> Result<(LohnerSet, FlowStats), Error> {
-    flow_set_span(sys, set, point(t), opts)
+) -> Result<(LohnerSet<I>, FlowStats), Error> {
+    flow_set_span(sys, set, I::cst(t), opts)
 }
 
 /// As [`flow_set`] over a span of time known by an enclosure `span` (`span.inf() >= 0`):
 /// the returned set contains the exact state at time `d` of every solution starting in
 /// `set`, for every `d` in `span` (the last step is an interval step, [spec eq. (5.7)](crate::spec::enclosure)). A
 /// difference of float times `t_1 - t_0` is carried this way ([spec eq. (5.16)](crate::spec::enclosure)).
-pub fn flow_set_span(
+pub fn flow_set_span<I: Ival>(
     sys: &System,
-    set: LohnerSet,
-    span: Interval,
+    set: LohnerSet<I>,
+    span: I,
     opts: &FlowOptions,
-) -> Result<(LohnerSet, FlowStats), Error> {
+) -> Result<(LohnerSet<I>, FlowStats), Error> {
     flow_set_span_memo(sys, set, span, opts, &mut None, None)
 }
 
 /// [`flow_set_span`] with the step rule's memory (5.8) taken from and left in `memo`, so
 /// that a flow continued from a stop (5.16) chooses its first step as if it had not
 /// stopped. Only a choice of step sizes: what is proved is [`flow_set_span`]'s.
-pub(crate) fn flow_set_span_memo(
+pub(crate) fn flow_set_span_memo<I: Ival>(
     sys: &System,
-    set: LohnerSet,
-    span: Interval,
+    set: LohnerSet<I>,
+    span: I,
     opts: &FlowOptions,
     memo: &mut Option<(f64, f64)>,
     explain: Option<Explain<'_>>,
-) -> Result<(LohnerSet, FlowStats), Error> {
+) -> Result<(LohnerSet<I>, FlowStats), Error> {
     if span.is_empty() || span.inf() < 0.0 || !span.sup().is_finite() {
         return Err(Error::input(format!(
             "a span of time must be finite and >= 0 (got [{}, {}])",
@@ -233,14 +233,14 @@ pub(crate) fn flow_set_span_memo(
 
 /// As [`flow_set`], and also an interval matrix containing the derivative `D x(t) / D x(0)`
 /// at every initial point of `set` ([spec Theorem 5.2](crate::spec::enclosure)).
-pub fn flow_set_c1(
+pub fn flow_set_c1<I: Ival>(
     sys: &System,
-    set: LohnerSet,
+    set: LohnerSet<I>,
     t: f64,
     opts: &FlowOptions,
-) -> Result<(LohnerSet, IMat, FlowStats), Error> {
+) -> Result<(LohnerSet<I>, IMat<I>, FlowStats), Error> {
     let (set, jac, stats) =
-        flow_set_general(sys, set, point(t), opts, C1::Cheap, &mut None, None)?;
+        flow_set_general(sys, set, I::cst(t), opts, C1::Cheap, &mut None, None)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }
@@ -251,25 +251,25 @@ pub fn flow_set_c1(
 // used through the `internals` feature (and its tests); the crate's own flows go through
 // `flow_set_jacobian_explained`
 #[cfg_attr(not(feature = "internals"), allow(dead_code))]
-pub fn flow_set_jacobian(
+pub fn flow_set_jacobian<I: Ival>(
     sys: &System,
-    set: LohnerSet,
+    set: LohnerSet<I>,
     t: f64,
     opts: &FlowOptions,
-) -> Result<(LohnerSet, IMat, FlowStats), Error> {
+) -> Result<(LohnerSet<I>, IMat<I>, FlowStats), Error> {
     flow_set_jacobian_explained(sys, set, t, opts, None)
 }
 
 /// [`flow_set_jacobian`] with a refusal's cause asked of `explain` (see [`Explain`]).
-pub(crate) fn flow_set_jacobian_explained(
+pub(crate) fn flow_set_jacobian_explained<I: Ival>(
     sys: &System,
-    set: LohnerSet,
+    set: LohnerSet<I>,
     t: f64,
     opts: &FlowOptions,
     explain: Option<Explain<'_>>,
-) -> Result<(LohnerSet, IMat, FlowStats), Error> {
+) -> Result<(LohnerSet<I>, IMat<I>, FlowStats), Error> {
     let (set, jac, stats) =
-        flow_set_general(sys, set, point(t), opts, C1::Precise, &mut None, explain)?;
+        flow_set_general(sys, set, I::cst(t), opts, C1::Precise, &mut None, explain)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }

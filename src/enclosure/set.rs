@@ -2,9 +2,8 @@
 //! two parts (a doubleton) with a box, its marked subset, and the derivative carried as
 //! `C + B [R]`.
 
+use super::ival::Ival;
 use super::linalg::{self, IMat};
-use crate::scalar::point;
-use crate::tape::finite;
 use inari::Interval;
 use nalgebra::DMatrix;
 
@@ -14,26 +13,26 @@ use nalgebra::DMatrix;
 /// contain 0. `C r0` is the propagated part (the initial set, and the errors folded into it
 /// by a reorganisation, [spec (5.10')](crate::spec::enclosure)); `B r` gathers the errors of the steps since.
 #[derive(Clone, PartialEq)]
-pub struct LohnerSet {
-    /// The centre `m` (exact f64 data).
-    pub m: Vec<f64>,
+pub struct LohnerSet<I: Ival = Interval> {
+    /// The centre `m` (exact data: f64 at 53 bits).
+    pub m: Vec<I::Pt>,
     /// The basis `C` of the propagated part, `d x d` (exact f64 data).
     pub c: DMatrix<f64>,
     /// `[r0]`, containing 0.
-    pub r0: Vec<Interval>,
+    pub r0: Vec<I>,
     /// The basis `B` of the error part, `d x d` (exact f64 data).
     pub b: DMatrix<f64>,
     /// `[r]`, containing 0.
-    pub r: Vec<Interval>,
+    pub r: Vec<I>,
     /// A box that also contains every state of the set (the box of [spec eq. (5.12)](crate::spec::enclosure)).
-    pub boxed: Vec<Interval>,
+    pub boxed: Vec<I>,
     /// A marked subset `{ m + C r0 + B r : r0 in sub.r0, r in sub.r } ∩ sub.boxed` carried
     /// along with the same centre, bases and Jacobians ([spec eq. (5.14)](crate::spec::enclosure)): e.g. the image of
     /// the initial centre, which the Krawczyk test needs beside the image of the whole box.
-    pub sub: Option<SubSet>,
+    pub sub: Option<SubSet<I>>,
 }
 
-crate::readable::readable_debug!(LohnerSet {
+crate::readable::readable_debug!(LohnerSet<Interval> {
     m: dbg,
     c: dbg,
     r0: iv,
@@ -45,65 +44,69 @@ crate::readable::readable_debug!(LohnerSet {
 
 /// The marked subset of a [`LohnerSet`]: its own `[r0]`, `[r]` (inside the set's) and box.
 #[derive(Clone, PartialEq)]
-pub struct SubSet {
+pub struct SubSet<I = Interval> {
     /// The subset's `[r0_S]` ([spec eq. (5.14)](crate::spec::enclosure)).
-    pub r0: Vec<Interval>,
+    pub r0: Vec<I>,
     /// The subset's `[r_S]` ([spec eq. (5.14)](crate::spec::enclosure)).
-    pub r: Vec<Interval>,
+    pub r: Vec<I>,
     /// The subset's box `[x_S]`.
-    pub boxed: Vec<Interval>,
+    pub boxed: Vec<I>,
 }
 
-crate::readable::readable_debug!(SubSet {
+crate::readable::readable_debug!(SubSet<Interval> {
     r0: iv,
     r: iv,
     boxed: iv
 });
 
 /// `x - m` in intervals.
-pub(super) fn relative(x: &[Interval], m: &[f64]) -> Vec<Interval> {
-    x.iter().zip(m).map(|(v, c)| *v - point(*c)).collect()
+pub(super) fn relative<I: Ival>(x: &[I], m: &[I::Pt]) -> Vec<I> {
+    x.iter().zip(m).map(|(v, c)| *v - I::pt(*c)).collect()
 }
 
-impl LohnerSet {
+impl<I: Ival> LohnerSet<I> {
     /// The single point `x` (exact f64 values).
     pub fn point(x: &[f64]) -> Self {
+        Self::point_at(&x.iter().map(|v| I::pt_of(*v)).collect::<Vec<_>>())
+    }
+    /// The single point `x` (exact points of this precision).
+    pub fn point_at(x: &[I::Pt]) -> Self {
         let d = x.len();
         LohnerSet {
             m: x.to_vec(),
             c: DMatrix::identity(d, d),
-            r0: vec![point(0.0); d],
+            r0: vec![I::zero(); d],
             b: DMatrix::identity(d, d),
-            r: vec![point(0.0); d],
-            boxed: x.iter().map(|v| point(*v)).collect(),
+            r: vec![I::zero(); d],
+            boxed: x.iter().map(|v| I::pt(*v)).collect(),
             sub: None,
         }
     }
     /// A box, as centre plus radius.
-    pub fn from_box(x: &[Interval]) -> Self {
-        let m: Vec<f64> = x.iter().map(|v| v.mid()).collect();
+    pub fn from_box(x: &[I]) -> Self {
+        let m: Vec<I::Pt> = x.iter().map(|v| v.mid_pt()).collect();
         Self::centred(&m, x)
     }
     /// The box `x` with centre `m` (a point of `x`): `x - m` in the propagated part.
-    fn centred(m: &[f64], x: &[Interval]) -> Self {
+    fn centred(m: &[I::Pt], x: &[I]) -> Self {
         let d = x.len();
         LohnerSet {
             m: m.to_vec(),
             c: DMatrix::identity(d, d),
             r0: relative(x, m),
             b: DMatrix::identity(d, d),
-            r: vec![point(0.0); d],
+            r: vec![I::zero(); d],
             boxed: x.to_vec(),
             sub: None,
         }
     }
     /// The box `x` with centre `m` (a point of `x`) and the marked subset `sub` (a box
     /// inside `x`, e.g. a single point).
-    pub fn with_subset(m: &[f64], x: &[Interval], sub: &[Interval]) -> Self {
+    pub fn with_subset(m: &[I::Pt], x: &[I], sub: &[I]) -> Self {
         LohnerSet {
             sub: Some(SubSet {
                 r0: relative(sub, m),
-                r: vec![point(0.0); m.len()],
+                r: vec![I::zero(); m.len()],
                 boxed: sub.to_vec(),
             }),
             ..Self::centred(m, x)
@@ -111,11 +114,11 @@ impl LohnerSet {
     }
     /// An interval box containing the set ([spec eq. (5.2)](crate::spec::enclosure)): the parallelepiped's hull
     /// intersected with the box (both contain the set, so the intersection is not empty).
-    pub fn hull(&self) -> Vec<Interval> {
+    pub fn hull(&self) -> Vec<I> {
         self.hull_of(&self.r0, &self.r, &self.boxed)
     }
     /// A box containing the marked subset, if there is one.
-    pub fn sub_hull(&self) -> Option<Vec<Interval>> {
+    pub fn sub_hull(&self) -> Option<Vec<I>> {
         self.sub
             .as_ref()
             .map(|s| self.hull_of(&s.r0, &s.r, &s.boxed))
@@ -123,18 +126,18 @@ impl LohnerSet {
     /// `(m + [C] r0 + [B] r) ∩ boxed`.
     pub(super) fn hull_of(
         &self,
-        r0: &[Interval],
-        r: &[Interval],
-        boxed: &[Interval],
-    ) -> Vec<Interval> {
-        let cr0 = linalg::mul_vec(&linalg::imat(&self.c), r0);
-        let br = linalg::mul_vec(&linalg::imat(&self.b), r);
+        r0: &[I],
+        r: &[I],
+        boxed: &[I],
+    ) -> Vec<I> {
+        let cr0 = linalg::mul_vec(&linalg::imat::<I>(&self.c), r0);
+        let br = linalg::mul_vec(&linalg::imat::<I>(&self.b), r);
         self.m
             .iter()
             .zip(cr0.iter().zip(br))
             .zip(boxed)
             .map(|((c, (x0, x)), bx)| {
-                let p = point(*c) + (*x0 + x);
+                let p = I::pt(*c) + (*x0 + x);
                 let both = p.intersection(*bx);
                 if both.is_empty() {
                     p
@@ -149,10 +152,10 @@ impl LohnerSet {
     /// marked subset) is `C := B`, `[r0] := ([B^-1] C) [r0] + [r]`, `B := I`, `[r] := 0`,
     /// with `b_inv ∋ B^-1` (5.9). Returns the old `B`, which the derivative carried in
     /// this basis (5.15) needs.
-    pub(super) fn reorganise(&mut self, b_inv: &IMat) -> DMatrix<f64> {
+    pub(super) fn reorganise(&mut self, b_inv: &IMat<I>) -> DMatrix<f64> {
         let d = self.m.len();
         let bc = linalg::mul(b_inv, &linalg::imat(&self.c));
-        let fold = |r0: &[Interval], r: &[Interval]| -> Vec<Interval> {
+        let fold = |r0: &[I], r: &[I]| -> Vec<I> {
             linalg::mul_vec(&bc, r0)
                 .iter()
                 .zip(r)
@@ -160,10 +163,10 @@ impl LohnerSet {
                 .collect()
         };
         self.r0 = fold(&self.r0, &self.r);
-        self.r = vec![point(0.0); d];
+        self.r = vec![I::zero(); d];
         if let Some(sb) = &mut self.sub {
             sb.r0 = fold(&sb.r0, &sb.r);
-            sb.r = vec![point(0.0); d];
+            sb.r = vec![I::zero(); d];
         }
         let b = std::mem::replace(&mut self.b, DMatrix::identity(d, d));
         self.c = b.clone();
@@ -173,16 +176,16 @@ impl LohnerSet {
     /// An enclosure of `{ G(x) : x in the set }` by the centred form
     /// `G(m) + (DG([X]) C) [r0] + (DG([X]) B) [r]`, intersected with `G([X])` ([spec eq. (5.12)](crate::spec::enclosure)); `g_jac` is the
     /// tape of `(G, DG)` (`G` then `DG` row-major). `None` if an evaluation is not proved.
-    pub fn image(&self, g_jac: &crate::tape::Tape) -> Option<Vec<Interval>> {
+    pub fn image(&self, g_jac: &crate::tape::Tape) -> Option<Vec<I>> {
         let d = self.m.len();
         let k = g_jac.n_outputs() / (d + 1);
-        let at_m = g_jac.eval_checked(&self.m.iter().map(|x| point(*x)).collect::<Vec<_>>())?;
+        let at_m = g_jac.eval_checked(&self.m.iter().map(|x| I::pt(*x)).collect::<Vec<_>>())?;
         let over = g_jac.eval_checked(&self.hull())?;
         let dg = IMat::from_flat(k, d, over[k..k + k * d].to_vec());
         let lin0 = linalg::mul_vec(&linalg::mul(&dg, &linalg::imat(&self.c)), &self.r0);
         let lin1 = linalg::mul_vec(&linalg::mul(&dg, &linalg::imat(&self.b)), &self.r);
-        let lin: Vec<Interval> = lin0.iter().zip(&lin1).map(|(a, b)| *a + *b).collect();
-        let out: Vec<Interval> = (0..k)
+        let lin: Vec<I> = lin0.iter().zip(&lin1).map(|(a, b)| *a + *b).collect();
+        let out: Vec<I> = (0..k)
             .map(|i| {
                 let c = at_m[i] + lin[i];
                 let both = c.intersection(over[i]);
@@ -193,27 +196,27 @@ impl LohnerSet {
                 }
             })
             .collect();
-        out.iter().all(|x| finite(*x)).then_some(out)
+        out.iter().all(|x| x.is_finite()).then_some(out)
     }
 }
 
 /// The derivative `D x(t) / D x(0)` carried as `C + B [R]` ([spec eq. (5.15)](crate::spec::enclosure)): `C` a float
 /// matrix, `B` the state set's basis, `[R]` interval columns.
-pub(super) struct JacobianSet {
+pub(super) struct JacobianSet<I> {
     pub(super) c: DMatrix<f64>,
-    pub(super) r: IMat,
+    pub(super) r: IMat<I>,
 }
 
-impl JacobianSet {
+impl<I: Ival> JacobianSet<I> {
     pub(super) fn identity(d: usize) -> Self {
         JacobianSet {
             c: DMatrix::identity(d, d),
-            r: IMat::from_fn(d, d, |_, _| point(0.0)),
+            r: IMat::from_fn(d, d, |_, _| I::zero()),
         }
     }
     /// (5.15) One step: `[J]` the step's derivative factor, `ba = [B'^{-1}][J B]` and
     /// `b_inv = [B'^{-1}]` from the state's update (5.10).
-    pub(super) fn step(&self, jac: &IMat, ba: &IMat, b_inv: &IMat) -> Self {
+    pub(super) fn step(&self, jac: &IMat<I>, ba: &IMat<I>, b_inv: &IMat<I>) -> Self {
         let (c, off) = linalg::split(&linalg::mul(jac, &linalg::imat(&self.c)));
         let r = linalg::add(&linalg::mul(ba, &self.r), &linalg::mul(b_inv, &off));
         JacobianSet { c, r }
@@ -227,7 +230,7 @@ impl JacobianSet {
         }
     }
     /// `C + [B][R]` in intervals.
-    pub(super) fn hull(&self, b: &DMatrix<f64>) -> IMat {
+    pub(super) fn hull(&self, b: &DMatrix<f64>) -> IMat<I> {
         linalg::add(
             &linalg::imat(&self.c),
             &linalg::mul(&linalg::imat(b), &self.r),
@@ -238,7 +241,7 @@ impl JacobianSet {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scalar::iv;
+    use crate::scalar::{iv, point};
 
     /// (5.10'): after the reorganisation the set still holds every point
     /// `m + C a + B b` (a, b corners of `[r0]`, `[r]`), its marked subset every point of the

@@ -4,9 +4,8 @@
 use super::linalg::{self, IMat};
 use super::set::*;
 use super::*;
-use crate::scalar::{iv, point};
-use crate::tape::{finite, Coef, Coeffs, Rows};
-use inari::Interval;
+use super::ival::Ival;
+use crate::tape::{Coeffs, Rows};
 use nalgebra::DMatrix;
 
 pub(super) enum StepFail {
@@ -34,33 +33,34 @@ pub(super) enum Tolerance {
     Unsliced,
 }
 
-/// Largest accepted width of the Lagrange remainder, relative to the state's size.
-pub(super) const REMAINDER_TOL: f64 = f64::EPSILON;
+/// Largest accepted width of the Lagrange remainder, relative to the state's size, in
+/// units of the rounding level [`Ival::EPS`].
+pub(super) const REMAINDER_TOL: f64 = 1.0;
 
 /// Horner's scheme in intervals, for the components `cols` of every row at once: entry `i`
 /// encloses `sum_k c_k[cols.start + i] t^k` for every `t` in `h` and every choice of
 /// coefficients in the enclosures, with `c_k` the rows and then `top` if given (fused
 /// multiply-adds, each outward rounded: [spec (1.4)](crate::spec::scalars)).
-pub(super) fn horner(
-    rows: Rows<'_, Interval>,
+pub(super) fn horner<I: Ival>(
+    rows: Rows<'_, I>,
     cols: std::ops::Range<usize>,
-    top: Option<&[Interval]>,
-    h: Interval,
-) -> Vec<Interval> {
-    let rows: Vec<&[Interval]> = rows
+    top: Option<&[I]>,
+    h: I,
+) -> Vec<I> {
+    let rows: Vec<&[I]> = rows
         .iter()
         .chain(top)
         .map(|r| &r[cols.clone()])
         .collect();
-    crate::dot::horner(&rows, h)
+    I::horner(&rows, h)
 }
 
 /// What one step hands on.
-pub(super) struct StepOut {
-    pub(super) set: LohnerSet,
+pub(super) struct StepOut<I: Ival> {
+    pub(super) set: LohnerSet<I>,
     /// For C^1 output: the step's derivative factor `[J]`, `[B'^{-1}][J B]` and
     /// `[B'^{-1}]` ([spec eq. (5.15)](crate::spec::enclosure)).
-    pub(super) jac: Option<(IMat, IMat, IMat)>,
+    pub(super) jac: Option<(IMat<I>, IMat<I>, IMat<I>)>,
     /// The basis `B'` that a reorganisation (5.10') replaced by `I`, if any.
     pub(super) rebased: Option<DMatrix<f64>>,
     /// The remainder's width relative to its tolerance (5.8).
@@ -70,38 +70,38 @@ pub(super) struct StepOut {
 /// The a priori enclosure (5.4) of the centre's trajectory proved by a rejected try of a
 /// step: the box `y` holds the trajectory over `[0, span]`, so over every shorter span too,
 /// and `ty` are the coefficients over it up to `order + 1` ([spec (5.4')](crate::spec::enclosure)).
-pub(super) struct Prior {
+pub(super) struct Prior<I> {
     span: f64,
     order: usize,
-    y: Vec<Interval>,
-    ty: Coeffs<Interval>,
+    y: Vec<I>,
+    ty: Coeffs<I>,
 }
 
 /// One step of the method ([spec eqs. (5.3)-(5.6)](crate::spec::enclosure), (5.9)-(5.12)). `prior` carries the a
 /// priori box of a rejected try to the next try of the same step (5.4').
 #[allow(clippy::too_many_arguments)]
-pub(super) fn lohner_step(
+pub(super) fn lohner_step<I: Ival>(
     sys: &System,
-    set: &LohnerSet,
-    c: Rows<'_, Interval>,
-    h: Interval,
+    set: &LohnerSet<I>,
+    c: Rows<'_, I>,
+    h: I,
     p: usize,
     tol: Tolerance,
     c1: bool,
     opts: &FlowOptions,
     precise: bool,
     jac_order: &mut usize,
-    prior: &mut Option<Prior>,
-) -> Result<StepOut, StepFail> {
+    prior: &mut Option<Prior<I>>,
+) -> Result<StepOut<I>, StepFail> {
     let d = set.m.len();
     let fatal = |s: &str| StepFail::Fatal(s.to_string());
     if !set.r.iter().chain(&set.r0).all(|r| r.contains(0.0)) {
         return Err(fatal("internal invariant broken: 0 not in r"));
     }
-    let scale = set.m.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+    let scale = set.m.iter().fold(1.0f64, |a, x| a.max(I::pt_f64(*x).abs()));
     // (5.3) the Taylor polynomial at the centre (coefficients `c`)
     let phi = horner(c, 0..d, None, h);
-    if tol != Tolerance::Loose && phi.iter().any(|x| x.wid() > scale * (16.0 * f64::EPSILON)) {
+    if tol != Tolerance::Loose && phi.iter().any(|x| x.wid() > scale * (16.0 * I::EPS)) {
         return Err(StepFail::Shrink);
     }
     let point_set = set.r.iter().chain(&set.r0).all(|r| r.is_exact_zero());
@@ -110,7 +110,7 @@ pub(super) fn lohner_step(
     let extent = xbox
         .iter()
         .zip(&set.m)
-        .fold(0.0f64, |a, (x, c)| a.max((*x - point(*c)).mag()));
+        .fold(0.0f64, |a, (x, c)| a.max((*x - I::pt(*c)).mag()));
     // z encloses x(h; m); x(h; x0) lies in z + J (x0 - m) for every x0 in the set.
     // (5.4)-(5.5) for the trajectory from the centre alone; the a priori box of an earlier
     // try of this step over a longer span serves this one (5.4'), else a new one
@@ -130,8 +130,8 @@ pub(super) fn lohner_step(
         }
         other => other?,
     };
-    let z: Vec<Interval> = phi.iter().zip(&rem).map(|(a, b)| *a + *b).collect();
-    if !z.iter().all(|x| finite(*x)) {
+    let z: Vec<I> = phi.iter().zip(&rem).map(|(a, b)| *a + *b).collect();
+    if !z.iter().all(|x| x.is_finite()) {
         return Err(StepFail::Shrink);
     }
     if point_set && !c1 {
@@ -151,7 +151,7 @@ pub(super) fn lohner_step(
     };
     let a = linalg::mul(&jac, &linalg::imat(&set.b));
     let jc = linalg::mul(&jac, &linalg::imat(&set.c));
-    if !z.iter().all(|x| finite(*x)) || !linalg::all_finite(&a) || !linalg::all_finite(&jc) {
+    if !z.iter().all(|x| x.is_finite()) || !linalg::all_finite(&a) || !linalg::all_finite(&jc) {
         return Err(StepFail::Shrink);
     }
     // (5.9)-(5.10) The propagated part: `C' = mid([J] C)`, its excess `[J] C - C'` joins the
@@ -159,13 +159,13 @@ pub(super) fn lohner_step(
     // column sorting (by ||A_j|| wid(r_j)) was measured to be worse here: on the particle
     // at t = 600 it gave widths 1.7e-7 against 5.2e-11 unsorted (spec section 5.5).
     let (c_new, dc) = linalg::split(&jc);
-    let m_new: Vec<f64> = z.iter().map(|x| x.mid()).collect();
+    let m_new: Vec<I::Pt> = z.iter().map(|x| x.mid_pt()).collect();
     let zc = relative(&z, &m_new);
     let (b_new, b_inv) = choose_basis(linalg::mid(&a), opts.basis);
     let ba = linalg::mul(&b_inv, &a);
     // r' = [B'^-1][J B] r + [B'^-1] ((z - m') + ([J] C - C') r0)
-    let image_r = |r0: &[Interval], r: &[Interval]| -> Vec<Interval> {
-        let y: Vec<Interval> = zc
+    let image_r = |r0: &[I], r: &[I]| -> Vec<I> {
+        let y: Vec<I> = zc
             .iter()
             .zip(linalg::mul_vec(&dc, r0))
             .map(|(a, b)| *a + b)
@@ -175,11 +175,11 @@ pub(super) fn lohner_step(
         part.iter().zip(&shift).map(|(x, y)| *x + *y).collect()
     };
     // The box method beside the parallelepiped: x(h) in z + [J] ([X] - m) (spec eq. (5.12)).
-    let image_box = |hull: &[Interval]| -> Vec<Interval> {
-        let dx: Vec<Interval> = hull
+    let image_box = |hull: &[I]| -> Vec<I> {
+        let dx: Vec<I> = hull
             .iter()
             .zip(&set.m)
-            .map(|(x, c)| *x - point(*c))
+            .map(|(x, c)| *x - I::pt(*c))
             .collect();
         let jdx = linalg::mul_vec(&jac, &dx);
         z.iter().zip(jdx).map(|(a, b)| *a + b).collect()
@@ -190,7 +190,7 @@ pub(super) fn lohner_step(
         r: image_r(&sb.r0, &sb.r),
         boxed: image_box(&set.hull_of(&sb.r0, &sb.r, &sb.boxed)),
     });
-    let unbounded = |r: &[Interval]| !r.iter().all(|x| finite(*x));
+    let unbounded = |r: &[I]| !r.iter().all(|x| x.is_finite());
     if unbounded(&r_new) || sub.as_ref().is_some_and(|sb| unbounded(&sb.r)) {
         return Err(fatal("enclosure became unbounded"));
     }
@@ -204,7 +204,7 @@ pub(super) fn lohner_step(
         sub,
     };
     // (5.10') once the errors outgrow the propagated part, they are folded into it
-    let diam = |r: &[Interval]| r.iter().fold(0.0f64, |a, x| a.max(x.wid()));
+    let diam = |r: &[I]| r.iter().fold(0.0f64, |a, x| a.max(x.wid()));
     let rebased = if opts.reorganise && diam(&set.r) > REORGANISE * diam(&set.r0) {
         let b = set.reorganise(&b_inv);
         if unbounded(&set.r0) || set.sub.as_ref().is_some_and(|sb| unbounded(&sb.r0)) {
@@ -231,7 +231,7 @@ pub(super) const REORGANISE: f64 = 10.0;
 /// (5.9) from a float inverse), the orthogonal factor of its QR factorisation for
 /// [`Basis::Orthogonal`] or when the parallelepiped's inverse is not proved, and `I` when
 /// neither is.
-pub(super) fn choose_basis(am: DMatrix<f64>, basis: Basis) -> (DMatrix<f64>, IMat) {
+pub(super) fn choose_basis<I: Ival>(am: DMatrix<f64>, basis: Basis) -> (DMatrix<f64>, IMat<I>) {
     let d = am.nrows();
     if basis == Basis::Parallelepiped {
         let inv = am
@@ -258,7 +258,7 @@ pub(super) const JAC_ORDERS: [usize; 6] = [3, 5, 8, 12, 16, 20];
 pub(super) const SKIP: usize = 16;
 
 /// The image of a point set (r = 0): the box z, recentred.
-pub(super) fn point_image(set: &LohnerSet, z: Vec<Interval>) -> LohnerSet {
+pub(super) fn point_image<I: Ival>(set: &LohnerSet<I>, z: Vec<I>) -> LohnerSet<I> {
     let image = LohnerSet::from_box(&z);
     if set.sub.is_some() {
         // the subset of a point is the point
@@ -273,16 +273,16 @@ pub(super) fn point_image(set: &LohnerSet, z: Vec<Interval>) -> LohnerSet {
 /// `[J] = D phi([X])` from the variational Taylor coefficients over the hull; for C^1
 /// output, `[J]` plus the variational remainder (5.11).
 #[allow(clippy::too_many_arguments)]
-pub(super) fn box_enclosure(
+pub(super) fn box_enclosure<I: Ival>(
     sys: &System,
-    xbox: &[Interval],
-    phi: &[Interval],
-    h: Interval,
+    xbox: &[I],
+    phi: &[I],
+    h: I,
     p: usize,
     scale: f64,
     tol: Tolerance,
     c1: bool,
-) -> Result<(Vec<Interval>, IMat, f64), StepFail> {
+) -> Result<(Vec<I>, IMat<I>, f64), StepFail> {
     let d = xbox.len();
     let cv = sys
         .field_var
@@ -295,7 +295,7 @@ pub(super) fn box_enclosure(
     if c1 {
         let vrem = variational_remainder(sys, &y, cv.rows(), h, p)?;
         for (x, r) in jac.entries_mut().iter_mut().zip(vrem.entries()) {
-            *x += *r;
+            *x = *x + *r;
         }
     }
     Ok((z, full_jacobian(&jac, &sys.var_cols), ratio))
@@ -307,16 +307,16 @@ pub(super) fn box_enclosure(
 /// `T_0..T_{q+1}` over `Y` (the last one for the Lagrange remainder). The first trial box
 /// is the Taylor range over `[0, h]` widened by 10%; after a failed trial, the hull of `Y`
 /// and `Z` widened by 10% and by `widen` times the excess of `Z` over `Y` (up to three times).
-pub(super) fn a_priori(
+pub(super) fn a_priori<I: Ival>(
     tape: &crate::tape::Tape,
-    b: Rows<'_, Interval>,
-    h: Interval,
+    b: Rows<'_, I>,
+    h: I,
     q: usize,
     widen: f64,
-) -> Result<(Vec<Interval>, Coeffs<Interval>), StepFail> {
-    let h0 = iv(0.0, h.sup());
+) -> Result<(Vec<I>, Coeffs<I>), StepFail> {
+    let h0 = I::iv(0.0, h.sup());
     let dim = b.width();
-    let series = |top: &[Interval]| horner(b.first(q), 0..dim, Some(top), h0);
+    let series = |top: &[I]| horner(b.first(q), 0..dim, Some(top), h0);
     let mut y = inflate(&series(&b[q]));
     for _ in 0..4 {
         let ty = tape.ode_taylor(&y, q + 1).ok_or(StepFail::Shrink)?;
@@ -333,7 +333,7 @@ pub(super) fn a_priori(
                 let excess = (b.inf() - a.inf()).max(a.sup() - b.sup()).max(0.0);
                 let hull = a.convex_hull(*b);
                 let w = hull.wid() * 0.1 + excess * widen + hull.mag() * 1e-15 + 1e-300;
-                iv(hull.inf() - w, hull.sup() + w)
+                I::iv(hull.inf() - w, hull.sup() + w)
             })
             .collect();
     }
@@ -347,14 +347,14 @@ pub(super) fn a_priori(
 /// than Y: less dependency in the high-order coefficients), unless `tol` is
 /// [`Tolerance::Unsliced`]. Unless `tol` is [`Tolerance::Loose`], a remainder wider than
 /// the tolerance rejects the step (5.8).
-pub(super) fn remainder(
+pub(super) fn remainder<I: Ival>(
     sys: &System,
-    b: Rows<'_, Interval>,
-    h: Interval,
+    b: Rows<'_, I>,
+    h: I,
     p: usize,
     scale: f64,
     tol: Tolerance,
-) -> Result<(Vec<Interval>, Vec<Interval>, f64), StepFail> {
+) -> Result<(Vec<I>, Vec<I>, f64), StepFail> {
     let (y, ty) = a_priori(&sys.field, b, h, p, 0.0)?;
     let (rem, ratio) = remainder_over(sys, b, &y, &ty, h, p, scale, tol)?;
     Ok((rem, y, ratio))
@@ -364,23 +364,23 @@ pub(super) fn remainder(
 /// (or over a longer span) and the coefficients `ty` over it up to `p + 1`: `[R]` and its
 /// width relative to the tolerance.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn remainder_over(
+pub(super) fn remainder_over<I: Ival>(
     sys: &System,
-    b: Rows<'_, Interval>,
-    y: &[Interval],
-    ty: &Coeffs<Interval>,
-    h: Interval,
+    b: Rows<'_, I>,
+    y: &[I],
+    ty: &Coeffs<I>,
+    h: I,
     p: usize,
     scale: f64,
     tol: Tolerance,
-) -> Result<(Vec<Interval>, f64), StepFail> {
+) -> Result<(Vec<I>, f64), StepFail> {
     let strict = tol != Tolerance::Loose;
     let d = b.width();
-    let hp = (0..=p).fold(point(1.0), |a, _| a * h);
+    let hp = (0..=p).fold(I::cst(1.0), |a, _| a * h);
     // the widest component of T h^(p+1), relative to the tolerance (NaN if not finite)
-    let ratio_of = |t: &[Interval]| {
+    let ratio_of = |t: &[I]| {
         t.iter().fold(0.0f64, |a, t| {
-            let w = (*t * hp).wid() / (scale * REMAINDER_TOL);
+            let w = (*t * hp).wid() / (scale * REMAINDER_TOL * I::EPS);
             if w.is_nan() || a.is_nan() {
                 f64::NAN
             } else {
@@ -388,7 +388,7 @@ pub(super) fn remainder_over(
             }
         })
     };
-    let too_wide = |t: &[Interval]| {
+    let too_wide = |t: &[I]| {
         let r = ratio_of(t);
         r.is_nan() || r > 1.0
     };
@@ -405,8 +405,8 @@ pub(super) fn remainder_over(
             } else {
                 h.sup() * (j + 1) as f64 / SLICES as f64
             };
-            let tj = iv(lo, hi);
-            let yj: Vec<Interval> = horner(b.first(p), 0..d, Some(&ty[p]), tj)
+            let tj = I::iv(lo, hi);
+            let yj: Vec<I> = horner(b.first(p), 0..d, Some(&ty[p]), tj)
                 .iter()
                 .zip(y)
                 .map(|(a, b)| a.intersection(*b))
@@ -446,22 +446,22 @@ pub(super) fn remainder_over(
 /// of [`flow_set_jacobian`]). `None` when no order does: the step is then taken over the
 /// whole set (`box_enclosure`).
 #[allow(clippy::too_many_arguments)]
-pub(super) fn step_jacobian(
+pub(super) fn step_jacobian<I: Ival>(
     sys: &System,
-    xbox: &[Interval],
-    h: Interval,
+    xbox: &[I],
+    h: I,
     p: usize,
     scale: f64,
     extent: f64,
     precise: bool,
     order: &mut usize,
-) -> Option<IMat> {
+) -> Option<IMat<I>> {
     let d = xbox.len();
     // After no order qualified for the precise derivative, the next SKIP steps go straight
     // to the step over the whole set (the order index counts them down above the ladder).
-    if *order >= JAC_ORDERS.len() {
+    if *order >= I::JAC_ORDERS.len() {
         *order -= 1;
-        if *order >= JAC_ORDERS.len() {
+        if *order >= I::JAC_ORDERS.len() {
             return None;
         }
     }
@@ -472,15 +472,15 @@ pub(super) fn step_jacobian(
     // every trajectory on [0, h], so the Lagrange remainder of any order may use it. At a
     // low order the test converges slowly for components whose range is nearly a point
     // (e.g. D u1 / D u1 = 1 for the knife): widen generously.
-    let q0 = JAC_ORDERS[0];
+    let q0 = I::JAC_ORDERS[0];
     let w0 = sys.field_var.ode_taylor(&seed, q0)?;
     let (y_ext, t0) = a_priori(&sys.field_var, w0.rows(), h, q0, 4.0).ok()?;
-    let mut k = (*order).min(JAC_ORDERS.len() - 1);
+    let mut k = (*order).min(I::JAC_ORDERS.len() - 1);
     loop {
-        let q = JAC_ORDERS[k];
+        let q = I::JAC_ORDERS[k];
         if q > p.max(q0) {
             if precise {
-                *order = JAC_ORDERS.len() + SKIP;
+                *order = I::JAC_ORDERS.len() + SKIP;
             }
             return None;
         }
@@ -495,15 +495,15 @@ pub(super) fn step_jacobian(
             (&higher.0, higher.1.as_ref())
         };
         if let Some(tw) = tw {
-            let hq = (0..=q).fold(point(1.0), |a, _| a * h);
-            let rem: Vec<Interval> = (0..d * c).map(|k| tw[q + 1][d + k] * hq).collect();
+            let hq = (0..=q).fold(I::cst(1.0), |a, _| a * h);
+            let rem: Vec<I> = (0..d * c).map(|k| tw[q + 1][d + k] * hq).collect();
             let widest = rem.iter().fold(0.0f64, |a, x| a.max(x.wid()));
             let mut jac = variational_polynomial(w.rows(), d, h);
             let size = jac.entries().iter().fold(1.0f64, |a, x| a.max(x.mag()));
             // (NaN fails the tests too)
-            let share = widest * extent * d as f64 / (scale * f64::EPSILON);
+            let share = widest * extent * d as f64 / (scale * I::EPS);
             let own = if precise {
-                widest / (16.0 * size * f64::EPSILON)
+                widest / (16.0 * size * I::EPS)
             } else {
                 0.0
             };
@@ -512,15 +512,15 @@ pub(super) fn step_jacobian(
                 // next step: the same order, or one lower when this one had a wide margin
                 *order = if ratio < 1e-4 { k.saturating_sub(1) } else { k };
                 for (x, r) in jac.entries_mut().iter_mut().zip(&rem) {
-                    *x += *r;
+                    *x = *x + *r;
                 }
                 return Some(full_jacobian(&jac, &sys.var_cols));
             }
         }
         k += 1;
-        if k == JAC_ORDERS.len() {
+        if k == I::JAC_ORDERS.len() {
             if precise {
-                *order = JAC_ORDERS.len() + SKIP;
+                *order = I::JAC_ORDERS.len() + SKIP;
             }
             return None;
         }
@@ -530,17 +530,17 @@ pub(super) fn step_jacobian(
 /// `(x, W0)`: a box with the seed of the variational equation ([spec eq. (4.11)](crate::spec::dynamics)) for the
 /// columns `cols` of `D x(t) / D x(0)`: `W0` is `d x cols.len()`, row-major, with
 /// `W0[cols[k]][k] = 1` and 0 elsewhere.
-pub(super) fn with_seed(x: &[Interval], cols: &[usize]) -> Vec<Interval> {
+pub(super) fn with_seed<I: Ival>(x: &[I], cols: &[usize]) -> Vec<I> {
     let mut xv = x.to_vec();
     for i in 0..x.len() {
-        xv.extend(cols.iter().map(|&j| point(if i == j { 1.0 } else { 0.0 })));
+        xv.extend(cols.iter().map(|&j| I::cst(if i == j { 1.0 } else { 0.0 })));
     }
     xv
 }
 
 /// `D x(h) / D x(0)` from its columns `cols` (`w`, d x cols.len()): every other column `j`
 /// is `e_j`, exactly, since the field does not read component `j` ([spec eq. (5.6')](crate::spec::enclosure)).
-pub(super) fn full_jacobian(w: &IMat, cols: &[usize]) -> IMat {
+pub(super) fn full_jacobian<I: Ival>(w: &IMat<I>, cols: &[usize]) -> IMat<I> {
     let d = w.nrows();
     let mut jac = linalg::identity(d);
     for i in 0..d {
@@ -553,7 +553,7 @@ pub(super) fn full_jacobian(w: &IMat, cols: &[usize]) -> IMat {
 
 /// `sum_k [V_k] h^k`: the Taylor polynomial of the variational part (components `d..`,
 /// d rows, row-major) of the coefficients `w` of the extended system.
-pub(super) fn variational_polynomial(w: Rows<'_, Interval>, d: usize, h: Interval) -> IMat {
+pub(super) fn variational_polynomial<I: Ival>(w: Rows<'_, I>, d: usize, h: I) -> IMat<I> {
     let c = (w.width() - d) / d.max(1);
     if c == 0 {
         return IMat::from_flat(d, 0, Vec::new());
@@ -565,26 +565,26 @@ pub(super) fn variational_polynomial(w: Rows<'_, Interval>, d: usize, h: Interva
 /// box of the state, find `Y_V` with
 /// `sum_{i<p} [V_i] [0,h]^i + V_p(Y, Y_V) [0,h]^p  in  Y_V` (V(0) = I), so that `V(t) in Y_V`
 /// on `[0, h]`; then `V(h) - sum_{i<=p} V_i h^i in V_{p+1}(Y, Y_V) h^{p+1}`.
-pub(super) fn variational_remainder(
+pub(super) fn variational_remainder<I: Ival>(
     sys: &System,
-    y: &[Interval],
-    cv: Rows<'_, Interval>,
-    h: Interval,
+    y: &[I],
+    cv: Rows<'_, I>,
+    h: I,
     p: usize,
-) -> Result<IMat, StepFail> {
+) -> Result<IMat<I>, StepFail> {
     let (d, c) = (y.len(), sys.var_cols.len());
-    let h0 = iv(0.0, h.sup());
+    let h0 = I::iv(0.0, h.sup());
     let cols = d..d + d * c;
     let mut yv = inflate(&horner(cv.first(p + 1), cols.clone(), None, h0));
     for _ in 0..4 {
-        let ext: Vec<Interval> = y.iter().chain(&yv).copied().collect();
+        let ext: Vec<I> = y.iter().chain(&yv).copied().collect();
         let tv = sys
             .field_var
             .ode_taylor(&ext, p + 1)
             .ok_or(StepFail::Shrink)?;
         let zv = horner(cv.first(p), cols.clone(), Some(&tv[p]), h0);
         if zv.iter().zip(&yv).all(|(a, b)| a.subset(*b)) {
-            let hp = (0..=p).fold(point(1.0), |a, _| a * h);
+            let hp = (0..=p).fold(I::cst(1.0), |a, _| a * h);
             return Ok(IMat::from_flat(
                 d,
                 c,
@@ -603,11 +603,11 @@ pub(super) fn variational_remainder(
 
 /// A trial box for the a priori enclosure: widened by 10% of its width and a little more.
 /// Any box is admissible here (the inclusion test decides), so plain floats are fine.
-pub(super) fn inflate(x: &[Interval]) -> Vec<Interval> {
+pub(super) fn inflate<I: Ival>(x: &[I]) -> Vec<I> {
     x.iter()
         .map(|v| {
             let w = v.wid() * 0.1 + v.mag() * 1e-15 + 1e-300;
-            iv(v.inf() - w, v.sup() + w)
+            I::iv(v.inf() - w, v.sup() + w)
         })
         .collect()
 }

@@ -1,0 +1,168 @@
+//! The interval types the validated integrator computes with ([spec/12-precision.md](crate::spec::precision)):
+//! inari's intervals (53 bits, the default) and, through the same code, wider
+//! significands. The integrator is written once over [`Ival`]; its steps, proofs and
+//! choices are those of [spec/05-enclosure.md](crate::spec::enclosure) at every precision.
+
+use crate::tape::{finite, Coef};
+use inari::Interval;
+use std::fmt::Debug;
+
+/// An interval type for the validated integrator: a [`Coef`] (the Taylor recurrences)
+/// with the set operations, the bounds and the points the method needs.
+///
+/// Every method that returns an interval returns one containing the real result for every
+/// choice of reals in its arguments ([spec eq. (1.1)](crate::spec::scalars)); the `f64` bounds are rounded
+/// in the safe direction (`inf` down, `sup`, `wid`, `mag` up). The points (`Pt`) are exact
+/// data: the centres of sets, which the method only ever *chooses* ([spec 0.2](crate::spec::overview#02-the-global-promise)).
+pub trait Ival: Coef + PartialEq + Debug + Send + Sync {
+    /// The points of this precision (centres of sets): `f64` for inari's intervals.
+    type Pt: Copy + PartialEq + Debug + Send + Sync + 'static;
+    /// The unit of the rounding level that tolerances are relative to: `2^-52` for 53-bit
+    /// significands ([`f64::EPSILON`]), `2^(1 - bits)` in general.
+    const EPS: f64;
+    /// The Taylor order of the steps when none is given ([spec eq. (5.8)](crate::spec::enclosure)): more bits
+    /// want a higher order.
+    const ORDER: usize;
+    /// The order of a span of two or three steps ([spec (5.8)](crate::spec::enclosure) (e)).
+    const SHORT_ORDER: usize;
+    /// The orders tried for the variational equation, lowest first ([spec eq. (5.6)](crate::spec::enclosure)).
+    const JAC_ORDERS: &'static [usize];
+    /// The degenerate interval of a point.
+    fn pt(x: Self::Pt) -> Self;
+    /// A point in the interval (its midpoint, or near it), for a non-empty bounded one.
+    fn mid_pt(&self) -> Self::Pt;
+    /// The point nearest an f64 (exact: every f64 is a point of every precision).
+    fn pt_of(x: f64) -> Self::Pt;
+    /// An f64 near a point (for choices: scales and step sizes).
+    fn pt_f64(x: Self::Pt) -> f64;
+    /// `[lo, hi]`, or the whole line when that is no interval (as [`crate::scalar::iv`]).
+    fn iv(lo: f64, hi: f64) -> Self;
+    /// An f64 lower bound of the lower end (`+inf` when empty).
+    fn inf(&self) -> f64;
+    /// An f64 upper bound of the upper end (`-inf` when empty).
+    fn sup(&self) -> f64;
+    /// An f64 upper bound of the width.
+    fn wid(&self) -> f64;
+    /// An f64 upper bound of `max |x|`.
+    fn mag(&self) -> f64;
+    /// The f64 midpoint, for choices only.
+    fn mid(&self) -> f64 {
+        Self::pt_f64(self.mid_pt())
+    }
+    /// Whether the real `x` is in the interval.
+    fn contains(&self, x: f64) -> bool;
+    /// Whether `self` is inside `other`.
+    fn subset(&self, other: Self) -> bool;
+    /// The intersection (possibly empty).
+    fn intersection(&self, other: Self) -> Self;
+    /// The smallest interval containing both.
+    fn convex_hull(&self, other: Self) -> Self;
+    /// Whether empty.
+    fn is_empty(&self) -> bool;
+    /// Non-empty with finite ends.
+    fn is_finite(&self) -> bool {
+        self.is_finite_coef()
+    }
+    /// `acc + sum_j x_j y_j` (`acc - ...` when `neg`), `y_j = y[len - 1 - j]` when `rev`
+    /// ([spec (1.4)](crate::spec::scalars)).
+    fn dot(acc: Self, neg: bool, x: &[Self], y: &[Self], rev: bool) -> Self {
+        let mut s = acc;
+        let n = x.len();
+        for j in 0..n {
+            let yj = if rev { y[n - 1 - j] } else { y[j] };
+            s = if neg { s - x[j] * yj } else { s.mul_acc(x[j], yj) };
+        }
+        s
+    }
+    /// Horner's scheme for many polynomials at once: entry `i` encloses
+    /// `sum_k rows[k][i] t^k` for every `t` in `h` ([spec (1.4)](crate::spec::scalars)).
+    fn horner(rows: &[&[Self]], h: Self) -> Vec<Self> {
+        let Some(top) = rows.last() else {
+            return Vec::new();
+        };
+        let mut s = top.to_vec();
+        for r in rows[..rows.len() - 1].iter().rev() {
+            for (si, ci) in s.iter_mut().zip(r.iter()) {
+                *si = ci.mul_acc(*si, h);
+            }
+        }
+        s
+    }
+    /// Row `a` times the rows `b` (`a.len() == b.len()`), appended to `out`: entry `j` is
+    /// `sum_k a_k b[k][j]` ([spec (1.4)](crate::spec::scalars)).
+    fn row_times(a: &[Self], b: &[&[Self]], out: &mut Vec<Self>) {
+        let cols = b.first().map_or(0, |r| r.len());
+        for j in 0..cols {
+            let mut s = Self::zero();
+            for (ak, bk) in a.iter().zip(b) {
+                s = s.mul_acc(*ak, bk[j]);
+            }
+            out.push(s);
+        }
+    }
+}
+
+impl Ival for Interval {
+    type Pt = f64;
+    const EPS: f64 = f64::EPSILON;
+    const ORDER: usize = super::DEFAULT_ORDER;
+    const SHORT_ORDER: usize = super::control::SHORT_ORDER;
+    const JAC_ORDERS: &'static [usize] = &super::step::JAC_ORDERS;
+    fn pt(x: f64) -> Self {
+        crate::scalar::point(x)
+    }
+    fn mid_pt(&self) -> f64 {
+        Interval::mid(*self)
+    }
+    fn pt_of(x: f64) -> f64 {
+        x
+    }
+    fn pt_f64(x: f64) -> f64 {
+        x
+    }
+    fn iv(lo: f64, hi: f64) -> Self {
+        crate::scalar::iv(lo, hi)
+    }
+    fn inf(&self) -> f64 {
+        Interval::inf(*self)
+    }
+    fn sup(&self) -> f64 {
+        Interval::sup(*self)
+    }
+    fn wid(&self) -> f64 {
+        Interval::wid(*self)
+    }
+    fn mag(&self) -> f64 {
+        Interval::mag(*self)
+    }
+    fn mid(&self) -> f64 {
+        Interval::mid(*self)
+    }
+    fn contains(&self, x: f64) -> bool {
+        Interval::contains(*self, x)
+    }
+    fn subset(&self, other: Self) -> bool {
+        Interval::subset(*self, other)
+    }
+    fn intersection(&self, other: Self) -> Self {
+        Interval::intersection(*self, other)
+    }
+    fn convex_hull(&self, other: Self) -> Self {
+        Interval::convex_hull(*self, other)
+    }
+    fn is_empty(&self) -> bool {
+        Interval::is_empty(*self)
+    }
+    fn is_finite(&self) -> bool {
+        finite(*self)
+    }
+    fn dot(acc: Self, neg: bool, x: &[Self], y: &[Self], rev: bool) -> Self {
+        crate::dot::dot(acc, neg, x, y, rev)
+    }
+    fn horner(rows: &[&[Self]], h: Self) -> Vec<Self> {
+        crate::dot::horner(rows, h)
+    }
+    fn row_times(a: &[Self], b: &[&[Self]], out: &mut Vec<Self>) {
+        crate::dot::row_times(a, b, out)
+    }
+}
