@@ -80,6 +80,11 @@ impl Dd {
         Dd { hi: x + 0.0, lo: 0.0 }
     }
 
+    /// The pair `(hi, lo)` as given; the caller guarantees `hi == fl(hi + lo)`.
+    pub(super) const fn from_parts(hi: f64, lo: f64) -> Dd {
+        Dd { hi, lo }
+    }
+
     /// The exact sum `hi + lo` of two finite doubles, renormalised (TwoSum, exact).
     #[inline]
     pub fn new(hi: f64, lo: f64) -> Dd {
