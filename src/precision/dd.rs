@@ -158,6 +158,14 @@ impl Dd {
         Dd::new(self.hi * p, self.lo * p)
     }
 
+    /// `2^k * self` for `0 <= k <= 1100` and `|self| < 2^-800`: exact (scaling up loses no bit).
+    #[inline]
+    fn scale_pow2_up(self, k: i32) -> Dd {
+        let k1 = k / 2;
+        let (p1, p2) = (pow2(k1), pow2(k - k1));
+        Dd::new(self.hi * p1 * p2, self.lo * p1 * p2)
+    }
+
     /// `self * a + b`, two rounded double-double operations.
     #[inline]
     pub fn mul_add(self, a: Dd, b: Dd) -> Dd {
@@ -403,6 +411,33 @@ fn div_pt(x: Dd, y: Dd) -> DdInterval {
     if x.is_zero() {
         return DdInterval::ZERO;
     }
+    if x.hi.abs() < SMALL || y.hi.abs() < SMALL {
+        // Scale tiny operands up (exact) so that the residual stays far above the subnormal
+        // range: x / y = (x 2^kx) / (y 2^ky) 2^(ky - kx).
+        let kx = if x.hi.abs() < SMALL { -exponent(x.hi) } else { 0 };
+        let ky = if y.hi.abs() < SMALL { -exponent(y.hi) } else { 0 };
+        return div_pt_normal(x.scale_pow2_up(kx), y.scale_pow2_up(ky)).scale_pow2(ky - kx);
+    }
+    div_pt_normal(x, y)
+}
+
+/// Below this magnitude an operand of a division or square root is first scaled up: `2^-900`.
+const SMALL: f64 = 1.1882295093162296e-271;
+
+/// The exponent `k` of a finite non-zero double: `2^k <= |x| < 2^(k+1)`.
+#[inline]
+fn exponent(x: f64) -> i32 {
+    let b = x.to_bits() & 0x7fff_ffff_ffff_ffff;
+    let e = (b >> 52) as i32;
+    if e == 0 {
+        63 - b.leading_zeros() as i32 - 1074
+    } else {
+        e - 1023
+    }
+}
+
+#[inline]
+fn div_pt_normal(x: Dd, y: Dd) -> DdInterval {
     let q = x / y;
     if !q.hi.is_finite() {
         return overflow(q.hi);
@@ -428,6 +463,15 @@ fn add_pt_iv(x: Dd, p: DdInterval) -> DdInterval {
 /// The enclosure of `sqrt(x)` for finite `x > 0` via the residual: `sqrt(x) = q + r / (sqrt(x) + q)`
 /// with `r = x - q^2` ([spec (12.1.8)](crate::spec::precision)).
 fn sqrt_pt(x: Dd) -> DdInterval {
+    if x.hi < SMALL {
+        // sqrt(x) = sqrt(x 2^2k) 2^-k, the scaling up exact.
+        let k = -exponent(x.hi) / 2;
+        return sqrt_pt_normal(x.scale_pow2_up(2 * k)).scale_pow2(-k);
+    }
+    sqrt_pt_normal(x)
+}
+
+fn sqrt_pt_normal(x: Dd) -> DdInterval {
     let q = x.sqrt();
     let r = add_pt_iv(x, mul_pt(q, q));
     let (rl, rh) = (r.lo.to_f64_down(), r.hi.to_f64_up());

@@ -322,7 +322,7 @@ fn cos_from(k: u32, r: DdInterval) -> DdInterval {
 const UNIT: DdInterval = DdInterval { lo: Dd::from_parts(-1.0, 0.0), hi: Dd::from_parts(1.0, 0.0) };
 
 /// The multiples `j pi/2` (as `j mod 4`) that may lie in `[a, b]`, from the reductions of both
-/// ends, when `b - a < 3`: `t(b) - t(a) < 1.91`, so the difference of the integer parts is the
+/// ends, when `b - a < 3.1`: `t(b) - t(a) < 1.974`, so the difference of the integer parts is the
 /// unique element of `{-1, 0, 1, 2}` congruent to `kb - ka` mod 4
 /// ([spec (12.1.13)](crate::spec::precision)). Returns a bit set over `j mod 4`.
 fn critical(ka: u32, fa: DdInterval, kb: u32, fb: DdInterval) -> u32 {
@@ -342,7 +342,7 @@ fn critical(ka: u32, fa: DdInterval, kb: u32, fb: DdInterval) -> u32 {
 
 impl DdInterval {
     /// sin ([spec (12.1.12)–(12.1.13)](crate::spec::precision)); `[-1, 1]` for an unbounded
-    /// argument or one at least 3 wide.
+    /// argument or one at least 3.1 wide (less than pi).
     pub fn sin(self) -> DdInterval {
         self.sin_cos(false)
     }
@@ -364,7 +364,7 @@ impl DdInterval {
         if self.is_point() {
             return eval(ka, ra).intersection(UNIT);
         }
-        if self.wid_up() >= 3.0 {
+        if self.wid_up() >= 3.1 {
             return UNIT;
         }
         let (kb, fb, rb) = reduce(self.hi);
@@ -381,7 +381,7 @@ impl DdInterval {
         y.intersection(UNIT)
     }
 
-    /// tan; the whole line when a pole may lie in the argument (or it is at least 3 wide).
+    /// tan; the whole line when a pole may lie in the argument (or it is at least 3.1 wide).
     pub fn tan(self) -> DdInterval {
         if self.is_empty() {
             return self;
@@ -400,7 +400,7 @@ impl DdInterval {
         if self.is_point() {
             return tan_at(ka, ra);
         }
-        if self.wid_up() >= 3.0 {
+        if self.wid_up() >= 3.1 {
             return DdInterval::ENTIRE;
         }
         let (kb, fb, rb) = reduce(self.hi);
