@@ -376,6 +376,10 @@ fn add_pt(x: Dd, y: Dd) -> DdInterval {
     let (w, we) = two_sum(t, u);
     let (zh, zl) = two_sum(s, w);
     // x + y == zh + zl + we + v exactly.
+    if we == 0.0 && v == 0.0 && zh.is_finite() {
+        let d = Dd { hi: zh + 0.0, lo: zl + 0.0 };
+        return DdInterval { lo: d, hi: d };
+    }
     let r = we + v;
     let l = zl + r;
     let e = up(U * up(r.abs() + l.abs()));
@@ -386,6 +390,11 @@ fn add_pt(x: Dd, y: Dd) -> DdInterval {
 #[inline(always)]
 fn mul_pt(x: Dd, y: Dd) -> DdInterval {
     let (ch, cl1) = two_prod(x.hi, y.hi);
+    if x.lo == 0.0 && y.lo == 0.0 && ch.is_finite() && ch.abs() >= EXACT_PRODUCT {
+        // A product of two doubles, no underflow: ch + cl1 is exact (TwoProd).
+        let d = Dd::new(ch, cl1);
+        return DdInterval { lo: d, hi: d };
+    }
     let tl0 = x.lo * y.lo;
     let tl1 = x.hi.mul_add(y.lo, tl0);
     let cl2 = x.lo.mul_add(y.hi, tl1);
@@ -394,6 +403,10 @@ fn mul_pt(x: Dd, y: Dd) -> DdInterval {
     let e = up(up(U * s) + 4.0 * ETA);
     enclose(ch, cl3, e)
 }
+
+/// `2^-969`: a product of two doubles at least this large has an exact FMA error term (its
+/// error is a multiple of `2^-1073`).
+const EXACT_PRODUCT: f64 = 2.0041683600089728e-292;
 
 /// `[a, b] / [c, d]` in f64 with outward rounding (`c, d` of one strict sign, all finite).
 #[inline]
@@ -442,6 +455,10 @@ fn div_pt_normal(x: Dd, y: Dd) -> DdInterval {
     if !q.hi.is_finite() {
         return overflow(q.hi);
     }
+    if x.lo == 0.0 && y.lo == 0.0 && q.lo == 0.0 && two_prod(q.hi, y.hi) == (x.hi, 0.0) {
+        // q y == x exactly (|x| >= 2^-900 here, so the FMA error term is exact).
+        return DdInterval { lo: q, hi: q };
+    }
     let r = add_pt_iv(x, mul_pt(q, y));
     let (rl, rh) = (r.lo.to_f64_down(), r.hi.to_f64_up());
     if !(rl.is_finite() && rh.is_finite()) {
@@ -473,6 +490,10 @@ fn sqrt_pt(x: Dd) -> DdInterval {
 
 fn sqrt_pt_normal(x: Dd) -> DdInterval {
     let q = x.sqrt();
+    if x.lo == 0.0 && q.lo == 0.0 && two_prod(q.hi, q.hi) == (x.hi, 0.0) {
+        // q^2 == x exactly (x >= 2^-900, so the FMA error term is exact).
+        return DdInterval { lo: q, hi: q };
+    }
     let r = add_pt_iv(x, mul_pt(q, q));
     let (rl, rh) = (r.lo.to_f64_down(), r.hi.to_f64_up());
     let qd = q.to_f64_down();
@@ -705,8 +726,8 @@ impl DdInterval {
         if a.is_empty() {
             return a;
         }
-        let lo = if a.lo.is_zero() { Dd::ZERO } else { mul_pt(a.lo, a.lo).lo };
-        let hi = if a.hi.is_finite() { mul_pt(a.hi, a.hi).hi } else { Dd::INFINITY };
+        let lo = mul_end(a.lo, a.lo).lo;
+        let hi = mul_end(a.hi, a.hi).hi;
         DdInterval { lo, hi }
     }
 
@@ -894,11 +915,11 @@ impl Sub for DdInterval {
 /// The enclosure of the product of two ends (the infinite ones as limits, `0 * inf = 0`).
 #[inline(always)]
 fn mul_end(x: Dd, y: Dd) -> DdInterval {
-    if x.is_finite() && y.is_finite() {
-        return mul_pt(x, y);
-    }
     if x.is_zero() || y.is_zero() {
         return DdInterval::ZERO;
+    }
+    if x.is_finite() && y.is_finite() {
+        return mul_pt(x, y);
     }
     let s = if (x.hi > 0.0) == (y.hi > 0.0) { Dd::INFINITY } else { Dd::NEG_INFINITY };
     DdInterval { lo: s, hi: s }
@@ -1276,5 +1297,116 @@ impl fmt::Display for Dd {
     /// The value rounded toward zero to 34 significant digits.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}", dd_to_decimal(*self, DISPLAY_DIGITS, self.hi < 0.0))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn iv(x: f64) -> DdInterval {
+        DdInterval::from_f64(x)
+    }
+
+    fn no_nan(x: DdInterval) -> bool {
+        !x.lo.hi.is_nan() && !x.lo.lo.is_nan() && !x.hi.hi.is_nan() && !x.hi.lo.is_nan()
+    }
+
+    #[test]
+    fn closed_forms() {
+        assert!((iv(3.0) * iv(7.0)).contains_f64(21.0));
+        assert!((iv(1.0) / iv(3.0) * iv(3.0)).contains_f64(1.0));
+        assert!(iv(2.0).sqrt().sqr().contains_f64(2.0));
+        assert!(iv(4.0).sqrt().contains_f64(2.0));
+        assert!((DdInterval::from_decimal("0.1").unwrap() * iv(10.0)).contains_f64(1.0));
+        assert!(!DdInterval::from_decimal("0.1").unwrap().contains_f64(0.1)); // 0.1 is not a double
+        let third = iv(1.0) / iv(3.0);
+        assert!(third.wid_up() < 3.0 * 4.93e-32 / 3.0 * 2.0);
+        // (1 + 2^-30)^2 = (1 + 2^-29) + 2^-60 exactly: contained, and far from 1 + 2^-29.
+        let x = DdInterval::from_f64(1.0 + pow2(-30));
+        let s = x.sqr();
+        assert!(s.contains(Dd::new(1.0 + pow2(-29), pow2(-60))));
+        assert!(s.is_point());
+        assert!(!s.contains(Dd::new(1.0 + pow2(-29), 0.0)));
+        let y = DdInterval::point(Dd::new(1.0, pow2(-60))).sqr(); // 1 + 2^-59 + 2^-120
+        assert!(y.contains(Dd::new(1.0, pow2(-59))) && !y.contains(Dd::new(1.0, pow2(-60))));
+        assert!(iv(-1.5).powi(5).contains_f64(-7.59375));
+        assert!(iv(2.0).powi(-3).contains_f64(0.125));
+        assert!(iv(-2.0).powi(i32::MIN).subset(DdInterval::from_f64_pair(0.0, pow2(-1000)).unwrap()));
+    }
+
+    #[test]
+    fn interval_cases() {
+        let a = DdInterval::from_f64_pair(-2.0, 3.0).unwrap();
+        let b = DdInterval::from_f64_pair(-5.0, 4.0).unwrap();
+        let p = a * b;
+        assert!(p.contains_f64(-15.0) && p.contains_f64(12.0) && p.contains_f64(10.0));
+        assert!(p.subset(DdInterval::from_f64_pair(-15.000001, 12.000001).unwrap()));
+        assert!(a.sqr().inf() == Dd::ZERO && a.sqr().contains_f64(9.0));
+        let q = DdInterval::from_f64_pair(1.0, 2.0).unwrap() / DdInterval::from_f64_pair(-4.0, -2.0).unwrap();
+        assert!(q.contains_f64(-1.0) && q.contains_f64(-0.25));
+        assert!((iv(1.0) / DdInterval::from_f64_pair(-1.0, 1.0).unwrap()) == DdInterval::ENTIRE);
+        assert!((iv(1.0) / iv(0.0)).is_empty());
+        assert_eq!(DdInterval::from_f64_pair(-1.0, 4.0).unwrap().sqrt().sup(), Dd::from_f64(2.0));
+        assert_eq!(DdInterval::from_f64_pair(-1.0, 4.0).unwrap().sqrt().inf(), Dd::ZERO);
+        assert!(DdInterval::from_f64_pair(-2.0, -1.0).unwrap().sqrt().is_empty());
+        assert!(a.hull(b).contains_f64(-5.0) && a.intersection(b).contains_f64(3.0));
+        assert!(iv(1.0).intersection(iv(2.0)).is_empty());
+        assert!(iv(1.0).interior(a) && !a.interior(a) && iv(1.0).subset(a) && iv(7.0).disjoint(a));
+        assert!(DdInterval::new(Dd::from_f64(2.0), Dd::from_f64(1.0)).is_none());
+        assert!(DdInterval::new(Dd::INFINITY, Dd::INFINITY).is_none());
+        assert_eq!(a.mag_up(), 3.0);
+        assert_eq!(a.mig_down(), 0.0);
+        assert_eq!(b.wid_up(), 9.0);
+        assert!(a.contains(a.mid()) && DdInterval::ENTIRE.mid() == Dd::ZERO);
+    }
+
+    #[test]
+    fn special_values_never_nan() {
+        let specials = [
+            DdInterval::EMPTY,
+            DdInterval::ENTIRE,
+            DdInterval::ZERO,
+            DdInterval::from_f64_pair(f64::MAX, f64::MAX).unwrap(),
+            DdInterval::from_f64_pair(-f64::MAX, 1.0).unwrap(),
+            DdInterval::new(Dd::NEG_INFINITY, Dd::ZERO).unwrap(),
+            DdInterval::new(Dd::ONE, Dd::INFINITY).unwrap(),
+            DdInterval::from_f64_pair(5e-324, 1e-300).unwrap(),
+            DdInterval::from_f64_pair(-1.0, 1.0).unwrap(),
+        ];
+        for &x in &specials {
+            for &y in &specials {
+                for r in [x + y, x - y, x * y, x / y, x.sqr(), x.sqrt(), x.powi(3), x.powi(-2), x.abs(), x.mul_add(y, x)] {
+                    assert!(no_nan(r), "{x:?} {y:?} -> {r:?}");
+                    assert!(r.is_empty() || (r.lo <= r.hi && r.lo.hi < f64::INFINITY && r.hi.hi > f64::NEG_INFINITY));
+                }
+            }
+        }
+        let big = iv(1e300) * iv(1e300);
+        assert!(big.sup() == Dd::INFINITY && big.inf().hi() >= TWO_1023);
+        assert!((iv(f64::MAX) + iv(f64::MAX)).sup() == Dd::INFINITY);
+        assert!(DdInterval::from_f64(f64::NAN).is_empty());
+        assert!(DdInterval::from_f64(f64::INFINITY) == DdInterval::ENTIRE);
+        assert!((DdInterval::EMPTY + iv(1.0)).is_empty());
+        assert!((DdInterval::ENTIRE * DdInterval::ZERO).is_exact_zero());
+    }
+
+    #[test]
+    fn decimal_parsing() {
+        for bad in ["", ".", "1e", "abc", "1.2.3", "--1", "1e+", "0x10", "1 2"] {
+            assert!(DdInterval::from_decimal(bad).is_none(), "{bad}");
+        }
+        assert!(DdInterval::from_decimal("1.5").unwrap() == iv(1.5));
+        assert!(DdInterval::from_decimal("-.5e1").unwrap() == iv(-5.0));
+        assert!(DdInterval::from_decimal("+12345678901234567890123456789012").unwrap().is_point());
+        assert!(DdInterval::from_decimal("1e400").unwrap().sup() == Dd::INFINITY);
+        assert!(DdInterval::from_decimal("1e400").unwrap().inf() == Dd::MAX);
+        assert!(DdInterval::from_decimal("-1e-400").unwrap().contains(Dd::ZERO));
+        assert!(DdInterval::from_decimal("1e-999999999999").unwrap().sup().hi() == pow2(-1074));
+        let x = DdInterval::from_decimal("0.1").unwrap();
+        assert!(x.wid_up() <= 2.0 * 1.0e-1 * 1.3e-32);
+        // 2^-1074 exactly, written out.
+        let tiny = DdInterval::from_decimal("4.940656458412465441765687928682213723650598026143247644255856825006755072702087518652998363616359923797965646954457177309266567103559397963987747960107818781263007131903114045278458171678489821036887186360569987307230500063874091535649843873124733972731696151400317153853980741262385655911710266585566867681870395603106249319452715914924553293054565444011274801297099995419319894090804165633245247571478690147267801593552386115501348035264934720193790268107107491703332226844753335720832431936092382893458368060106011506169809753078342277318329247904982524730776375927247874656084778203734469699533647017972677717585125660551199131504891101451037862738167250955837389733598993664809941164205702637090279242767544565229087538682506419718265533447265625e-324").unwrap();
+        assert!(tiny.is_point() && tiny.inf().hi() == pow2(-1074));
     }
 }

@@ -91,6 +91,14 @@ fn sym(r: f64) -> DdInterval {
     DdInterval { lo: Dd::from_f64(-r), hi: Dd::from_f64(r) }
 }
 
+/// An upper bound of `m^n c` for `m, c >= 0` (every product rounded up; exactly 0 for `m = 0`).
+fn rem_bound(m: f64, n: u32, c: f64) -> f64 {
+    if m == 0.0 {
+        return 0.0;
+    }
+    (pow_up(m, n) * c).next_up()
+}
+
 /// An upper bound of `m^n` for `m >= 0` (every product rounded up).
 fn pow_up(m: f64, n: u32) -> f64 {
     let mut r = 1.0f64;
@@ -132,7 +140,7 @@ fn exp_kernel(r: DdInterval) -> DdInterval {
     let m = r.mag_up();
     // e^m 1/25! <= 1.0e-25 for m <= 0.36; otherwise e^m <= 3^ceil(m).
     let c = if m <= 0.36 { 1.0e-25 } else { (pow_up(3.0, m.ceil().min(1000.0) as u32) * 6.5e-26).next_up() };
-    let rho = (pow_up(m, EXP_DEG as u32 + 1) * c).next_up();
+    let rho = rem_bound(m, EXP_DEG as u32 + 1, c);
     p + sym(rho)
 }
 
@@ -198,7 +206,7 @@ fn ln1p_kernel(y: DdInterval) -> DdInterval {
     if !(den > 0.0) {
         return DdInterval::ENTIRE;
     }
-    let rho = ((pow_up(m, 2 * LN_DEG as u32 + 2) / (2 * LN_DEG + 3) as f64).next_up() / den).next_up();
+    let rho = (rem_bound(m, 2 * LN_DEG as u32 + 2, 1.0 / (2 * LN_DEG + 3) as f64 * (1.0 + 1e-15)) / den).next_up();
     (s * (p + sym(rho))).scale_pow2(1)
 }
 
@@ -293,7 +301,7 @@ const COS_DEG: usize = 14;
 fn sin_kernel(r: DdInterval) -> DdInterval {
     let t = inv_fact();
     let p = horner(r.sqr(), SIN_DEG, |n| alt(n, t[2 * n + 1]));
-    let rho = (pow_up(r.mag_up(), 2 * SIN_DEG as u32 + 2) * 1.2e-31).next_up(); // 1/29! < 1.2e-31
+    let rho = rem_bound(r.mag_up(), 2 * SIN_DEG as u32 + 2, 1.2e-31); // 1/29! < 1.2e-31
     r * (p + sym(rho))
 }
 
@@ -301,7 +309,7 @@ fn sin_kernel(r: DdInterval) -> DdInterval {
 fn cos_kernel(r: DdInterval) -> DdInterval {
     let t = inv_fact();
     let p = horner(r.sqr(), COS_DEG, |n| alt(n, t[2 * n]));
-    let rho = (pow_up(r.mag_up(), 2 * COS_DEG as u32 + 2) * 3.8e-33).next_up(); // 1/30! < 3.8e-33
+    let rho = rem_bound(r.mag_up(), 2 * COS_DEG as u32 + 2, 3.8e-33); // 1/30! < 3.8e-33
     p + sym(rho)
 }
 
@@ -443,7 +451,7 @@ fn atan_kernel(y: DdInterval) -> DdInterval {
     }
     let t = inv_odd();
     let p = horner(z.sqr(), ATAN_DEG, |n| alt(n, t[n]));
-    let rho = (pow_up(z.mag_up(), 2 * ATAN_DEG as u32 + 2) / (2 * ATAN_DEG + 3) as f64).next_up();
+    let rho = rem_bound(z.mag_up(), 2 * ATAN_DEG as u32 + 2, 1.0 / (2 * ATAN_DEG + 3) as f64 * (1.0 + 1e-15));
     (z * (p + sym(rho))).scale_pow2(3)
 }
 
@@ -490,7 +498,7 @@ fn sinh_pt(x: Dd) -> DdInterval {
     if x.abs().hi() <= 0.5 {
         let t = inv_fact();
         let p = horner(xi.sqr(), SINH_DEG, |n| t[2 * n + 1]);
-        let rho = (pow_up(x.abs().to_f64_up(), 2 * SINH_DEG as u32 + 2) * 1.1e-28).next_up(); // 1.13/27! < 1.1e-28
+        let rho = rem_bound(x.abs().to_f64_up(), 2 * SINH_DEG as u32 + 2, 1.1e-28); // 1.13/27! < 1.1e-28
         return xi * (p + sym(rho));
     }
     xi.exp_scaled(-1) - (-xi).exp_scaled(-1)
@@ -588,5 +596,92 @@ impl DdInterval {
         let lo = if self.lo.is_finite() { asinh_pt(self.lo).lo } else { Dd::NEG_INFINITY };
         let hi = if self.hi.is_finite() { asinh_pt(self.hi).hi } else { Dd::INFINITY };
         DdInterval { lo, hi }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn iv(x: f64) -> DdInterval {
+        DdInterval::from_f64(x)
+    }
+
+    fn pair(a: f64, b: f64) -> DdInterval {
+        DdInterval::from_f64_pair(a, b).unwrap()
+    }
+
+    /// `2^-100`: every point value below is far tighter.
+    const T: f64 = 7.888609052210118e-31;
+
+    #[test]
+    fn closed_forms() {
+        let s = PI.sin();
+        assert!(s.contains(Dd::ZERO) && s.mag_up() < 1e-31);
+        assert!(FRAC_PI_2.sin().contains(Dd::ONE) && FRAC_PI_2.sin().wid_up() < T);
+        assert!(PI.cos().contains_f64(-1.0));
+        assert!(LN2.exp().contains_f64(2.0) && LN2.exp().wid_up() < T);
+        assert!(iv(2.0).ln().subset(LN2.hull(iv(2.0).ln())) && !iv(2.0).ln().disjoint(LN2));
+        assert!(iv(1.0).atan().scale_pow2(2).contains(PI.mid()));
+        assert!(iv(1.0).exp().ln().contains_f64(1.0));
+        assert!(iv(0.0).exp() == DdInterval::ONE);
+        assert!(iv(1.0).ln() == DdInterval::ZERO);
+        assert!(iv(0.0).sin().is_exact_zero() && iv(0.0).cos() == DdInterval::ONE);
+        assert!(iv(0.0).atan().is_exact_zero() && iv(0.0).asinh().is_exact_zero());
+        let x = iv(0.75);
+        let (sh, ch) = (x.sinh(), x.cosh());
+        assert!((ch.sqr() - sh.sqr()).contains_f64(1.0));
+        assert!((sh / ch).intersection(x.tanh()).wid_up() > 0.0);
+        assert!(x.sinh().asinh().contains_f64(0.75));
+        let (s1, c1) = (iv(1e22).sin(), iv(1e22).cos());
+        assert!((s1.sqr() + c1.sqr()).contains_f64(1.0));
+        assert!(s1.contains_f64(-0.8522008497671888) || s1.inf_f64() < -0.85220084976718880);
+    }
+
+    #[test]
+    fn intervals_and_domains() {
+        assert!(pair(-1.0, 4.0).ln().inf() == Dd::NEG_INFINITY);
+        assert!(pair(-2.0, 0.0).ln().is_empty());
+        assert!(pair(1.0, 2.0).sin().sup() == Dd::ONE);
+        assert!(pair(3.0, 4.0).cos().inf() == -Dd::ONE);
+        assert!(pair(1.0, 2.0).tan() == DdInterval::ENTIRE);
+        assert!(pair(-1.0, 1.0).tan().is_finite());
+        assert!(pair(0.0, 100.0).sin() == UNIT);
+        let e = pair(-1.0, 1.0).exp();
+        assert!(e.contains(iv(1.0).exp().sup()) && e.contains(iv(-1.0).exp().inf()));
+        assert!(DdInterval::ENTIRE.atan().subset(FRAC_PI_2.hull(-FRAC_PI_2)));
+        assert!(DdInterval::ENTIRE.tanh() == UNIT && DdInterval::ENTIRE.exp().inf() == Dd::ZERO);
+        assert!(pair(-2.0, 3.0).cosh().inf() == Dd::ONE);
+        for f in [
+            DdInterval::sin,
+            DdInterval::cos,
+            DdInterval::tan,
+            DdInterval::exp,
+            DdInterval::ln,
+            DdInterval::atan,
+            DdInterval::sinh,
+            DdInterval::cosh,
+            DdInterval::tanh,
+            DdInterval::asinh,
+        ] {
+            assert!(f(DdInterval::EMPTY).is_empty());
+            for x in [DdInterval::ENTIRE, pair(-f64::MAX, f64::MAX), iv(1e300), iv(-1e300), iv(5e-324), iv(710.0), iv(-746.0)] {
+                let y = f(x);
+                assert!(y.is_empty() || y.inf() <= y.sup(), "{x:?} -> {y:?}");
+                assert!(!y.inf().is_nan() && !y.sup().is_nan());
+            }
+        }
+    }
+
+    #[test]
+    fn overflow_and_underflow() {
+        let e = iv(710.0).exp();
+        assert!(e.sup() == Dd::INFINITY && e.inf() == Dd::MAX);
+        let e = iv(-746.0).exp();
+        assert!(e.inf() == Dd::ZERO && e.sup_f64() <= 5e-324);
+        assert!(iv(709.0).exp().is_finite() && iv(710.0).sinh().is_finite() && iv(710.0).cosh().is_finite());
+        assert!(iv(712.0).sinh().sup() == Dd::INFINITY && iv(-712.0).sinh().inf() == Dd::NEG_INFINITY);
+        assert!(iv(1000.0).tanh().contains_f64(1.0) && iv(1000.0).tanh().inf_f64() > 0.999);
+        assert!(iv(1e-300).sin().contains_f64(1e-300) && iv(1e-300).exp().contains(Dd::new(1.0, 1e-300)));
     }
 }
