@@ -68,10 +68,15 @@ pub struct Dd {
 }
 
 impl Dd {
+    /// 0.
     pub const ZERO: Dd = Dd { hi: 0.0, lo: 0.0 };
+    /// 1.
     pub const ONE: Dd = Dd { hi: 1.0, lo: 0.0 };
+    /// `+inf` (an end of an unbounded interval, not a real).
     pub const INFINITY: Dd = Dd { hi: f64::INFINITY, lo: 0.0 };
+    /// `-inf`.
     pub const NEG_INFINITY: Dd = Dd { hi: f64::NEG_INFINITY, lo: 0.0 };
+    /// `f64::MAX`.
     pub const MAX: Dd = Dd { hi: f64::MAX, lo: 0.0 };
 
     /// The exact double `x` (`-0.0` becomes `+0.0`).
@@ -134,14 +139,17 @@ impl Dd {
         }
     }
 
+    /// Not infinite and not NaN.
     pub fn is_finite(self) -> bool {
         self.hi.is_finite()
     }
 
+    /// NaN (only from a NaN given to [`Dd::new`] or [`Dd::from_f64`]).
     pub fn is_nan(self) -> bool {
         self.hi.is_nan()
     }
 
+    /// `|x|` (exact).
     #[inline]
     pub fn abs(self) -> Dd {
         if self.hi < 0.0 {
@@ -510,9 +518,13 @@ fn sqrt_pt_normal(x: Dd) -> DdInterval {
 }
 
 impl DdInterval {
+    /// The empty set.
     pub const EMPTY: DdInterval = DdInterval { lo: Dd::INFINITY, hi: Dd::NEG_INFINITY };
+    /// The whole real line.
     pub const ENTIRE: DdInterval = DdInterval { lo: Dd::NEG_INFINITY, hi: Dd::INFINITY };
+    /// `[0, 0]`.
     pub const ZERO: DdInterval = DdInterval { lo: Dd::ZERO, hi: Dd::ZERO };
+    /// `[1, 1]`.
     pub const ONE: DdInterval = DdInterval { lo: Dd::ONE, hi: Dd::ONE };
 
     /// The degenerate interval `[x, x]` of an exact double; empty for NaN, the whole line for
@@ -557,10 +569,12 @@ impl DdInterval {
         DdInterval::new(Dd::from_f64(lo), Dd::from_f64(hi))
     }
 
+    /// The empty set.
     pub fn empty() -> DdInterval {
         DdInterval::EMPTY
     }
 
+    /// The whole real line.
     pub fn entire() -> DdInterval {
         DdInterval::ENTIRE
     }
@@ -645,6 +659,7 @@ impl DdInterval {
         }
     }
 
+    /// The empty set.
     #[inline]
     pub fn is_empty(self) -> bool {
         self.lo.hi == f64::INFINITY
@@ -662,14 +677,17 @@ impl DdInterval {
         self.lo == self.hi
     }
 
+    /// Exactly `[0, 0]`.
     pub fn is_exact_zero(self) -> bool {
         self.lo.hi == 0.0 && self.hi.hi == 0.0
     }
 
+    /// `p` lies in the interval (exact comparison).
     pub fn contains(self, p: Dd) -> bool {
         self.lo <= p && p <= self.hi
     }
 
+    /// The double `x` lies in the interval.
     pub fn contains_f64(self, x: f64) -> bool {
         self.contains(Dd::from_f64(x))
     }
@@ -685,6 +703,7 @@ impl DdInterval {
             || ((o.lo < self.lo || o.lo.hi == f64::NEG_INFINITY) && (self.hi < o.hi || o.hi.hi == f64::INFINITY))
     }
 
+    /// No common point.
     pub fn disjoint(self, o: DdInterval) -> bool {
         self.is_empty() || o.is_empty() || self.hi < o.lo || o.hi < self.lo
     }
@@ -700,6 +719,7 @@ impl DdInterval {
         DdInterval { lo: dmin(self.lo, o.lo), hi: dmax(self.hi, o.hi) }
     }
 
+    /// The common part (exact).
     pub fn intersection(self, o: DdInterval) -> DdInterval {
         let lo = dmax(self.lo, o.lo);
         let hi = dmin(self.hi, o.hi);
@@ -710,6 +730,7 @@ impl DdInterval {
         }
     }
 
+    /// `{|x|}` (exact).
     pub fn abs(self) -> DdInterval {
         if self.is_empty() || self.lo.hi >= 0.0 {
             self

@@ -56,12 +56,6 @@ const PI: DdInterval = constant(PI_HI, PI_LO_DOWN, PI_LO_UP);
 const FRAC_PI_2: DdInterval = constant(FRAC_PI_2_HI, FRAC_PI_2_LO_DOWN, FRAC_PI_2_LO_UP);
 const LN2: DdInterval = constant(LN2_HI, LN2_LO_DOWN, LN2_LO_UP);
 
-/// The raw constants, for the tests that compare them with mpmath.
-#[doc(hidden)]
-pub fn constants_for_tests() -> [(&'static str, DdInterval); 3] {
-    [("pi", PI), ("pi/2", FRAC_PI_2), ("ln2", LN2)]
-}
-
 /// `1/n!` for `n <= 40`, enclosed ([spec (12.1.11)](crate::spec::precision)).
 fn inv_fact() -> &'static [DdInterval; 41] {
     static T: OnceLock<[DdInterval; 41]> = OnceLock::new();
