@@ -4,7 +4,8 @@
 //! query makes (dimensions, finite numbers, the scene at `q`, [spec (3.17)](crate::spec::scenes)).
 
 use crate::enclosure::{
-    flow_set_jacobian_explained, flow_set_span_memo, too_many, FlowOptions, FlowStats, LohnerSet,
+    flow_set_jacobian_explained, flow_set_span_memo, too_many, FlowOptions, FlowStats, Ival,
+    LohnerSet,
 };
 use crate::interval::{wrap, wrap_rows};
 use crate::model::Model;
@@ -12,17 +13,18 @@ use crate::progress::Progress;
 use crate::scalar::point;
 use crate::{Error, InputKind, Interval, Limit, Reason};
 
-/// The certified state at time t.
+/// The certified state at time t: intervals of [`Interval`] (53 bits) by default, or of
+/// another interval type ([`flow_at_in`], [spec/12-precision.md](crate::spec::precision)).
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
-pub struct FlowEnclosure {
+pub struct FlowEnclosure<I = Interval> {
     /// Contains the exact configuration `q(t)` (n intervals).
-    pub q: Vec<Interval>,
+    pub q: Vec<I>,
     /// Contains the exact quasi-velocities `u(t)` in the scene's basis of D (n - k intervals).
-    pub u: Vec<Interval>,
+    pub u: Vec<I>,
     /// Contains the exact velocity `qd(t) = E(q(t))^T u(t)` (n intervals, [spec eq. (4.2)](crate::spec::dynamics)).
-    pub v: Vec<Interval>,
+    pub v: Vec<I>,
     /// What the integrator did between 0 and `t`.
     pub stats: FlowStats,
 }
@@ -81,6 +83,33 @@ pub fn flow_at(
     times: &[f64],
     opts: &FlowOptions,
 ) -> Result<Vec<FlowEnclosure>, Error> {
+    let at = flow_at_in::<inari::Interval>(model, q, u, times, opts)?;
+    Ok(at
+        .into_iter()
+        .map(|e| FlowEnclosure {
+            q: wrap(e.q),
+            u: wrap(e.u),
+            v: wrap(e.v),
+            stats: e.stats,
+        })
+        .collect())
+}
+
+/// [`flow_at`] computed in the interval type `I` (e.g. [`crate::precision::DdInterval`],
+/// about 106 bits): the same method, steps and proofs ([spec/12-precision.md](crate::spec::precision)), with
+/// the rounding level, the Taylor order and the tolerances of `I`'s precision.
+///
+/// # Containment
+/// As [`flow_at`]: for the exact f64 inputs, the `i`-th enclosure contains the exact
+/// `q(t_i)`, `u(t_i)`, `qd(t_i)` ([spec Theorem 5.1](crate::spec::enclosure#theorem-51-what-flow-proves)), whatever `I`, since every
+/// operation of `I` encloses its real result ([`Ival`]).
+pub fn flow_at_in<I: Ival>(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    times: &[f64],
+    opts: &FlowOptions,
+) -> Result<Vec<FlowEnclosure<I>>, Error> {
     let x = flow_query(
         model,
         q,
@@ -109,7 +138,7 @@ pub fn flow_at(
     let mut out = Vec::with_capacity(times.len());
     let mut steps = 0;
     if !back.is_empty() {
-        let (mut e, s) = carry(model, model.reversed(), -1.0, &x, &back, opts)?;
+        let (mut e, s) = carry::<I>(model, model.reversed(), -1.0, &x, &back, opts)?;
         e.reverse();
         out.extend(e);
         steps = s;
@@ -119,7 +148,7 @@ pub fn flow_at(
             max_taylor_steps: opts.max_taylor_steps.saturating_sub(steps),
             ..opts.clone()
         };
-        out.extend(carry(model, &model.dynamics, 1.0, &x, &times[split..], &rest)?.0);
+        out.extend(carry::<I>(model, &model.dynamics, 1.0, &x, &times[split..], &rest)?.0);
     }
     Ok(out)
 }
@@ -127,18 +156,18 @@ pub fn flow_at(
 /// The enclosures at the increasing times `times >= 0` of the flow of `sys` from the point
 /// `x`: the model's field (`sign` 1) or the reversed one (`sign` -1, the times then measured
 /// backward: a refusal's `reached` and message carry the sign). Also the steps taken.
-fn carry(
+fn carry<I: Ival>(
     model: &Model,
     sys: &crate::enclosure::System,
     sign: f64,
     x: &[f64],
     times: &[f64],
     opts: &FlowOptions,
-) -> Result<(Vec<FlowEnclosure>, usize), Error> {
+) -> Result<(Vec<FlowEnclosure<I>>, usize), Error> {
     let last = *times
         .last()
         .ok_or_else(|| Error::input("no time given: at least one is needed"))?;
-    let mut set = LohnerSet::point(x);
+    let mut set = LohnerSet::<I>::point(x);
     let mut total = FlowStats::default();
     let mut out = Vec::with_capacity(times.len());
     let mut from = 0.0;
@@ -164,7 +193,7 @@ fn carry(
             explained(model, x, h, sign * (point(from) + point(done)).inf())
         };
         // the exact span t - from, enclosed (exact when Sterbenz's lemma applies)
-        let span = point(t) - point(from);
+        let span = I::cst(t) - I::cst(from);
         let (next, stats) = flow_set_span_memo(sys, set, span, &leg, &mut memo, Some(&explain))
             .map_err(|e| {
                 match &e {
@@ -280,15 +309,19 @@ pub fn check_state(model: &Model, q: &[f64], u: &[f64]) -> Result<(), Error> {
     Ok(())
 }
 
-fn finish(model: &Model, set: &LohnerSet, stats: FlowStats) -> Result<FlowEnclosure, Error> {
+fn finish<I: Ival>(
+    model: &Model,
+    set: &LohnerSet<I>,
+    stats: FlowStats,
+) -> Result<FlowEnclosure<I>, Error> {
     let x = set.hull();
     let v = set
         .image(&model.velocity_jac)
         .ok_or_else(|| Error::refused(Reason::Unbounded, "velocity enclosure is not finite"))?;
     Ok(FlowEnclosure {
-        q: wrap(x[..model.n].to_vec()),
-        u: wrap(x[model.n..].to_vec()),
-        v: wrap(v),
+        q: x[..model.n].to_vec(),
+        u: x[model.n..].to_vec(),
+        v,
         stats,
     })
 }
@@ -306,6 +339,27 @@ pub fn flow_c1(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(FlowEnclosure, Vec<Vec<Interval>>), Error> {
+    let (e, jac) = flow_c1_in::<inari::Interval>(model, q, u, t, opts)?;
+    let e = FlowEnclosure {
+        q: wrap(e.q),
+        u: wrap(e.u),
+        v: wrap(e.v),
+        stats: e.stats,
+    };
+    Ok((e, wrap_rows(jac)))
+}
+
+/// [`flow_c1`] computed in the interval type `I` (as [`flow_at_in`]).
+///
+/// # Containment
+/// As [`flow_c1`], whatever `I` ([spec/12-precision.md](crate::spec::precision)).
+pub fn flow_c1_in<I: Ival>(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    t: f64,
+    opts: &FlowOptions,
+) -> Result<(FlowEnclosure<I>, Vec<Vec<I>>), Error> {
     let x = flow_query(model, q, u, t)?;
     // backward: the reversed field over |t| (spec (5.17)), whose derivative is that of the
     // flow over t
@@ -315,22 +369,27 @@ pub fn flow_c1(
         (&model.dynamics, 1.0)
     };
     let explain = |x: &[inari::Interval], h: f64, done: f64| explained(model, x, h, sign * done);
-    let (set, jac, stats) =
-        flow_set_jacobian_explained(sys, LohnerSet::point(&x), t.abs(), opts, Some(&explain))
-            .map_err(|e| match e {
-                Error::Uncertified(ref r) if sign < 0.0 => {
-                    let reached = -r.reached.unwrap_or(0.0);
-                    // the step limit's message with the time asked for
-                    let e = if r.limit == Some(Limit::TaylorSteps) {
-                        too_many(opts.max_taylor_steps, t)
-                    } else {
-                        e
-                    };
-                    e.reached(reached)
-                }
-                e => e,
-            })?;
-    Ok((finish(model, &set, stats)?, wrap_rows(jac.to_rows())))
+    let (set, jac, stats) = flow_set_jacobian_explained(
+        sys,
+        LohnerSet::<I>::point(&x),
+        t.abs(),
+        opts,
+        Some(&explain),
+    )
+    .map_err(|e| match e {
+        Error::Uncertified(ref r) if sign < 0.0 => {
+            let reached = -r.reached.unwrap_or(0.0);
+            // the step limit's message with the time asked for
+            let e = if r.limit == Some(Limit::TaylorSteps) {
+                too_many(opts.max_taylor_steps, t)
+            } else {
+                e
+            };
+            e.reached(reached)
+        }
+        e => e,
+    })?;
+    Ok((finish(model, &set, stats)?, jac.to_rows()))
 }
 
 #[cfg(test)]

@@ -525,6 +525,7 @@ fn used_exactly(given: &Value, q: &Query) {
             t,
             order,
             jacobian,
+            precision,
         } => {
             assert_eq!(
                 o.get("jacobian").and_then(Value::as_bool).unwrap_or(false),
@@ -541,9 +542,13 @@ fn used_exactly(given: &Value, q: &Query) {
                 o.get("order").and_then(Value::as_u64).unwrap_or(0),
                 *order as u64
             );
+            assert_eq!(
+                o.get("precision").and_then(Value::as_u64).unwrap_or(53),
+                u64::from(*precision)
+            );
             (
                 "flow",
-                ["q", "u", "t", "times", "order", "jacobian"].as_slice(),
+                ["q", "u", "t", "times", "order", "jacobian", "precision"].as_slice(),
             )
         }
         Query::Retract(p) => {

@@ -37,6 +37,42 @@ use std::fmt;
 #[repr(transparent)]
 pub struct Interval(inari::Interval);
 
+/// An enclosure computed with more than 53 bits ([spec/12-precision.md](crate::spec::precision)), as the
+/// answers at such a precision carry it: each end a decimal number, the lower end rounded
+/// down and the upper end rounded up, with enough significant digits to carry the precision
+/// (so `inf <= x <= sup` for the exact `x`, read as exact decimals).
+///
+/// Serializes (feature `serde`) as the two-element array of strings `["inf", "sup"]`, the
+/// form of the JSON protocol at such a precision (contract E18).
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct DecimalInterval(
+    /// The lower end: a decimal rounded down.
+    pub String,
+    /// The upper end: a decimal rounded up.
+    pub String,
+);
+
+impl fmt::Display for DecimalInterval {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "[{}, {}]", self.0, self.1)
+    }
+}
+
+/// Interval types whose ends print as decimals rounded outward ([`DecimalInterval`]).
+pub trait OutwardDecimal {
+    /// The ends as decimals, the lower rounded down and the upper up, with enough digits
+    /// to carry the type's precision.
+    fn decimal(&self) -> DecimalInterval;
+}
+
+impl OutwardDecimal for crate::precision::dd::DdInterval {
+    fn decimal(&self) -> DecimalInterval {
+        let digits = crate::precision::dd::DISPLAY_DIGITS;
+        DecimalInterval(self.inf_decimal(digits), self.sup_decimal(digits))
+    }
+}
+
 impl Interval {
     /// The empty set.
     pub const EMPTY: Interval = Interval(inari::Interval::EMPTY);

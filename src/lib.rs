@@ -82,6 +82,7 @@ mod interval;
 pub mod model;
 pub mod newton;
 pub mod oracle;
+mod precise;
 pub mod precision;
 mod progress;
 #[cfg(feature = "cli")]
@@ -128,10 +129,11 @@ mod dot;
 mod error;
 mod readable;
 
+pub use enclosure::Ival;
 pub use enclosure::{Basis, FlowOptions, FlowStats};
 pub use error::{Error, InputError, InputKind, InternalError, Invariant, Limit, Reason, Refusal};
-pub use flow::{flow, FlowEnclosure};
-pub use interval::Interval;
+pub use flow::{flow, flow_at_in, FlowEnclosure};
+pub use interval::{DecimalInterval, Interval, OutwardDecimal};
 pub use model::Model;
 pub use progress::Progress;
 pub use scene::{AnyScene, Scene};

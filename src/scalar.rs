@@ -69,6 +69,49 @@ pub trait Scalar:
     }
 }
 
+/// Double-double intervals ([spec (12.1)](crate::spec::precision)): every operation outward rounded.
+impl Scalar for crate::precision::dd::DdInterval {
+    fn cst(c: f64) -> Self {
+        Self::from_f64(c)
+    }
+    fn sin(&self) -> Self {
+        Self::sin(*self)
+    }
+    fn cos(&self) -> Self {
+        Self::cos(*self)
+    }
+    fn sqrt(&self) -> Self {
+        Self::sqrt(*self)
+    }
+    fn exp(&self) -> Self {
+        Self::exp(*self)
+    }
+    fn ln(&self) -> Self {
+        Self::ln(*self)
+    }
+    fn atan(&self) -> Self {
+        Self::atan(*self)
+    }
+    fn sinh(&self) -> Self {
+        Self::sinh(*self)
+    }
+    fn cosh(&self) -> Self {
+        Self::cosh(*self)
+    }
+    fn pi() -> Self {
+        Self::pi()
+    }
+    fn tan(&self) -> Self {
+        Self::tan(*self)
+    }
+    fn tanh(&self) -> Self {
+        Self::tanh(*self)
+    }
+    fn sqr(&self) -> Self {
+        Self::sqr(*self)
+    }
+}
+
 impl Scalar for f64 {
     fn cst(c: f64) -> Self {
         c

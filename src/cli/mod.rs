@@ -128,6 +128,10 @@ pub(crate) enum Cmd {
         /// Also enclose the derivative D(q, u)(T) / D(q, u)(0) (JSON key `jacobian`)
         #[arg(long)]
         jacobian: bool,
+        /// Significand bits to compute with: 53 (default, f64 intervals) up to 4096; above
+        /// 53 each end prints as a decimal string rounded outward
+        #[arg(long, allow_hyphen_values = true)]
+        precision: Option<String>,
         #[arg(long, allow_hyphen_values = true, help = DEADLINE_HELP)]
         deadline: Option<String>,
         #[arg(long, allow_hyphen_values = true, help = WORK_HELP)]
@@ -448,6 +452,7 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
             times,
             order,
             jacobian,
+            precision,
             deadline,
             work,
             json,
@@ -464,6 +469,7 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
                 t,
                 order: order.map_or(Ok(0), |o| protocol::parse_order(&o))?,
                 jacobian,
+                precision: precision.map_or(Ok(53), |p| protocol::parse_precision(&p))?,
             };
             (query, budget(&deadline, &work)?, json)
         }

@@ -39,7 +39,7 @@ pub(super) fn flow_set_general<I: Ival>(
     let precise = c1_mode == C1::Precise;
     let mut total_jac: Option<JacobianSet<I>> = None;
     let d = set.m.len();
-    let mut p = opts.given_order().unwrap_or(I::ORDER);
+    let mut p = opts.given_order().unwrap_or(I::order());
     // (5.8) (e) whether the order of a short span is still to be chosen (at the first step)
     let mut choose_order = opts.given_order().is_none() && opts.given_h().is_none();
     let mut stats = FlowStats {
@@ -87,7 +87,7 @@ pub(super) fn flow_set_general<I: Ival>(
         // the step of the rule (5.8) (a)-(c) at order `p`, from the coefficients' midpoints
         // (choices only)
         let rule_at = |mid: Rows<'_, f64>, p: usize| {
-            let rule = step_size(mid.first(p + 1), p, &m_f64, I::EPS);
+            let rule = step_size(mid.first(p + 1), p, &m_f64, I::eps());
             let predicted = memo.map_or(rule, |(h0, ratio)| h0 * rescale(ratio, p, 1.5));
             let cap = ceiling.map_or(f64::INFINITY, |(hc, k)| {
                 hc * 0.97 * (1.0 + CEILING_GROWTH).powi(k)
@@ -101,7 +101,7 @@ pub(super) fn flow_set_general<I: Ival>(
             let h = rule_at(c.map(|x| x.mid()).rows(), p);
             short_span(rem.inf(), rem.sup(), h)
         };
-        let more = if choose_order { I::SHORT_ORDER } else { p };
+        let more = if choose_order { I::short_order() } else { p };
         let c = sys
             .field
             .ode_taylor_until(&centre, p, more, |c| !short(c))
@@ -140,7 +140,7 @@ pub(super) fn flow_set_general<I: Ival>(
         if last && !fixed && opts.given_order().is_none() {
             p_step = LOW_ORDERS
                 .into_iter()
-                .find(|&q| q < p && step_size(mid.rows().first(q + 1), q, &m_f64, I::EPS) >= rem.sup())
+                .find(|&q| q < p && step_size(mid.rows().first(q + 1), q, &m_f64, I::eps()) >= rem.sup())
                 .unwrap_or(p);
         }
         let mut tries = 0;
@@ -357,7 +357,7 @@ pub(super) fn rescale(ratio: f64, p: usize, max: f64) -> f64 {
 }
 
 /// The step-size rule of [spec eq. (5.8)](crate::spec::enclosure) from float Taylor coefficients at the state `x`.
-/// `eps` is the rounding level of the precision ([`Ival::EPS`]).
+/// `eps` is the rounding level of the precision ([`Ival::eps`]).
 pub(super) fn step_size(c: Rows<'_, f64>, p: usize, x: &[f64], eps: f64) -> f64 {
     round_step(step_bound(c, p, x, eps).min(f64::MAX))
 }

@@ -4,6 +4,7 @@
 //! choices are those of [spec/05-enclosure.md](crate::spec::enclosure) at every precision.
 
 use crate::tape::{finite, Coef};
+use crate::precision::dd::{Dd, DdInterval};
 use inari::Interval;
 use std::fmt::Debug;
 
@@ -19,14 +20,15 @@ pub trait Ival: Coef + PartialEq + Debug + Send + Sync {
     type Pt: Copy + PartialEq + Debug + Send + Sync + 'static;
     /// The unit of the rounding level that tolerances are relative to: `2^-52` for 53-bit
     /// significands ([`f64::EPSILON`]), `2^(1 - bits)` in general.
-    const EPS: f64;
+    /// (A function, not a constant: a precision may be chosen at run time.)
+    fn eps() -> f64;
     /// The Taylor order of the steps when none is given ([spec eq. (5.8)](crate::spec::enclosure)): more bits
     /// want a higher order.
-    const ORDER: usize;
+    fn order() -> usize;
     /// The order of a span of two or three steps ([spec (5.8)](crate::spec::enclosure) (e)).
-    const SHORT_ORDER: usize;
+    fn short_order() -> usize;
     /// The orders tried for the variational equation, lowest first ([spec eq. (5.6)](crate::spec::enclosure)).
-    const JAC_ORDERS: &'static [usize];
+    fn jac_orders() -> &'static [usize];
     /// The degenerate interval of a point.
     fn pt(x: Self::Pt) -> Self;
     /// A point in the interval (its midpoint, or near it), for a non-empty bounded one.
@@ -104,10 +106,18 @@ pub trait Ival: Coef + PartialEq + Debug + Send + Sync {
 
 impl Ival for Interval {
     type Pt = f64;
-    const EPS: f64 = f64::EPSILON;
-    const ORDER: usize = super::DEFAULT_ORDER;
-    const SHORT_ORDER: usize = super::control::SHORT_ORDER;
-    const JAC_ORDERS: &'static [usize] = &super::step::JAC_ORDERS;
+    fn eps() -> f64 {
+        f64::EPSILON
+    }
+    fn order() -> usize {
+        super::DEFAULT_ORDER
+    }
+    fn short_order() -> usize {
+        super::control::SHORT_ORDER
+    }
+    fn jac_orders() -> &'static [usize] {
+        &super::step::JAC_ORDERS
+    }
     fn pt(x: f64) -> Self {
         crate::scalar::point(x)
     }
@@ -164,5 +174,66 @@ impl Ival for Interval {
     }
     fn row_times(a: &[Self], b: &[&[Self]], out: &mut Vec<Self>) {
         crate::dot::row_times(a, b, out)
+    }
+}
+
+/// Double-double intervals ([spec (12.1)](crate::spec::precision)): about 106 bits, so a rounding level of
+/// `2^-104` (a few units of the last place of one operation), and Taylor orders about twice
+/// those of 53 bits (the step rule (5.8) aims at the same step sizes with twice the bits).
+impl Ival for DdInterval {
+    type Pt = Dd;
+    fn eps() -> f64 {
+        f64::EPSILON * f64::EPSILON
+    }
+    fn order() -> usize {
+        40
+    }
+    fn short_order() -> usize {
+        50
+    }
+    fn jac_orders() -> &'static [usize] {
+        &[3, 5, 8, 12, 16, 20, 26, 32, 40]
+    }
+    fn pt(x: Dd) -> Self {
+        DdInterval::point(x)
+    }
+    fn mid_pt(&self) -> Dd {
+        DdInterval::mid(*self)
+    }
+    fn pt_of(x: f64) -> Dd {
+        Dd::from_f64(x)
+    }
+    fn pt_f64(x: Dd) -> f64 {
+        x.to_f64()
+    }
+    fn iv(lo: f64, hi: f64) -> Self {
+        DdInterval::from_f64_pair(lo, hi).unwrap_or(DdInterval::ENTIRE)
+    }
+    fn inf(&self) -> f64 {
+        self.inf_f64()
+    }
+    fn sup(&self) -> f64 {
+        self.sup_f64()
+    }
+    fn wid(&self) -> f64 {
+        self.wid_up()
+    }
+    fn mag(&self) -> f64 {
+        self.mag_up()
+    }
+    fn contains(&self, x: f64) -> bool {
+        self.contains_f64(x)
+    }
+    fn subset(&self, other: Self) -> bool {
+        DdInterval::subset(*self, other)
+    }
+    fn intersection(&self, other: Self) -> Self {
+        DdInterval::intersection(*self, other)
+    }
+    fn convex_hull(&self, other: Self) -> Self {
+        self.hull(other)
+    }
+    fn is_empty(&self) -> bool {
+        DdInterval::is_empty(*self)
     }
 }

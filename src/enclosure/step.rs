@@ -34,7 +34,7 @@ pub(super) enum Tolerance {
 }
 
 /// Largest accepted width of the Lagrange remainder, relative to the state's size, in
-/// units of the rounding level [`Ival::EPS`].
+/// units of the rounding level [`Ival::eps`].
 pub(super) const REMAINDER_TOL: f64 = 1.0;
 
 /// Horner's scheme in intervals, for the components `cols` of every row at once: entry `i`
@@ -101,7 +101,7 @@ pub(super) fn lohner_step<I: Ival>(
     let scale = set.m.iter().fold(1.0f64, |a, x| a.max(I::pt_f64(*x).abs()));
     // (5.3) the Taylor polynomial at the centre (coefficients `c`)
     let phi = horner(c, 0..d, None, h);
-    if tol != Tolerance::Loose && phi.iter().any(|x| x.wid() > scale * (16.0 * I::EPS)) {
+    if tol != Tolerance::Loose && phi.iter().any(|x| x.wid() > scale * (16.0 * I::eps())) {
         return Err(StepFail::Shrink);
     }
     let point_set = set.r.iter().chain(&set.r0).all(|r| r.is_exact_zero());
@@ -380,7 +380,7 @@ pub(super) fn remainder_over<I: Ival>(
     // the widest component of T h^(p+1), relative to the tolerance (NaN if not finite)
     let ratio_of = |t: &[I]| {
         t.iter().fold(0.0f64, |a, t| {
-            let w = (*t * hp).wid() / (scale * REMAINDER_TOL * I::EPS);
+            let w = (*t * hp).wid() / (scale * REMAINDER_TOL * I::eps());
             if w.is_nan() || a.is_nan() {
                 f64::NAN
             } else {
@@ -459,9 +459,9 @@ pub(super) fn step_jacobian<I: Ival>(
     let d = xbox.len();
     // After no order qualified for the precise derivative, the next SKIP steps go straight
     // to the step over the whole set (the order index counts them down above the ladder).
-    if *order >= I::JAC_ORDERS.len() {
+    if *order >= I::jac_orders().len() {
         *order -= 1;
-        if *order >= I::JAC_ORDERS.len() {
+        if *order >= I::jac_orders().len() {
             return None;
         }
     }
@@ -472,15 +472,15 @@ pub(super) fn step_jacobian<I: Ival>(
     // every trajectory on [0, h], so the Lagrange remainder of any order may use it. At a
     // low order the test converges slowly for components whose range is nearly a point
     // (e.g. D u1 / D u1 = 1 for the knife): widen generously.
-    let q0 = I::JAC_ORDERS[0];
+    let q0 = I::jac_orders()[0];
     let w0 = sys.field_var.ode_taylor(&seed, q0)?;
     let (y_ext, t0) = a_priori(&sys.field_var, w0.rows(), h, q0, 4.0).ok()?;
-    let mut k = (*order).min(I::JAC_ORDERS.len() - 1);
+    let mut k = (*order).min(I::jac_orders().len() - 1);
     loop {
-        let q = I::JAC_ORDERS[k];
+        let q = I::jac_orders()[k];
         if q > p.max(q0) {
             if precise {
-                *order = I::JAC_ORDERS.len() + SKIP;
+                *order = I::jac_orders().len() + SKIP;
             }
             return None;
         }
@@ -501,9 +501,9 @@ pub(super) fn step_jacobian<I: Ival>(
             let mut jac = variational_polynomial(w.rows(), d, h);
             let size = jac.entries().iter().fold(1.0f64, |a, x| a.max(x.mag()));
             // (NaN fails the tests too)
-            let share = widest * extent * d as f64 / (scale * I::EPS);
+            let share = widest * extent * d as f64 / (scale * I::eps());
             let own = if precise {
-                widest / (16.0 * size * I::EPS)
+                widest / (16.0 * size * I::eps())
             } else {
                 0.0
             };
@@ -518,9 +518,9 @@ pub(super) fn step_jacobian<I: Ival>(
             }
         }
         k += 1;
-        if k == I::JAC_ORDERS.len() {
+        if k == I::jac_orders().len() {
             if precise {
-                *order = I::JAC_ORDERS.len() + SKIP;
+                *order = I::jac_orders().len() + SKIP;
             }
             return None;
         }

@@ -73,16 +73,28 @@ impl Dd {
     /// 1.
     pub const ONE: Dd = Dd { hi: 1.0, lo: 0.0 };
     /// `+inf` (an end of an unbounded interval, not a real).
-    pub const INFINITY: Dd = Dd { hi: f64::INFINITY, lo: 0.0 };
+    pub const INFINITY: Dd = Dd {
+        hi: f64::INFINITY,
+        lo: 0.0,
+    };
     /// `-inf`.
-    pub const NEG_INFINITY: Dd = Dd { hi: f64::NEG_INFINITY, lo: 0.0 };
+    pub const NEG_INFINITY: Dd = Dd {
+        hi: f64::NEG_INFINITY,
+        lo: 0.0,
+    };
     /// `f64::MAX`.
-    pub const MAX: Dd = Dd { hi: f64::MAX, lo: 0.0 };
+    pub const MAX: Dd = Dd {
+        hi: f64::MAX,
+        lo: 0.0,
+    };
 
     /// The exact double `x` (`-0.0` becomes `+0.0`).
     #[inline]
     pub fn from_f64(x: f64) -> Dd {
-        Dd { hi: x + 0.0, lo: 0.0 }
+        Dd {
+            hi: x + 0.0,
+            lo: 0.0,
+        }
     }
 
     /// The pair `(hi, lo)` as given; the caller guarantees `hi == fl(hi + lo)`.
@@ -95,7 +107,10 @@ impl Dd {
     pub fn new(hi: f64, lo: f64) -> Dd {
         let (s, t) = two_sum(hi, lo);
         if s.is_finite() {
-            Dd { hi: s + 0.0, lo: t + 0.0 }
+            Dd {
+                hi: s + 0.0,
+                lo: t + 0.0,
+            }
         } else {
             Dd { hi: s, lo: 0.0 }
         }
@@ -184,7 +199,11 @@ impl Dd {
     /// ([spec (12.1.1)](crate::spec::precision)).
     pub fn sqrt(self) -> Dd {
         if self.hi <= 0.0 || !self.hi.is_finite() {
-            return if self.hi == f64::INFINITY { self } else { Dd::ZERO };
+            return if self.hi == f64::INFINITY {
+                self
+            } else {
+                Dd::ZERO
+            };
         }
         let s = self.hi.sqrt();
         let r = (-s).mul_add(s, self.hi) + self.lo;
@@ -235,7 +254,10 @@ impl Neg for Dd {
     type Output = Dd;
     #[inline]
     fn neg(self) -> Dd {
-        Dd { hi: -self.hi + 0.0, lo: -self.lo + 0.0 }
+        Dd {
+            hi: -self.hi + 0.0,
+            lo: -self.lo + 0.0,
+        }
     }
 }
 
@@ -253,7 +275,10 @@ impl Add for Dd {
         if h.is_finite() {
             Dd { hi: h, lo: l }
         } else {
-            Dd { hi: self.hi + o.hi, lo: 0.0 }
+            Dd {
+                hi: self.hi + o.hi,
+                lo: 0.0,
+            }
         }
     }
 }
@@ -326,7 +351,10 @@ pub struct DdInterval {
 fn end_down(h: f64, l: f64) -> Dd {
     let (s, t) = two_sum(h, l);
     if s.is_finite() {
-        Dd { hi: s + 0.0, lo: t + 0.0 }
+        Dd {
+            hi: s + 0.0,
+            lo: t + 0.0,
+        }
     } else if s > 0.0 {
         Dd::MAX
     } else {
@@ -339,7 +367,10 @@ fn end_down(h: f64, l: f64) -> Dd {
 fn end_up(h: f64, l: f64) -> Dd {
     let (s, t) = two_sum(h, l);
     if s.is_finite() {
-        Dd { hi: s + 0.0, lo: t + 0.0 }
+        Dd {
+            hi: s + 0.0,
+            lo: t + 0.0,
+        }
     } else if s < 0.0 {
         -Dd::MAX
     } else {
@@ -361,16 +392,25 @@ fn enclose(h: f64, l: f64, e: f64) -> DdInterval {
     if !(ld.is_finite() && lu.is_finite()) {
         return DdInterval::ENTIRE;
     }
-    DdInterval { lo: end_down(h, ld), hi: end_up(h, lu) }
+    DdInterval {
+        lo: end_down(h, ld),
+        hi: end_up(h, lu),
+    }
 }
 
 /// The enclosure of a real known to be at least `2^1023` in magnitude with the sign of `h`.
 #[inline(never)]
 fn overflow(h: f64) -> DdInterval {
     if h == f64::INFINITY {
-        DdInterval { lo: Dd::from_f64(TWO_1023), hi: Dd::INFINITY }
+        DdInterval {
+            lo: Dd::from_f64(TWO_1023),
+            hi: Dd::INFINITY,
+        }
     } else if h == f64::NEG_INFINITY {
-        DdInterval { lo: Dd::NEG_INFINITY, hi: Dd::from_f64(-TWO_1023) }
+        DdInterval {
+            lo: Dd::NEG_INFINITY,
+            hi: Dd::from_f64(-TWO_1023),
+        }
     } else {
         DdInterval::ENTIRE
     }
@@ -385,7 +425,10 @@ fn add_pt(x: Dd, y: Dd) -> DdInterval {
     let (zh, zl) = two_sum(s, w);
     // x + y == zh + zl + we + v exactly.
     if we == 0.0 && v == 0.0 && zh.is_finite() {
-        let d = Dd { hi: zh + 0.0, lo: zl + 0.0 };
+        let d = Dd {
+            hi: zh + 0.0,
+            lo: zl + 0.0,
+        };
         return DdInterval { lo: d, hi: d };
     }
     let r = we + v;
@@ -421,7 +464,11 @@ const EXACT_PRODUCT: f64 = 2.0041683600089728e-292;
 fn div_f64_iv(a: f64, b: f64, c: f64, d: f64) -> (f64, f64) {
     let q = [a / c, a / d, b / c, b / d];
     let lo = q.iter().copied().fold(f64::INFINITY, f64::min).next_down();
-    let hi = q.iter().copied().fold(f64::NEG_INFINITY, f64::max).next_up();
+    let hi = q
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max)
+        .next_up();
     (lo, hi)
 }
 
@@ -435,8 +482,16 @@ fn div_pt(x: Dd, y: Dd) -> DdInterval {
     if x.hi.abs() < SMALL || y.hi.abs() < SMALL {
         // Scale tiny operands up (exact) so that the residual stays far above the subnormal
         // range: x / y = (x 2^kx) / (y 2^ky) 2^(ky - kx).
-        let kx = if x.hi.abs() < SMALL { -exponent(x.hi) } else { 0 };
-        let ky = if y.hi.abs() < SMALL { -exponent(y.hi) } else { 0 };
+        let kx = if x.hi.abs() < SMALL {
+            -exponent(x.hi)
+        } else {
+            0
+        };
+        let ky = if y.hi.abs() < SMALL {
+            -exponent(y.hi)
+        } else {
+            0
+        };
         return div_pt_normal(x.scale_pow2_up(kx), y.scale_pow2_up(ky)).scale_pow2(ky - kx);
     }
     div_pt_normal(x, y)
@@ -473,7 +528,11 @@ fn div_pt_normal(x: Dd, y: Dd) -> DdInterval {
         return DdInterval::ENTIRE;
     }
     let (dl, dh) = div_f64_iv(rl, rh, y.to_f64_down(), y.to_f64_up());
-    DdInterval::point(q) + DdInterval { lo: Dd::from_f64(dl), hi: Dd::from_f64(dh) }
+    DdInterval::point(q)
+        + DdInterval {
+            lo: Dd::from_f64(dl),
+            hi: Dd::from_f64(dh),
+        }
 }
 
 /// `x - p` for a point `x` and an interval `p` with finite ends.
@@ -482,7 +541,10 @@ fn add_pt_iv(x: Dd, p: DdInterval) -> DdInterval {
     if p.lo == p.hi {
         return add_pt(x, -p.lo);
     }
-    DdInterval { lo: add_pt(x, -p.hi).lo, hi: add_pt(x, -p.lo).hi }
+    DdInterval {
+        lo: add_pt(x, -p.hi).lo,
+        hi: add_pt(x, -p.lo).hi,
+    }
 }
 
 /// The enclosure of `sqrt(x)` for finite `x > 0` via the residual: `sqrt(x) = q + r / (sqrt(x) + q)`
@@ -511,21 +573,41 @@ fn sqrt_pt_normal(x: Dd) -> DdInterval {
     let dh = (2.0 * qu + m).next_up();
     if !(rl.is_finite() && rh.is_finite() && dl > 0.0 && dh.is_finite()) {
         // Not reached for finite positive x (the residual is tiny); the bound stays sound.
-        return DdInterval { lo: Dd::ZERO, hi: Dd::from_f64(up(x.to_f64_up().sqrt())) }.hull(DdInterval::point(q));
+        return DdInterval {
+            lo: Dd::ZERO,
+            hi: Dd::from_f64(up(x.to_f64_up().sqrt())),
+        }
+        .hull(DdInterval::point(q));
     }
     let (dl, dh) = div_f64_iv(rl, rh, dl, dh);
-    DdInterval::point(q) + DdInterval { lo: Dd::from_f64(dl), hi: Dd::from_f64(dh) }
+    DdInterval::point(q)
+        + DdInterval {
+            lo: Dd::from_f64(dl),
+            hi: Dd::from_f64(dh),
+        }
 }
 
 impl DdInterval {
     /// The empty set.
-    pub const EMPTY: DdInterval = DdInterval { lo: Dd::INFINITY, hi: Dd::NEG_INFINITY };
+    pub const EMPTY: DdInterval = DdInterval {
+        lo: Dd::INFINITY,
+        hi: Dd::NEG_INFINITY,
+    };
     /// The whole real line.
-    pub const ENTIRE: DdInterval = DdInterval { lo: Dd::NEG_INFINITY, hi: Dd::INFINITY };
+    pub const ENTIRE: DdInterval = DdInterval {
+        lo: Dd::NEG_INFINITY,
+        hi: Dd::INFINITY,
+    };
     /// `[0, 0]`.
-    pub const ZERO: DdInterval = DdInterval { lo: Dd::ZERO, hi: Dd::ZERO };
+    pub const ZERO: DdInterval = DdInterval {
+        lo: Dd::ZERO,
+        hi: Dd::ZERO,
+    };
     /// `[1, 1]`.
-    pub const ONE: DdInterval = DdInterval { lo: Dd::ONE, hi: Dd::ONE };
+    pub const ONE: DdInterval = DdInterval {
+        lo: Dd::ONE,
+        hi: Dd::ONE,
+    };
 
     /// The degenerate interval `[x, x]` of an exact double; empty for NaN, the whole line for
     /// an infinity (an infinity is not a real number).
@@ -607,7 +689,10 @@ impl DdInterval {
     /// half-bounded interval, NaN for the empty interval.
     pub fn mid(self) -> Dd {
         if self.is_empty() {
-            return Dd { hi: f64::NAN, lo: 0.0 };
+            return Dd {
+                hi: f64::NAN,
+                lo: 0.0,
+            };
         }
         match (self.lo.is_finite(), self.hi.is_finite()) {
             (false, false) => Dd::ZERO,
@@ -700,7 +785,8 @@ impl DdInterval {
     /// `self` lies in the interior of `o` (an infinite end of `o` counts as strictly outside).
     pub fn interior(self, o: DdInterval) -> bool {
         self.is_empty()
-            || ((o.lo < self.lo || o.lo.hi == f64::NEG_INFINITY) && (self.hi < o.hi || o.hi.hi == f64::INFINITY))
+            || ((o.lo < self.lo || o.lo.hi == f64::NEG_INFINITY)
+                && (self.hi < o.hi || o.hi.hi == f64::INFINITY))
     }
 
     /// No common point.
@@ -716,7 +802,10 @@ impl DdInterval {
         if o.is_empty() {
             return self;
         }
-        DdInterval { lo: dmin(self.lo, o.lo), hi: dmax(self.hi, o.hi) }
+        DdInterval {
+            lo: dmin(self.lo, o.lo),
+            hi: dmax(self.hi, o.hi),
+        }
     }
 
     /// The common part (exact).
@@ -737,7 +826,10 @@ impl DdInterval {
         } else if self.hi.hi <= 0.0 {
             -self
         } else {
-            DdInterval { lo: Dd::ZERO, hi: dmax(-self.lo, self.hi) }
+            DdInterval {
+                lo: Dd::ZERO,
+                hi: dmax(-self.lo, self.hi),
+            }
         }
     }
 
@@ -780,7 +872,10 @@ impl DdInterval {
                 -pow_nonneg(DdInterval::point(-p), n)
             }
         };
-        DdInterval { lo: end(self.lo).lo, hi: end(self.hi).hi }
+        DdInterval {
+            lo: end(self.lo).lo,
+            hi: end(self.hi).hi,
+        }
     }
 
     /// `1 / x` (the whole line when `x` contains 0 and is not `[0, 0]`; empty for `[0, 0]`).
@@ -798,7 +893,11 @@ impl DdInterval {
         if self.is_empty() || self.hi.hi < 0.0 {
             return DdInterval::EMPTY;
         }
-        let lo = if self.lo.hi <= 0.0 { Dd::ZERO } else { sqrt_pt(self.lo).lo };
+        let lo = if self.lo.hi <= 0.0 {
+            Dd::ZERO
+        } else {
+            sqrt_pt(self.lo).lo
+        };
         let hi = if self.hi.is_zero() {
             Dd::ZERO
         } else if !self.hi.is_finite() {
@@ -818,8 +917,16 @@ impl DdInterval {
         let k2 = k - k1;
         let down = |x: f64| mul2(mul2(x, k1, true), k2, true);
         let upf = |x: f64| mul2(mul2(x, k1, false), k2, false);
-        let lo = if self.lo.is_finite() { end_down(down(self.lo.hi), down(self.lo.lo)) } else { self.lo };
-        let hi = if self.hi.is_finite() { end_up(upf(self.hi.hi), upf(self.hi.lo)) } else { self.hi };
+        let lo = if self.lo.is_finite() {
+            end_down(down(self.lo.hi), down(self.lo.lo))
+        } else {
+            self.lo
+        };
+        let hi = if self.hi.is_finite() {
+            end_up(upf(self.hi.hi), upf(self.hi.lo))
+        } else {
+            self.hi
+        };
         DdInterval { lo, hi }
     }
 }
@@ -896,7 +1003,10 @@ impl Neg for DdInterval {
         if self.is_empty() {
             return self;
         }
-        DdInterval { lo: -self.hi, hi: -self.lo }
+        DdInterval {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
     }
 }
 
@@ -942,7 +1052,11 @@ fn mul_end(x: Dd, y: Dd) -> DdInterval {
     if x.is_finite() && y.is_finite() {
         return mul_pt(x, y);
     }
-    let s = if (x.hi > 0.0) == (y.hi > 0.0) { Dd::INFINITY } else { Dd::NEG_INFINITY };
+    let s = if (x.hi > 0.0) == (y.hi > 0.0) {
+        Dd::INFINITY
+    } else {
+        Dd::NEG_INFINITY
+    };
     DdInterval { lo: s, hi: s }
 }
 
@@ -959,13 +1073,25 @@ impl Mul for DdInterval {
             return mul_end(a, c);
         }
         if a.hi >= 0.0 && c.hi >= 0.0 {
-            DdInterval { lo: mul_end(a, c).lo, hi: mul_end(b, d).hi }
+            DdInterval {
+                lo: mul_end(a, c).lo,
+                hi: mul_end(b, d).hi,
+            }
         } else if b.hi <= 0.0 && d.hi <= 0.0 {
-            DdInterval { lo: mul_end(b, d).lo, hi: mul_end(a, c).hi }
+            DdInterval {
+                lo: mul_end(b, d).lo,
+                hi: mul_end(a, c).hi,
+            }
         } else if a.hi >= 0.0 && d.hi <= 0.0 {
-            DdInterval { lo: mul_end(b, c).lo, hi: mul_end(a, d).hi }
+            DdInterval {
+                lo: mul_end(b, c).lo,
+                hi: mul_end(a, d).hi,
+            }
         } else if b.hi <= 0.0 && c.hi >= 0.0 {
-            DdInterval { lo: mul_end(a, d).lo, hi: mul_end(b, c).hi }
+            DdInterval {
+                lo: mul_end(a, d).lo,
+                hi: mul_end(b, c).hi,
+            }
         } else {
             let p = [mul_end(a, c), mul_end(a, d), mul_end(b, c), mul_end(b, d)];
             let lo = p.iter().map(|i| i.lo).fold(Dd::INFINITY, dmin);
@@ -985,7 +1111,11 @@ fn div_end(x: Dd, y: Dd) -> DdInterval {
         // x finite here (an infinite x only meets a finite y in the cases of `div`).
         return DdInterval::ZERO;
     }
-    let s = if (x.hi > 0.0) == (y.hi > 0.0) { Dd::INFINITY } else { Dd::NEG_INFINITY };
+    let s = if (x.hi > 0.0) == (y.hi > 0.0) {
+        Dd::INFINITY
+    } else {
+        Dd::NEG_INFINITY
+    };
     DdInterval { lo: s, hi: s }
 }
 
@@ -1144,11 +1274,17 @@ fn decimal_to_interval(neg: bool, d: &Big, k: i64) -> DdInterval {
     let digits = d.to_decimal().len() as i64;
     // Far outside the double range: avoid huge exact powers.
     if digits + k > 400 {
-        let m = DdInterval { lo: Dd::MAX, hi: Dd::INFINITY };
+        let m = DdInterval {
+            lo: Dd::MAX,
+            hi: Dd::INFINITY,
+        };
         return if neg { -m } else { m };
     }
     if digits + k < -400 {
-        let m = DdInterval { lo: Dd::ZERO, hi: Dd::from_f64(pow2(-1074)) };
+        let m = DdInterval {
+            lo: Dd::ZERO,
+            hi: Dd::from_f64(pow2(-1074)),
+        };
         return if neg { -m } else { m };
     }
     if k >= 0 {
@@ -1202,7 +1338,9 @@ impl DdInterval {
                     return None;
                 }
                 // Saturate: beyond ±10^9 every non-zero value over- or underflows anyway.
-                let v = ed.bytes().fold(0i64, |a, c| (a * 10 + (c - b'0') as i64).min(1_000_000_000));
+                let v = ed
+                    .bytes()
+                    .fold(0i64, |a, c| (a * 10 + (c - b'0') as i64).min(1_000_000_000));
                 if en {
                     -v
                 } else {
@@ -1247,11 +1385,18 @@ pub fn dd_to_decimal(x: Dd, digits: usize, up_dir: bool) -> String {
         return "0".to_string();
     }
     // value = A * 10^de exactly.
-    let (a, de) = if e >= 0 { (q.shl(e as u64), 0i64) } else { (q.mul(&Big::pow5((-e) as u64)), e) };
+    let (a, de) = if e >= 0 {
+        (q.shl(e as u64), 0i64)
+    } else {
+        (q.mul(&Big::pow5((-e) as u64)), e)
+    };
     let s = a.to_decimal();
     let n = s.len();
     let (mut kept, dropped_nonzero) = if n > digits {
-        (s[..digits].as_bytes().to_vec(), s[digits..].bytes().any(|c| c != b'0'))
+        (
+            s[..digits].as_bytes().to_vec(),
+            s[digits..].bytes().any(|c| c != b'0'),
+        )
     } else {
         (s.as_bytes().to_vec(), false)
     };
@@ -1304,7 +1449,12 @@ impl fmt::Display for DdInterval {
         if self.is_empty() {
             return write!(f, "[empty]");
         }
-        write!(f, "[{}, {}]", self.inf_decimal(DISPLAY_DIGITS), self.sup_decimal(DISPLAY_DIGITS))
+        write!(
+            f,
+            "[{}, {}]",
+            self.inf_decimal(DISPLAY_DIGITS),
+            self.sup_decimal(DISPLAY_DIGITS)
+        )
     }
 }
 
@@ -1353,7 +1503,9 @@ mod tests {
         assert!(y.contains(Dd::new(1.0, pow2(-59))) && !y.contains(Dd::new(1.0, pow2(-60))));
         assert!(iv(-1.5).powi(5).contains_f64(-7.59375));
         assert!(iv(2.0).powi(-3).contains_f64(0.125));
-        assert!(iv(-2.0).powi(i32::MIN).subset(DdInterval::from_f64_pair(0.0, pow2(-1000)).unwrap()));
+        assert!(iv(-2.0)
+            .powi(i32::MIN)
+            .subset(DdInterval::from_f64_pair(0.0, pow2(-1000)).unwrap()));
     }
 
     #[test]
@@ -1364,13 +1516,23 @@ mod tests {
         assert!(p.contains_f64(-15.0) && p.contains_f64(12.0) && p.contains_f64(10.0));
         assert!(p.subset(DdInterval::from_f64_pair(-15.000001, 12.000001).unwrap()));
         assert!(a.sqr().inf() == Dd::ZERO && a.sqr().contains_f64(9.0));
-        let q = DdInterval::from_f64_pair(1.0, 2.0).unwrap() / DdInterval::from_f64_pair(-4.0, -2.0).unwrap();
+        let q = DdInterval::from_f64_pair(1.0, 2.0).unwrap()
+            / DdInterval::from_f64_pair(-4.0, -2.0).unwrap();
         assert!(q.contains_f64(-1.0) && q.contains_f64(-0.25));
         assert!((iv(1.0) / DdInterval::from_f64_pair(-1.0, 1.0).unwrap()) == DdInterval::ENTIRE);
         assert!((iv(1.0) / iv(0.0)).is_empty());
-        assert_eq!(DdInterval::from_f64_pair(-1.0, 4.0).unwrap().sqrt().sup(), Dd::from_f64(2.0));
-        assert_eq!(DdInterval::from_f64_pair(-1.0, 4.0).unwrap().sqrt().inf(), Dd::ZERO);
-        assert!(DdInterval::from_f64_pair(-2.0, -1.0).unwrap().sqrt().is_empty());
+        assert_eq!(
+            DdInterval::from_f64_pair(-1.0, 4.0).unwrap().sqrt().sup(),
+            Dd::from_f64(2.0)
+        );
+        assert_eq!(
+            DdInterval::from_f64_pair(-1.0, 4.0).unwrap().sqrt().inf(),
+            Dd::ZERO
+        );
+        assert!(DdInterval::from_f64_pair(-2.0, -1.0)
+            .unwrap()
+            .sqrt()
+            .is_empty());
         assert!(a.hull(b).contains_f64(-5.0) && a.intersection(b).contains_f64(3.0));
         assert!(iv(1.0).intersection(iv(2.0)).is_empty());
         assert!(iv(1.0).interior(a) && !a.interior(a) && iv(1.0).subset(a) && iv(7.0).disjoint(a));
@@ -1397,9 +1559,25 @@ mod tests {
         ];
         for &x in &specials {
             for &y in &specials {
-                for r in [x + y, x - y, x * y, x / y, x.sqr(), x.sqrt(), x.powi(3), x.powi(-2), x.abs(), x.mul_add(y, x)] {
+                for r in [
+                    x + y,
+                    x - y,
+                    x * y,
+                    x / y,
+                    x.sqr(),
+                    x.sqrt(),
+                    x.powi(3),
+                    x.powi(-2),
+                    x.abs(),
+                    x.mul_add(y, x),
+                ] {
                     assert!(no_nan(r), "{x:?} {y:?} -> {r:?}");
-                    assert!(r.is_empty() || (r.lo <= r.hi && r.lo.hi < f64::INFINITY && r.hi.hi > f64::NEG_INFINITY));
+                    assert!(
+                        r.is_empty()
+                            || (r.lo <= r.hi
+                                && r.lo.hi < f64::INFINITY
+                                && r.hi.hi > f64::NEG_INFINITY)
+                    );
                 }
             }
         }
@@ -1419,11 +1597,23 @@ mod tests {
         }
         assert!(DdInterval::from_decimal("1.5").unwrap() == iv(1.5));
         assert!(DdInterval::from_decimal("-.5e1").unwrap() == iv(-5.0));
-        assert!(DdInterval::from_decimal("+12345678901234567890123456789012").unwrap().is_point());
+        assert!(
+            DdInterval::from_decimal("+12345678901234567890123456789012")
+                .unwrap()
+                .is_point()
+        );
         assert!(DdInterval::from_decimal("1e400").unwrap().sup() == Dd::INFINITY);
         assert!(DdInterval::from_decimal("1e400").unwrap().inf() == Dd::MAX);
-        assert!(DdInterval::from_decimal("-1e-400").unwrap().contains(Dd::ZERO));
-        assert!(DdInterval::from_decimal("1e-999999999999").unwrap().sup().hi() == pow2(-1074));
+        assert!(DdInterval::from_decimal("-1e-400")
+            .unwrap()
+            .contains(Dd::ZERO));
+        assert!(
+            DdInterval::from_decimal("1e-999999999999")
+                .unwrap()
+                .sup()
+                .hi()
+                == pow2(-1074)
+        );
         let x = DdInterval::from_decimal("0.1").unwrap();
         assert!(x.wid_up() <= 2.0 * 1.0e-1 * 1.3e-32);
         // 2^-1074 exactly, written out.

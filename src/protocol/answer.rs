@@ -10,7 +10,7 @@ use crate::exact::{ExactStep, Retraction};
 use crate::oracle::Verdict;
 use crate::scene::Description;
 use crate::schemes::{Row, Trajectory};
-use crate::{Error, FlowEnclosure, FlowStats, Interval};
+use crate::{DecimalInterval, Error, FlowEnclosure, FlowStats, Interval};
 use serde::Serialize;
 use serde_json::{json, Value};
 use std::io::Write;
@@ -33,6 +33,25 @@ pub enum Answer {
         times: Vec<f64>,
         /// The certified state at each of `times`, in order ([spec Theorem 5.4](crate::spec::enclosure)).
         enclosures: Vec<FlowEnclosure>,
+    },
+    /// `flow` at one time computed with more than 53 bits (contract E18): the same keys,
+    /// each end a decimal string rounded outward, and the `precision` used.
+    FlowWide {
+        /// The significand bits the answer was computed with (at least those asked for).
+        precision: u32,
+        /// The certified state at `t` ([spec Theorem 5.1](crate::spec::enclosure#theorem-51-what-flow-proves)).
+        enclosure: FlowEnclosure<DecimalInterval>,
+        /// Contains `D(q, u)(t) / D(q, u)(0)` when asked for.
+        jacobian: Option<Vec<Vec<DecimalInterval>>>,
+    },
+    /// `flow` at each of `times` computed with more than 53 bits (contract E18).
+    FlowAtWide {
+        /// The significand bits the answer was computed with.
+        precision: u32,
+        /// The times asked for, increasing.
+        times: Vec<f64>,
+        /// The certified state at each of `times`, in order.
+        enclosures: Vec<FlowEnclosure<DecimalInterval>>,
     },
     /// `retract`: the exact retractions and the defect of the pair.
     Retract(Retraction),
@@ -73,20 +92,23 @@ impl Answer {
             } => value(FlowView {
                 enclosure,
                 jacobian: jacobian.as_ref(),
+                precision: None,
             }),
-            Answer::FlowAt { times, enclosures } => value(FlowAtView {
-                at: times
-                    .iter()
-                    .zip(enclosures)
-                    .map(|(t, e)| Stop {
-                        t: *t,
-                        q: &e.q,
-                        v: &e.v,
-                        u: &e.u,
-                    })
-                    .collect(),
-                stats: enclosures.last().map(|e| &e.stats),
+            Answer::FlowAt { times, enclosures } => value(flow_at_view(times, enclosures, None)),
+            Answer::FlowWide {
+                precision,
+                enclosure,
+                jacobian,
+            } => value(FlowView {
+                enclosure,
+                jacobian: jacobian.as_ref(),
+                precision: Some(*precision),
             }),
+            Answer::FlowAtWide {
+                precision,
+                times,
+                enclosures,
+            } => value(flow_at_view(times, enclosures, Some(*precision))),
             Answer::Retract(r) => value(RetractView {
                 u0: &r.u0,
                 v0: &r.v0,
@@ -380,28 +402,55 @@ pub fn trajectory(t: &Trajectory) -> Value {
 
 /// `flow` at one time: the enclosure's `q`, `u`, `v`, `stats`, and `jacobian` when asked.
 #[derive(Serialize)]
-struct FlowView<'a> {
+struct FlowView<'a, I> {
     #[serde(flatten)]
-    enclosure: &'a FlowEnclosure,
+    enclosure: &'a FlowEnclosure<I>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    jacobian: Option<&'a Vec<Vec<Interval>>>,
+    jacobian: Option<&'a Vec<Vec<I>>>,
+    /// Only above 53 bits (contract E18).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    precision: Option<u32>,
+}
+
+fn flow_at_view<'a, I>(
+    times: &[f64],
+    enclosures: &'a [FlowEnclosure<I>],
+    precision: Option<u32>,
+) -> FlowAtView<'a, I> {
+    FlowAtView {
+        at: times
+            .iter()
+            .zip(enclosures)
+            .map(|(t, e)| Stop {
+                t: *t,
+                q: &e.q,
+                v: &e.v,
+                u: &e.u,
+            })
+            .collect(),
+        stats: enclosures.last().map(|e| &e.stats),
+        precision,
+    }
 }
 
 /// `flow` at many times: a stop each (without its stats), and the stats of the whole
 /// integration (`null` when there is no stop).
 #[derive(Serialize)]
-struct FlowAtView<'a> {
-    at: Vec<Stop<'a>>,
+struct FlowAtView<'a, I> {
+    at: Vec<Stop<'a, I>>,
     stats: Option<&'a FlowStats>,
+    /// Only above 53 bits (contract E18).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    precision: Option<u32>,
 }
 
 /// One stop of `flow --times`.
 #[derive(Serialize)]
-struct Stop<'a> {
+struct Stop<'a, I> {
     t: f64,
-    q: &'a [Interval],
-    v: &'a [Interval],
-    u: &'a [Interval],
+    q: &'a [I],
+    v: &'a [I],
+    u: &'a [I],
 }
 
 /// `retract`: the retraction with its defect `s` as `defect`, and whether the pair may be

@@ -17,8 +17,8 @@ pub use answer::{
 };
 pub use parse::{
     check_keys, deadline_from_json, json_number, json_numbers, parse_json, parse_num, parse_order,
-    parse_param, parse_seconds, parse_steps, parse_vec, parse_work, query_keys,
-    scene_spec_from_json, work_from_json, Line, LineReader, MAX_LINE_BYTES,
+    parse_param, parse_precision, parse_seconds, parse_steps, parse_vec, parse_work, query_keys,
+    scene_spec_from_json, work_from_json, Line, LineReader, MAX_LINE_BYTES, MAX_PRECISION,
 };
 pub use rows::{CheckRows, IntegrateRows};
 
@@ -82,6 +82,9 @@ pub enum Query {
         order: usize,
         /// Also the derivative D(q, u)(t) / D(q, u)(0) (`flow --jacobian`).
         jacobian: bool,
+        /// The significand bits to compute with: 53 (or 0, not given: f64 intervals) or
+        /// more ([spec/12-precision.md](crate::spec::precision), contract E18).
+        precision: u32,
     },
     /// `retract` (contract command 2): the exact retraction at the pair ([spec eqs.
     /// (6.2)-(6.4)](crate::spec::exact_discrete)).
@@ -349,12 +352,16 @@ impl Session {
                 t,
                 order,
                 jacobian,
+                precision,
             } => {
                 let model = self.model(scene)?;
                 let o = FlowOptions {
                     order: (*order > 0).then_some(*order),
                     ..opts
                 };
+                if *precision > 53 {
+                    return crate::precise::flow_answer(*precision, &model, q, u, t, *jacobian, &o);
+                }
                 let t = match t {
                     At::One(t) => *t,
                     At::Many(times) => {

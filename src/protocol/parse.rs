@@ -133,6 +133,21 @@ pub fn parse_order(s: &str) -> Result<usize, Error> {
     }
 }
 
+/// The most significand bits a query may ask for (`--precision`, the `precision` key).
+pub const MAX_PRECISION: u32 = 4096;
+
+/// `--precision`: significand bits, an integer in `53..=MAX_PRECISION`
+/// ([spec/12-precision.md](crate::spec::precision), contract E18).
+pub fn parse_precision(s: &str) -> Result<u32, Error> {
+    match s.trim().parse::<u32>() {
+        Ok(p) if (53..=MAX_PRECISION).contains(&p) => Ok(p),
+        _ => Err(Error::input_key(
+            "precision",
+            format!("precision: expected a number of bits in 53..={MAX_PRECISION}, got `{s}`"),
+        )),
+    }
+}
+
 /// A time budget in seconds: a finite number > 0 (`--deadline`, the `deadline` key).
 pub fn parse_seconds(name: &str, s: &str) -> Result<f64, Error> {
     check_seconds(name, parse_num(name, s)?)
@@ -415,7 +430,7 @@ const COMMON_KEYS: [&str; 6] = ["id", "cmd", "scene", "params", "deadline", "wor
 /// The keys of a query of command `cmd` (`None` for an unknown command).
 pub fn query_keys(cmd: &str) -> Option<Vec<&'static str>> {
     let own: &[&str] = match cmd {
-        "flow" => &["q", "u", "t", "times", "order", "jacobian"],
+        "flow" => &["q", "u", "t", "times", "order", "jacobian", "precision"],
         "retract" | "step" | "lagrangian" => &["q0", "q1", "h"],
         "integrate" => &["q0", "q1", "h", "scheme", "steps"],
         "check" => &["h", "t", "q", "tol", "defect_tol", "pairs"],
@@ -511,6 +526,10 @@ impl Query {
                             format!("`jacobian` must be true or false, got {}", kind(other)),
                         ))
                     }
+                },
+                precision: match o.get("precision") {
+                    None => 53,
+                    Some(_) => json_uint(o, "precision", 53, MAX_PRECISION as u64)? as u32,
                 },
             }),
             "order" => Ok(Query::Order {

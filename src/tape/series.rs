@@ -4,6 +4,7 @@
 
 use super::program::Op;
 use crate::scalar::Scalar;
+use crate::precision::dd::DdInterval;
 use inari::Interval;
 use std::cell::RefCell;
 use std::thread::LocalKey;
@@ -283,6 +284,7 @@ impl<T: Coef> Drop for Series<T> {
 thread_local! {
     static SCRATCH_INTERVAL: RefCell<Vec<Interval>> = const { RefCell::new(Vec::new()) };
     static SCRATCH_F64: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
+    static SCRATCH_DD: RefCell<Vec<DdInterval>> = const { RefCell::new(Vec::new()) };
     static SCRATCH_NZ: RefCell<Vec<(usize, usize)>> = const { RefCell::new(Vec::new()) };
 }
 
@@ -334,6 +336,43 @@ impl Coef for Interval {
     }
     fn quot(self, b: Self) -> Self {
         crate::dot::quotient(self, b)
+    }
+}
+
+impl Coef for DdInterval {
+    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>> {
+        &SCRATCH_DD
+    }
+    fn is_exact_zero(&self) -> bool {
+        DdInterval::is_exact_zero(*self)
+    }
+    fn safe_divisor(&self) -> bool {
+        !self.is_empty() && !self.contains_f64(0.0)
+    }
+    fn safe_sqrt_arg(&self) -> bool {
+        !self.is_empty() && self.inf_f64() > 0.0
+    }
+    fn is_finite_coef(&self) -> bool {
+        self.is_finite()
+    }
+    fn mul_acc(self, a: Self, b: Self) -> Self {
+        // a b + self, each operation outward rounded ([spec (12.1)](crate::spec::precision))
+        a.mul_add(b, self)
+    }
+    fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self {
+        let n = x.len();
+        let mut s = DdInterval::ZERO;
+        for j in 0..n {
+            s = x[j].mul_add(y[n - 1 - j], s);
+        }
+        if neg {
+            acc - s
+        } else {
+            acc + s
+        }
+    }
+    fn quot(self, b: Self) -> Self {
+        self / b
     }
 }
 

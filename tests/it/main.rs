@@ -29,6 +29,7 @@ mod input_readers;
 mod knife_eps;
 mod oracle_properties;
 mod precision_dd;
+mod precision_flow;
 mod public_types;
 mod readme_commands;
 mod readme_own_scheme;

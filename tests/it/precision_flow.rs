@@ -1,0 +1,95 @@
+//! Flows computed with double-double intervals (106 bits) against the closed forms of the
+//! knife and the particle evaluated by mpmath at 100 digits (tests/data/flow_reference.py, an
+//! independent derivation: closed forms, not a Taylor method): every reference lies inside the
+//! answer, and the answer is narrow (a bound that f64 intervals could not meet), so that both a
+//! wrong and a loose enclosure fail. Also the command line's `--precision` as a user meets it.
+
+use crate::common::model;
+use dalembert::precision::dd::{Dd, DdInterval};
+use dalembert::{flow_at_in, FlowOptions};
+
+const TABLE: &str = include_str!("../data/flow_reference.txt");
+
+fn nums(s: &str) -> Vec<f64> {
+    s.split(',').map(|x| x.parse().unwrap()).collect()
+}
+
+/// An exact double from Python's hex form `[-]0x1.<13 hex digits>p<exp>` (or `0x0.0p+0`),
+/// in the normal range.
+fn hex_f64(s: &str) -> f64 {
+    let (neg, s) = s.strip_prefix('-').map_or((false, s), |r| (true, r));
+    let s = s.strip_prefix("0x").unwrap();
+    let (mant, exp) = s.split_once('p').unwrap();
+    let (int, frac) = mant.split_once('.').unwrap_or((mant, ""));
+    let mut m = u64::from_str_radix(int, 16).unwrap() as f64;
+    for (k, c) in frac.chars().enumerate() {
+        let d = c.to_digit(16).unwrap() as f64;
+        m += d * 2f64.powi(-4 * (k as i32 + 1));
+    }
+    let x = m * 2f64.powi(exp.parse::<i32>().unwrap());
+    assert!(x == 0.0 || x.is_normal(), "{s}");
+    if neg {
+        -x
+    } else {
+        x
+    }
+}
+
+/// The reference enclosure from its four doubles `lo_hi lo_lo up_hi up_lo` (exact sums).
+fn reference(f: &[&str]) -> DdInterval {
+    let d = |a: &str, b: &str| Dd::new(hex_f64(a), hex_f64(b));
+    DdInterval::new(d(f[0], f[1]), d(f[2], f[3])).unwrap()
+}
+
+#[test]
+fn double_double_flows_contain_the_closed_forms_and_are_narrow() {
+    let mut checked = 0;
+    for line in TABLE.lines() {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let (scene, q, u, t) = (f[0], nums(f[1]), nums(f[2]), f[3].parse::<f64>().unwrap());
+        let m = model(scene, &[]);
+        let e = flow_at_in::<DdInterval>(&m, &q, &u, &[t], &FlowOptions::default())
+            .unwrap_or_else(|e| panic!("{line}: {e}"))
+            .pop()
+            .unwrap();
+        let got: Vec<DdInterval> = e.q.iter().chain(&e.u).chain(&e.v).copied().collect();
+        assert_eq!(got.len() * 4, f.len() - 4, "{line}");
+        for (k, x) in got.iter().enumerate() {
+            let r = reference(&f[4 + 4 * k..8 + 4 * k]);
+            assert!(
+                r.subset(*x),
+                "{scene} t = {t}: component {k}: the exact value {r} is not inside {x}"
+            );
+            // long flows magnify the rounding: 1e-28 relative per unit of time at most
+            let bound = 1e-28 * t.abs().max(1.0) * x.mag_up().max(1.0);
+            assert!(
+                x.wid_up() <= bound,
+                "{scene} t = {t}: component {k} is {:e} wide (bound {bound:e})",
+                x.wid_up()
+            );
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 11 * 8);
+}
+
+/// The double-double answer and the f64 one both contain the exact state, so they meet; the
+/// double-double one is narrower.
+#[test]
+fn double_double_and_f64_flows_agree_and_the_wider_bits_are_narrower() {
+    let m = model("knife", &[]);
+    let (q, u) = ([0.1, -0.2, 0.3], [0.9, -0.6]);
+    let opts = FlowOptions::default();
+    let dd = flow_at_in::<DdInterval>(&m, &q, &u, &[-3.0, 2.0, 40.0], &opts).unwrap();
+    let f = dalembert::flow::flow_at(&m, &q, &u, &[-3.0, 2.0, 40.0], &opts).unwrap();
+    for (a, b) in dd.iter().zip(&f) {
+        for (x, y) in a.q.iter().chain(&a.u).zip(b.q.iter().chain(&b.u)) {
+            let y = DdInterval::from_f64_pair(y.inf(), y.sup()).unwrap();
+            assert!(!x.disjoint(y), "{x} and {y} are disjoint");
+            assert!(
+                x.wid_up() < y.wid_up() || y.wid_up() == 0.0,
+                "{x} is not narrower than {y}"
+            );
+        }
+    }
+}
