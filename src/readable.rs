@@ -1,33 +1,35 @@
-//! Readable `{:?}` of internal types that hold `inari::Interval`s (the Lohner sets): every
+//! Readable `{:?}` of internal types that hold intervals (the Lohner sets): every
 //! interval printed as the answers' [`crate::Interval`] prints, `[lo, hi]`. inari's own
 //! `Debug` shows its SIMD representation (`__m128d(-lo, hi)`), which no reader should have
 //! to decode.
 
+use crate::enclosure::Ival;
+#[cfg(test)]
 use inari::Interval;
 use std::fmt;
 
-/// A field shown readably (see [`readable_debug`]).
+/// A field shown readably: an interval, or a vector, matrix or option of them, as `[lo, hi]`.
 pub(crate) struct Show<'a, T: ?Sized>(pub &'a T);
 
-impl fmt::Debug for Show<'_, Interval> {
+impl<I: Ival> fmt::Debug for Show<'_, I> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        fmt::Debug::fmt(&crate::Interval::from(*self.0), f)
+        self.0.readable(f)
     }
 }
 
-impl fmt::Debug for Show<'_, Vec<Interval>> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_list().entries(self.0.iter().map(Show)).finish()
-    }
-}
-
-impl fmt::Debug for Show<'_, Vec<Vec<Interval>>> {
+impl<I: Ival> fmt::Debug for Show<'_, Vec<I>> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_list().entries(self.0.iter().map(Show)).finish()
     }
 }
 
-impl fmt::Debug for Show<'_, Option<Interval>> {
+impl<I: Ival> fmt::Debug for Show<'_, Vec<Vec<I>>> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_list().entries(self.0.iter().map(Show)).finish()
+    }
+}
+
+impl<I: Ival> fmt::Debug for Show<'_, Option<I>> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.0 {
             Some(x) => write!(f, "Some({:?})", Show(x)),
@@ -35,27 +37,6 @@ impl fmt::Debug for Show<'_, Option<Interval>> {
         }
     }
 }
-
-/// `impl Debug` for a struct whose fields are listed with their kind: `iv` (an interval, or
-/// a vector, matrix or option of them: shown by [`Show`]) or `dbg` (their own `Debug`).
-macro_rules! readable_debug {
-    ($ty:ident $(<$gen:ty>)? { $($field:ident: $kind:ident),* $(,)? }) => {
-        impl std::fmt::Debug for $ty $(<$gen>)? {
-            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                let mut d = f.debug_struct(stringify!($ty));
-                $( $crate::readable::readable_debug!(@field d, self, $field, $kind); )*
-                d.finish()
-            }
-        }
-    };
-    (@field $d:ident, $s:ident, $field:ident, iv) => {
-        $d.field(stringify!($field), &$crate::readable::Show(&$s.$field));
-    };
-    (@field $d:ident, $s:ident, $field:ident, dbg) => {
-        $d.field(stringify!($field), &$s.$field);
-    };
-}
-pub(crate) use readable_debug;
 
 #[cfg(test)]
 mod tests {
@@ -67,11 +48,15 @@ mod tests {
         b: Vec<Vec<Interval>>,
         c: usize,
     }
-    readable_debug!(Two {
-        a: iv,
-        b: iv,
-        c: dbg
-    });
+    impl fmt::Debug for Two {
+        fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.debug_struct("Two")
+                .field("a", &Show(&self.a))
+                .field("b", &Show(&self.b))
+                .field("c", &self.c)
+                .finish()
+        }
+    }
 
     #[test]
     fn intervals_print_as_their_exact_endpoints() {

@@ -20,6 +20,10 @@ pub(super) enum C1 {
     Precise,
 }
 
+/// What [`flow_set_general`] hands back: the set at the end, the derivative when asked
+/// for, and the statistics.
+pub(super) type Flown<I> = (LohnerSet<I>, Option<IMat<I>>, FlowStats);
+
 /// Carry `set` over every span of time in `total` (a point for a float time). `memo`: the
 /// last accepted step that was not the final one, and its remainder's width relative to the
 /// tolerance (5.8), read at the start and left for a continuation.
@@ -33,7 +37,7 @@ pub(super) fn flow_set_general<I: Ival>(
     c1_mode: C1,
     memo: &mut Option<(f64, f64)>,
     explain: Option<Explain<'_>>,
-) -> Result<(LohnerSet<I>, Option<IMat<I>>, FlowStats), Error> {
+) -> Result<Flown<I>, Error> {
     let t = total.sup();
     let c1 = c1_mode != C1::No;
     let precise = c1_mode == C1::Precise;

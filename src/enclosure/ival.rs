@@ -18,6 +18,15 @@ use std::fmt::Debug;
 pub trait Ival: Coef + PartialEq + Debug + Send + Sync {
     /// The points of this precision (centres of sets): `f64` for inari's intervals.
     type Pt: Copy + PartialEq + Debug + Send + Sync + 'static;
+    /// The interval of the answers at this precision: [`crate::Interval`] for inari's (it
+    /// prints `[lo, hi]`), the type itself otherwise.
+    type Public: Clone + Debug + PartialEq + Send + Sync + 'static;
+    /// As an answer's interval.
+    fn public(self) -> Self::Public;
+    /// From an answer's interval (the same set).
+    fn from_public(p: Self::Public) -> Self;
+    /// `{:?}` as `[lo, hi]` (inari's own `Debug` shows its SIMD representation).
+    fn readable(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result;
     /// The unit of the rounding level that tolerances are relative to: `2^-52` for 53-bit
     /// significands ([`f64::EPSILON`]), `2^(1 - bits)` in general.
     /// (A function, not a constant: a precision may be chosen at run time.)
@@ -55,6 +64,8 @@ pub trait Ival: Coef + PartialEq + Debug + Send + Sync {
     fn contains(&self, x: f64) -> bool;
     /// Whether `self` is inside `other`.
     fn subset(&self, other: Self) -> bool;
+    /// Whether `self` is inside the interior of `other`.
+    fn interior(&self, other: Self) -> bool;
     /// The intersection (possibly empty).
     fn intersection(&self, other: Self) -> Self;
     /// The smallest interval containing both.
@@ -106,6 +117,16 @@ pub trait Ival: Coef + PartialEq + Debug + Send + Sync {
 
 impl Ival for Interval {
     type Pt = f64;
+    type Public = crate::Interval;
+    fn public(self) -> crate::Interval {
+        crate::Interval::from(self)
+    }
+    fn from_public(p: crate::Interval) -> Self {
+        Interval::from(p)
+    }
+    fn readable(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        Debug::fmt(&crate::Interval::from(*self), f)
+    }
     fn eps() -> f64 {
         f64::EPSILON
     }
@@ -154,6 +175,9 @@ impl Ival for Interval {
     fn subset(&self, other: Self) -> bool {
         Interval::subset(*self, other)
     }
+    fn interior(&self, other: Self) -> bool {
+        Interval::interior(*self, other)
+    }
     fn intersection(&self, other: Self) -> Self {
         Interval::intersection(*self, other)
     }
@@ -182,6 +206,16 @@ impl Ival for Interval {
 /// those of 53 bits (the step rule (5.8) aims at the same step sizes with twice the bits).
 impl Ival for DdInterval {
     type Pt = Dd;
+    type Public = DdInterval;
+    fn public(self) -> DdInterval {
+        self
+    }
+    fn from_public(p: DdInterval) -> Self {
+        p
+    }
+    fn readable(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        Debug::fmt(self, f)
+    }
     fn eps() -> f64 {
         f64::EPSILON * f64::EPSILON
     }
@@ -226,6 +260,9 @@ impl Ival for DdInterval {
     }
     fn subset(&self, other: Self) -> bool {
         DdInterval::subset(*self, other)
+    }
+    fn interior(&self, other: Self) -> bool {
+        DdInterval::interior(*self, other)
     }
     fn intersection(&self, other: Self) -> Self {
         DdInterval::intersection(*self, other)

@@ -32,15 +32,20 @@ pub struct LohnerSet<I: Ival = Interval> {
     pub sub: Option<SubSet<I>>,
 }
 
-crate::readable::readable_debug!(LohnerSet<Interval> {
-    m: dbg,
-    c: dbg,
-    r0: iv,
-    b: dbg,
-    r: iv,
-    boxed: iv,
-    sub: dbg
-});
+impl<I: Ival> std::fmt::Debug for LohnerSet<I> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        use crate::readable::Show;
+        f.debug_struct("LohnerSet")
+            .field("m", &self.m)
+            .field("c", &self.c)
+            .field("r0", &Show(&self.r0))
+            .field("b", &self.b)
+            .field("r", &Show(&self.r))
+            .field("boxed", &Show(&self.boxed))
+            .field("sub", &self.sub)
+            .finish()
+    }
+}
 
 /// The marked subset of a [`LohnerSet`]: its own `[r0]`, `[r]` (inside the set's) and box.
 #[derive(Clone, PartialEq)]
@@ -53,11 +58,16 @@ pub struct SubSet<I = Interval> {
     pub boxed: Vec<I>,
 }
 
-crate::readable::readable_debug!(SubSet<Interval> {
-    r0: iv,
-    r: iv,
-    boxed: iv
-});
+impl<I: Ival> std::fmt::Debug for SubSet<I> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        use crate::readable::Show;
+        f.debug_struct("SubSet")
+            .field("r0", &Show(&self.r0))
+            .field("r", &Show(&self.r))
+            .field("boxed", &Show(&self.boxed))
+            .finish()
+    }
+}
 
 /// `x - m` in intervals.
 pub(super) fn relative<I: Ival>(x: &[I], m: &[I::Pt]) -> Vec<I> {

@@ -1,10 +1,8 @@
 //! The Krawczyk operator with epsilon-inflation ([spec eq. (6.3)](crate::spec::exact_discrete), Theorem 6.1).
 
 use crate::enclosure::linalg::{self, IMat};
-use crate::scalar::{iv, point};
-use crate::tape::finite;
+use crate::enclosure::Ival;
 use crate::Error;
-use inari::Interval;
 use nalgebra::DMatrix;
 
 /// A box containing the unique zero of `G` near `guess`, with `c` any float matrix
@@ -22,13 +20,13 @@ use nalgebra::DMatrix;
 /// (Krawczyk 1969; Moore 1977; [spec Theorem 6.1](crate::spec::exact_discrete)); `K(X)` is returned, narrowed by the
 /// passes of [spec (6.3')](crate::spec::exact_discrete) (each keeps the zero). After 8 inflations without that inclusion:
 /// `Error::Uncertified`.
-pub fn krawczyk(
+pub fn krawczyk<I: Ival>(
     guess: &[f64],
     c: &DMatrix<f64>,
     rad: &[f64],
     scale: f64,
-    gd: impl Fn(&[Interval]) -> Result<(Vec<Interval>, Vec<Vec<Interval>>), Error>,
-) -> Result<Vec<Interval>, Error> {
+    gd: impl Fn(&[I]) -> Result<(Vec<I>, Vec<Vec<I>>), Error>,
+) -> Result<Vec<I>, Error> {
     // A floor of a few ulps of what reaches each component (not of the component itself: a
     // component that is exactly 0 needs room too, since the coupling through I - C DG moves
     // it by about eps times the other components). First the floor of what couples into
@@ -74,7 +72,7 @@ impl Failed {
 /// spectral radius is 1 or more; a larger box only widens `DG(X)` and so `|M|`. So when
 /// this is above 1, inflating further is work without hope, and the test stops (a policy
 /// that decides how soon to refuse; it changes no answer's soundness).
-fn contraction_floor(m: &IMat, rad: &[f64]) -> f64 {
+fn contraction_floor<I: Ival>(m: &IMat<I>, rad: &[f64]) -> f64 {
     (0..rad.len())
         .map(|i| {
             let mr: f64 = m[i].iter().zip(rad).map(|(x, r)| x.mag() * r).sum();
@@ -84,34 +82,37 @@ fn contraction_floor(m: &IMat, rad: &[f64]) -> f64 {
 }
 
 /// Epsilon-inflation from the radii `rad` with the floor `floor`: at most 8 boxes.
-fn inflate(
+fn inflate<I: Ival>(
     guess: &[f64],
     c: &DMatrix<f64>,
     rad: &[f64],
     floor: &[f64],
-    gd: &impl Fn(&[Interval]) -> Result<(Vec<Interval>, Vec<Vec<Interval>>), Error>,
-) -> Result<Vec<Interval>, Failed> {
+    gd: &impl Fn(&[I]) -> Result<(Vec<I>, Vec<Vec<I>>), Error>,
+) -> Result<Vec<I>, Failed> {
     let n = guess.len();
-    let zt: Vec<Interval> = guess.iter().map(|x| point(*x)).collect();
+    let zt: Vec<I> = guess.iter().map(|x| I::cst(*x)).collect();
     let ci = linalg::imat(c);
     let mut rad: Vec<f64> = (0..n)
         .map(|i| rad[i].abs() + 8.0 * f64::EPSILON * guess[i].abs() + floor[i])
         .collect();
     for _ in 0..8 {
-        let x: Vec<Interval> = (0..n).map(|i| zt[i] + iv(-rad[i], rad[i])).collect();
-        if !x.iter().all(|v| finite(*v)) {
+        let x: Vec<I> = (0..n).map(|i| zt[i] + I::iv(-rad[i], rad[i])).collect();
+        if !x.iter().all(|v| v.is_finite()) {
             break;
         }
         let (gz, d) = gd(&x).map_err(Failed::Other)?;
         let cg = linalg::mul_vec(&ci, &gz);
-        if !cg.iter().all(|x| finite(*x)) {
+        if !cg.iter().all(|x| x.is_finite()) {
             return Err(Failed::Other(Error::uncertified(
                 "shooting map not finite at the Newton point",
             )));
         }
         let i_minus_cd = linalg::identity_minus(&linalg::mul(&ci, &IMat::from_rows(&d)));
         let k = image(&zt, &cg, &i_minus_cd, &x);
-        if k.iter().zip(&x).all(|(a, b)| finite(*a) && a.interior(*b)) {
+        if k.iter()
+            .zip(&x)
+            .all(|(a, b)| a.is_finite() && a.interior(*b))
+        {
             return refine(&zt, &cg, &i_minus_cd, k).map_err(Failed::Other);
         }
         let rho = contraction_floor(&i_minus_cd, &rad);
@@ -135,8 +136,8 @@ fn inflate(
 
 /// `z~ - C [G(z~)] + M (Y - z~)` ([spec (6.3)](crate::spec::exact_discrete)), `cg = C [G(z~)]` and `m = I - C [DG](X)`:
 /// `K(X)` for `Y = X`, and each pass of (6.3').
-fn image(zt: &[Interval], cg: &[Interval], m: &IMat, y: &[Interval]) -> Vec<Interval> {
-    let dy: Vec<Interval> = y.iter().zip(zt).map(|(a, z)| *a - *z).collect();
+fn image<I: Ival>(zt: &[I], cg: &[I], m: &IMat<I>, y: &[I]) -> Vec<I> {
+    let dy: Vec<I> = y.iter().zip(zt).map(|(a, z)| *a - *z).collect();
     let lin = linalg::mul_vec(m, &dy);
     (0..y.len()).map(|i| zt[i] - cg[i] + lin[i]).collect()
 }
@@ -151,14 +152,9 @@ const REFINE_PASSES: usize = 64;
 /// `Y = K(X)` keeps `z*` and costs no flow. Passes stop once no component narrows to below
 /// 7/8 of its width, or after REFINE_PASSES. An empty intersection can only come from a
 /// fault of the crate ([spec 0.4](crate::spec::overview#04-self-checks-vnode-lp-and-capd-style)).
-fn refine(
-    zt: &[Interval],
-    cg: &[Interval],
-    m: &IMat,
-    mut y: Vec<Interval>,
-) -> Result<Vec<Interval>, Error> {
+fn refine<I: Ival>(zt: &[I], cg: &[I], m: &IMat<I>, mut y: Vec<I>) -> Result<Vec<I>, Error> {
     for _ in 0..REFINE_PASSES {
-        let next: Vec<Interval> = image(zt, cg, m, &y)
+        let next: Vec<I> = image(zt, cg, m, &y)
             .iter()
             .zip(&y)
             .map(|(k, y)| k.intersection(*y))
@@ -200,6 +196,8 @@ fn coupled_floor(guess: &[f64], c: &DMatrix<f64>) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scalar::{iv, point};
+    use inari::Interval;
 
     #[test]
     fn encloses_sqrt2_and_refuses_a_double_root() {

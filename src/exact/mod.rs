@@ -7,13 +7,11 @@ mod krawczyk;
 use crate::enclosure::linalg::{self, IMat};
 use crate::enclosure::{
     float_flow_counted, float_flow_tail_counted, flow_set, flow_set_c1, flow_set_span, FlowOptions,
-    LohnerSet,
+    Ival, LohnerSet,
 };
 use crate::interval::{unwrap, wrap, wrap_rows};
 use crate::model::Model;
 use crate::newton::{self, NewtonFailure, NewtonOptions, NewtonOutcome};
-use crate::scalar::point;
-use crate::tape::finite;
 use crate::Interval;
 use crate::{Error, Reason};
 use inari::Interval as Inari;
@@ -68,7 +66,7 @@ pub fn exponential(
     })
 }
 
-fn velocity(model: &Model, x: &[Inari]) -> Result<Vec<Inari>, Error> {
+fn velocity<I: Ival>(model: &Model, x: &[I]) -> Result<Vec<I>, Error> {
     model
         .velocity
         .eval_checked(x)
@@ -76,7 +74,7 @@ fn velocity(model: &Model, x: &[Inari]) -> Result<Vec<Inari>, Error> {
 }
 
 /// Velocities over a state set, by the centred form ([spec eq. (5.12)](crate::spec::enclosure)).
-fn set_velocity(model: &Model, set: &LohnerSet) -> Result<Vec<Inari>, Error> {
+fn set_velocity<I: Ival>(model: &Model, set: &LohnerSet<I>) -> Result<Vec<I>, Error> {
     set.image(&model.velocity_jac)
         .ok_or_else(|| Error::refused(Reason::Unbounded, "velocity enclosure is not finite"))
 }
@@ -87,7 +85,7 @@ pub fn normal_matrix(model: &Model, q: &[Interval]) -> Result<Vec<Vec<Interval>>
 }
 
 /// [`normal_matrix`] in the computation's intervals.
-fn normal_rows(model: &Model, q: &[Inari]) -> Result<Vec<Vec<Inari>>, Error> {
+fn normal_rows<I: Ival>(model: &Model, q: &[I]) -> Result<Vec<Vec<I>>, Error> {
     let (n, k) = (model.n, model.k);
     let mu = model
         .constraints
@@ -99,23 +97,40 @@ fn normal_rows(model: &Model, q: &[Inari]) -> Result<Vec<Vec<Inari>>, Error> {
 }
 
 /// The exact retraction at a pair ([spec eqs. (6.2)-(6.4)](crate::spec::exact_discrete)).
+///
+/// Computed in the interval type `I` (inari's, 53 bits, unless [`retract_in`] chose
+/// another): the fields are `I`'s answer intervals ([`Ival::Public`]).
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(serialize = "I::Public: serde::Serialize"))
+)]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
-pub struct Retraction {
+pub struct Retraction<I: Ival = Inari> {
     /// Quasi-velocities at Q0: `R^{e-}` in the basis of D.
-    pub u0: Vec<Interval>,
+    pub u0: Vec<I::Public>,
     /// The defect s in R^k: (Q0, Q1) is in M_h^{e,nh} iff s = 0.
-    pub s: Vec<Interval>,
+    pub s: Vec<I::Public>,
     /// `v0 = E(Q0)^T u0 = R^{e-}_{h,nh}(Q0, Q1)`.
-    pub v0: Vec<Interval>,
+    pub v0: Vec<I::Public>,
     /// `v1 = qd(h) = R^{e+}_{h,nh}`.
-    pub v1: Vec<Interval>,
+    pub v1: Vec<I::Public>,
     /// `q(h) = Q1 + N(Q1) s`, the point of M_h^{e,nh} over Q0 nearest Q1 along N.
-    pub q1: Vec<Interval>,
+    pub q1: Vec<I::Public>,
     /// The state set at time h (carries the trajectory on); not serialized.
     #[cfg_attr(feature = "serde", serde(skip))]
-    pub set: LohnerSet,
+    pub set: LohnerSet<I>,
+}
+
+/// As answers' intervals.
+fn public<I: Ival>(x: Vec<I>) -> Vec<I::Public> {
+    x.into_iter().map(I::public).collect()
+}
+
+/// From answers' intervals.
+fn private<I: Ival>(x: &[I::Public]) -> Vec<I> {
+    x.iter().map(|p| I::from_public(p.clone())).collect()
 }
 
 impl Retraction {
@@ -155,17 +170,38 @@ pub fn retract(
     h: f64,
     opts: &FlowOptions,
 ) -> Result<Retraction, Error> {
-    retract_in(model, &unwrap(q0), &unwrap(q1), h, opts)
+    retract_box(model, &unwrap(q0), &unwrap(q1), h, opts)
+}
+
+/// [`retract`] at the exact f64 points `q0`, `q1`, computed in the interval type `I` (e.g.
+/// [`crate::precision::dd::DdInterval`], about 106 bits; [spec/12-precision.md](crate::spec::precision)): the same
+/// Newton guess, Krawczyk test and flows, at `I`'s precision.
+///
+/// # Containment
+/// As [`retract`], whatever `I` ([spec Theorem 6.1](crate::spec::exact_discrete)).
+pub fn retract_in<I: Ival>(
+    model: &Model,
+    q0: &[f64],
+    q1: &[f64],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<Retraction<I>, Error> {
+    retract_box(model, &points::<I>(q0), &points::<I>(q1), h, opts)
+}
+
+/// The exact f64 values as degenerate intervals of `I`.
+fn points<I: Ival>(x: &[f64]) -> Vec<I> {
+    x.iter().map(|v| I::cst(*v)).collect()
 }
 
 /// [`retract`] with the pair in the computation's intervals.
-fn retract_in(
+fn retract_box<I: Ival>(
     model: &Model,
-    q0: &[Inari],
-    q1: &[Inari],
+    q0: &[I],
+    q1: &[I],
     h: f64,
     opts: &FlowOptions,
-) -> Result<Retraction, Error> {
+) -> Result<Retraction<I>, Error> {
     check_pair(model, q0, q1, h)?;
     let (n, k) = (model.n, model.k);
     let m = n - k;
@@ -180,23 +216,23 @@ fn retract_in(
         .ok_or_else(|| Error::uncertified("singular Jacobian of the shooting map"))?;
     // The state set at time h from the last Krawczyk box (it contains the answer's).
     let last_set = std::cell::RefCell::new(None);
-    let x0_of = |u: &[Inari]| q0.iter().chain(u).copied().collect::<Vec<_>>();
+    let x0_of = |u: &[I]| q0.iter().chain(u).copied().collect::<Vec<_>>();
     // One C^1 flow of the box X = (Q0, U) with the point (Q0, u~) marked (spec eq. (6.3)):
     // G(z~; Q0, Q1) = q(h; Q0, u~) - Q1 - N(Q1) s~ from the marked subset, and
     // DG = [D_u q(h) | -N(Q1)] over the box.
-    let centre: Vec<f64> = q0
+    let centre: Vec<I::Pt> = q0
         .iter()
-        .map(|x| x.mid())
-        .chain(guess[..m].iter().copied())
+        .map(|x| x.mid_pt())
+        .chain(guess[..m].iter().map(|x| I::pt_of(*x)))
         .collect();
-    let at_guess: Vec<Inari> = guess.iter().map(|x| point(*x)).collect();
+    let at_guess: Vec<I> = guess.iter().map(|x| I::cst(*x)).collect();
     let marked = x0_of(&at_guess[..m]);
     let ns_guess = linalg::mul_vec(&nq1, &at_guess[m..]);
     // The validated flows of all Krawczyk boxes share KRAWCZYK_WORK * max_taylor_steps steps, so
     // that a hard pair costs a bounded amount of work whatever the inflations do.
     let work = std::cell::Cell::new(0usize);
     let work_budget = KRAWCZYK_WORK * opts.max_taylor_steps;
-    let gd = |z: &[Inari]| -> Result<(Vec<Inari>, Vec<Vec<Inari>>), Error> {
+    let gd = |z: &[I]| -> Result<(Vec<I>, Vec<Vec<I>>), Error> {
         let left = work_budget.saturating_sub(work.get());
         if left == 0 {
             return Err(Error::over_limit(
@@ -263,8 +299,14 @@ fn retract_in(
     // m + C a + B [r] (spec (5.10')), so the propagated part may be restricted to
     // a in K(X) - centre (with 0, which the set's invariant keeps).
     for (i, u) in u0.iter().enumerate() {
-        let a = (*u - point(centre[n + i])).convex_hull(point(0.0));
+        let a = (*u - I::pt(centre[n + i])).convex_hull(I::zero());
         set.r0[n + i] = set.r0[n + i].intersection(a);
+    }
+    // (6.4'') Above 53 bits the float centre is about 2^-53 from u0, which the restriction
+    // keeps in the set's width; the set at h is then the flow of the box (Q0, u0) itself,
+    // centred in it (one flow more, and an enclosure of the same states).
+    if I::eps() < f64::EPSILON {
+        set = flow_set(&model.dynamics, LohnerSet::from_box(&x0_of(&u0)), h, opts)?.0;
     }
     let hull = set.hull();
     let v1 = set_velocity(model, &set)?;
@@ -275,11 +317,11 @@ fn retract_in(
         &(0..n).map(|i| q1[i] + ns[i]).collect::<Vec<_>>(),
     )?;
     Ok(Retraction {
-        u0: wrap(u0),
-        s: wrap(s),
-        v0: wrap(v0),
-        v1: wrap(v1),
-        q1: wrap(q_at_h),
+        u0: public(u0),
+        s: public(s),
+        v0: public(v0),
+        v1: public(v1),
+        q1: public(q_at_h),
         set,
     })
 }
@@ -290,8 +332,8 @@ pub fn intersect_checked(a: &[Interval], b: &[Interval]) -> Result<Vec<Interval>
 }
 
 /// [`intersect_checked`] in the computation's intervals.
-fn intersect(a: &[Inari], b: &[Inari]) -> Result<Vec<Inari>, Error> {
-    let r: Vec<Inari> = a.iter().zip(b).map(|(x, y)| x.intersection(*y)).collect();
+fn intersect<I: Ival>(a: &[I], b: &[I]) -> Result<Vec<I>, Error> {
+    let r: Vec<I> = a.iter().zip(b).map(|(x, y)| x.intersection(*y)).collect();
     if r.iter().any(|x| x.is_empty()) {
         // both enclose the same exact value: disjoint only through a fault of the crate
         return Err(Error::internal_at(
@@ -302,7 +344,7 @@ fn intersect(a: &[Inari], b: &[Inari]) -> Result<Vec<Inari>, Error> {
     Ok(r)
 }
 
-fn check_pair(model: &Model, q0: &[Inari], q1: &[Inari], h: f64) -> Result<(), Error> {
+fn check_pair<I: Ival>(model: &Model, q0: &[I], q1: &[I], h: f64) -> Result<(), Error> {
     let n = model.n;
     if q0.len() != n || q1.len() != n {
         return Err(Error::input(format!(
@@ -310,14 +352,19 @@ fn check_pair(model: &Model, q0: &[Inari], q1: &[Inari], h: f64) -> Result<(), E
             model.name()
         )));
     }
-    if !q0.iter().chain(q1).all(|x| finite(*x)) {
+    if !q0.iter().chain(q1).all(|x| x.is_finite()) {
         return Err(Error::input("non-finite number in q0 or q1"));
     }
     if !h.is_finite() || h <= 0.0 {
         return Err(Error::input(format!("h must be finite and > 0 (got {h})")));
     }
-    model.check_at(q0)?;
-    model.check_at(q1)
+    let f64s = |x: &[I]| {
+        x.iter()
+            .map(|v| crate::scalar::iv(v.inf(), v.sup()))
+            .collect::<Vec<_>>()
+    };
+    model.check_at(&f64s(q0))?;
+    model.check_at(&f64s(q1))
 }
 
 /// The float Newton's point, the float Jacobian of G there and the float residual G.
@@ -334,16 +381,16 @@ const KRAWCZYK_WORK: usize = 3;
 /// `E(Q0)^T u ~ (Q1 - Q0)/h`, s = 0, on a float Taylor integration of the flow and its
 /// variational equation in u0. It only chooses the centre of the Krawczyk box and the
 /// matrix C; returns the point, the float Jacobian of G there and the float residual G.
-fn newton_guess(
+fn newton_guess<I: Ival>(
     model: &Model,
-    q0: &[Inari],
-    q1: &[Inari],
+    q0: &[I],
+    q1: &[I],
     h: f64,
     opts: &FlowOptions,
 ) -> Result<NewtonGuess, Error> {
     let (n, k) = (model.n, model.k);
     let m = n - k;
-    let mid = |x: &[Inari]| x.iter().map(|v| v.mid()).collect::<Vec<f64>>();
+    let mid = |x: &[I]| x.iter().map(|v| v.mid()).collect::<Vec<f64>>();
     let (a, b) = (mid(q0), mid(q1));
     let not_converged =
         || Error::uncertified("Newton iteration for the retraction did not converge");
@@ -487,20 +534,26 @@ fn newton_guess(
 }
 
 /// The exact discrete flow and Legendre transforms at a pair ([spec eqs. (6.5)-(6.7)](crate::spec::exact_discrete)).
+///
+/// Computed in the interval type `I` as [`Retraction`] is.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(serialize = "I::Public: serde::Serialize"))
+)]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
-pub struct ExactStep {
+pub struct ExactStep<I: Ival = Inari> {
     /// The retraction of `(Q0, Q1)` the step starts from ([spec eqs. (6.2)-(6.4)](crate::spec::exact_discrete)).
-    pub retraction: Retraction,
+    pub retraction: Retraction<I>,
     /// `q(h)`, the point of M_h^{e,nh}.
-    pub q1: Vec<Interval>,
+    pub q1: Vec<I::Public>,
     /// `q(2h)`: the exact discrete flow maps (q0, q1) to (q1, q2).
-    pub q2: Vec<Interval>,
+    pub q2: Vec<I::Public>,
     /// `F^-_{h,nh} l = (<FL(v0), e_a(Q0)>)_a`.
-    pub p_minus: Vec<Interval>,
+    pub p_minus: Vec<I::Public>,
     /// `F^+_{h,nh} l = (<FL(v1), e_a(q1)>)_a`.
-    pub p_plus: Vec<Interval>,
+    pub p_plus: Vec<I::Public>,
 }
 
 /// One step of the exact discrete flow, with the Legendre transforms.
@@ -531,17 +584,42 @@ pub fn step(
     h: f64,
     opts: &FlowOptions,
 ) -> Result<ExactStep, Error> {
+    step_box(model, &unwrap(q0), &unwrap(q1), h, opts)
+}
+
+/// [`step`] at the exact f64 points `q0`, `q1`, computed in the interval type `I` (as
+/// [`retract_in`]).
+///
+/// # Containment
+/// As [`step`], whatever `I` ([spec Theorem 6.2](crate::spec::exact_discrete)).
+pub fn step_in<I: Ival>(
+    model: &Model,
+    q0: &[f64],
+    q1: &[f64],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<ExactStep<I>, Error> {
+    step_box(model, &points::<I>(q0), &points::<I>(q1), h, opts)
+}
+
+fn step_box<I: Ival>(
+    model: &Model,
+    q0: &[I],
+    q1: &[I],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<ExactStep<I>, Error> {
     let n = model.n;
-    let r = retract(model, q0, q1, h, opts)?;
-    let p_minus = momentum(model, q0, &r.v0)?;
-    let p_plus = momentum(model, &r.q1, &r.v1)?;
+    let r = retract_box(model, q0, q1, h, opts)?;
+    let p_minus = momentum_in(model, q0, &private::<I>(&r.v0))?;
+    let p_plus = momentum_in(model, &private::<I>(&r.q1), &private::<I>(&r.v1))?;
     let (set2, _) = flow_set(&model.dynamics, r.set.clone(), h, opts)?;
-    let q2 = wrap(set2.hull()[..n].to_vec());
+    let q2 = public(set2.hull()[..n].to_vec());
     Ok(ExactStep {
         q1: r.q1.clone(),
         q2,
-        p_minus,
-        p_plus,
+        p_minus: public(p_minus),
+        p_plus: public(p_plus),
         retraction: r,
     })
 }
@@ -553,8 +631,8 @@ pub fn momentum(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Vec<Int
 }
 
 /// [`momentum`] in the computation's intervals.
-fn momentum_in(model: &Model, q: &[Inari], v: &[Inari]) -> Result<Vec<Inari>, Error> {
-    let x: Vec<Inari> = q.iter().chain(v).copied().collect();
+fn momentum_in<I: Ival>(model: &Model, q: &[I], v: &[I]) -> Result<Vec<I>, Error> {
+    let x: Vec<I> = q.iter().chain(v).copied().collect();
     model
         .momentum_d
         .eval_checked(&x)
@@ -671,7 +749,7 @@ impl<'m> ExactFlow<'m> {
         opts: &FlowOptions,
     ) -> Result<Self, Error> {
         let q0 = unwrap(q0);
-        let retraction = retract_in(model, &q0, &unwrap(q1), h, opts)?;
+        let retraction = retract_box(model, &q0, &unwrap(q1), h, opts)?;
         Ok(ExactFlow {
             model,
             h,
@@ -738,20 +816,47 @@ pub fn discrete_lagrangian(
     h: f64,
     opts: &FlowOptions,
 ) -> Result<(Retraction, Interval), Error> {
-    let r = retract(model, q0, q1, h, opts)?;
-    let x0: Vec<Inari> = q0
+    let (r, l) = lagrangian_box(model, &unwrap(q0), &unwrap(q1), h, opts)?;
+    Ok((r, l.into()))
+}
+
+/// [`discrete_lagrangian`] at the exact f64 points `q0`, `q1`, computed in the interval type
+/// `I` (as [`retract_in`]).
+///
+/// # Containment
+/// As [`discrete_lagrangian`], whatever `I` ([spec eq. (6.8)](crate::spec::exact_discrete)).
+pub fn discrete_lagrangian_in<I: Ival>(
+    model: &Model,
+    q0: &[f64],
+    q1: &[f64],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<(Retraction<I>, I::Public), Error> {
+    let (r, l) = lagrangian_box(model, &points::<I>(q0), &points::<I>(q1), h, opts)?;
+    Ok((r, l.public()))
+}
+
+fn lagrangian_box<I: Ival>(
+    model: &Model,
+    q0: &[I],
+    q1: &[I],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<(Retraction<I>, I), Error> {
+    let r = retract_box(model, q0, q1, h, opts)?;
+    let x0: Vec<I> = q0
         .iter()
-        .chain(&r.u0)
-        .map(|x| Inari::from(*x))
-        .chain(std::iter::once(point(0.0)))
+        .copied()
+        .chain(private::<I>(&r.u0))
+        .chain(std::iter::once(I::zero()))
         .collect();
     let (set, _) = flow_set(&model.with_action, LohnerSet::from_box(&x0), h, opts)?;
     let l = set.hull()[x0.len() - 1];
-    if !finite(l) {
+    if !l.is_finite() {
         return Err(Error::refused(
             Reason::Unbounded,
             "action enclosure not finite",
         ));
     }
-    Ok((r, l.into()))
+    Ok((r, l))
 }

@@ -5,10 +5,12 @@
 //! wrong and a loose enclosure fail. Also the command line's `--precision` as a user meets it.
 
 use crate::common::model;
+use dalembert::exact::{discrete_lagrangian_in, retract_in, step_in};
 use dalembert::precision::dd::{Dd, DdInterval};
 use dalembert::{flow_at_in, FlowOptions};
 
 const TABLE: &str = include_str!("../data/flow_reference.txt");
+const EXACT: &str = include_str!("../data/exact_reference.txt");
 
 fn nums(s: &str) -> Vec<f64> {
     s.split(',').map(|x| x.parse().unwrap()).collect()
@@ -71,6 +73,45 @@ fn double_double_flows_contain_the_closed_forms_and_are_narrow() {
         }
     }
     assert_eq!(checked, 11 * 8);
+}
+
+/// The retraction (u0, s), the exact step's q2 and the exact discrete Lagrangian of the
+/// particle at 106 bits against its closed form (tests/data/exact_reference.py): containment of
+/// the exact values and widths far below f64's.
+#[test]
+fn double_double_retractions_steps_and_lagrangians_contain_the_closed_forms() {
+    let m = model("particle", &[]);
+    let opts = FlowOptions::default();
+    let mut checked = 0;
+    for line in EXACT.lines() {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let (q0, q1, h) = (nums(f[0]), nums(f[1]), f[2].parse::<f64>().unwrap());
+        let r = retract_in::<DdInterval>(&m, &q0, &q1, h, &opts).unwrap();
+        let s = step_in::<DdInterval>(&m, &q0, &q1, h, &opts).unwrap();
+        let (_, l) = discrete_lagrangian_in::<DdInterval>(&m, &q0, &q1, h, &opts).unwrap();
+        let got: Vec<DdInterval> =
+            r.u0.iter()
+                .chain(&r.s)
+                .chain(&s.q2)
+                .copied()
+                .chain([l])
+                .collect();
+        for (k, x) in got.iter().enumerate() {
+            let want = reference(&f[3 + 4 * k..7 + 4 * k]);
+            assert!(
+                want.subset(*x),
+                "{line}: quantity {k}: {want} is not inside {x}"
+            );
+            let bound = 1e-29 * x.mag_up().max(1.0) / h.min(1.0);
+            assert!(
+                x.wid_up() <= bound,
+                "{line}: quantity {k} is {:e} wide",
+                x.wid_up()
+            );
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 4 * 7);
 }
 
 /// The double-double answer and the f64 one both contain the exact state, so they meet; the
