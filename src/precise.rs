@@ -1,29 +1,26 @@
 //! Answers computed with more than 53 bits ([spec/12-precision.md](crate::spec::precision), contract E18): the
-//! query's precision picks the interval type, the generic flow ([`crate::flow::flow_at_in`])
-//! computes in it, and the ends are printed as decimals rounded outward
-//! ([`crate::OutwardDecimal`]).
+//! query's precision picks the interval type, the generic functions ([`crate::flow::flow_at_in`],
+//! [`crate::exact::retract_in`], ...) compute in it, and the ends are printed as decimals
+//! rounded outward ([`crate::OutwardDecimal`]).
 
 use crate::enclosure::{FlowOptions, Ival};
+use crate::exact::{discrete_lagrangian_in, retract_in, step_in};
 use crate::flow::{flow_at_in, flow_c1_in, FlowEnclosure};
 use crate::model::Model;
-use crate::protocol::{Answer, At};
+use crate::precision::dd::DdInterval;
+use crate::protocol::{Answer, At, Query};
 use crate::{DecimalInterval, Error, OutwardDecimal};
 
-/// The `flow` answer at `bits > 53` significand bits: double-double intervals up to 106
-/// bits, arbitrary precision beyond.
-pub(crate) fn flow_answer(
+/// The answer to `query` (flow, retract, step or lagrangian) at `bits > 53` significand bits:
+/// double-double intervals up to 106 bits.
+pub(crate) fn answer(
     bits: u32,
     model: &Model,
-    q: &[f64],
-    u: &[f64],
-    t: &At,
-    jacobian: bool,
+    query: &Query,
     opts: &FlowOptions,
 ) -> Result<Answer, Error> {
     match bits {
-        54..=106 => {
-            flow_in::<crate::precision::dd::DdInterval>(106, model, q, u, t, jacobian, opts)
-        }
+        54..=106 => answer_in::<DdInterval>(106, model, query, opts),
         _ => Err(Error::input_key(
             "precision",
             format!("precision: {bits} bits is above the 106 this build computes with"),
@@ -31,7 +28,69 @@ pub(crate) fn flow_answer(
     }
 }
 
-fn flow_in<I: Ival + OutwardDecimal>(
+fn answer_in<I>(
+    bits: u32,
+    model: &Model,
+    query: &Query,
+    opts: &FlowOptions,
+) -> Result<Answer, Error>
+where
+    I: Ival + OutwardDecimal,
+    I::Public: OutwardDecimal,
+{
+    match query {
+        Query::Flow {
+            q,
+            u,
+            t,
+            order,
+            jacobian,
+            ..
+        } => {
+            let o = FlowOptions {
+                order: (*order > 0).then_some(*order),
+                ..opts.clone()
+            };
+            flow_in::<I>(bits, model, q, u, t, *jacobian, &o)
+        }
+        Query::Retract(p) => {
+            let r = retract_in::<I>(model, &p.q0, &p.q1, p.h, opts)?;
+            Ok(Answer::RetractWide {
+                precision: bits,
+                possibly_member: r.s.iter().all(|x| I::from_public(x.clone()).contains(0.0)),
+                u0: decimals(&r.u0),
+                v0: decimals(&r.v0),
+                v1: decimals(&r.v1),
+                s: decimals(&r.s),
+                q1: decimals(&r.q1),
+            })
+        }
+        Query::Step(p) => {
+            let s = step_in::<I>(model, &p.q0, &p.q1, p.h, opts)?;
+            Ok(Answer::StepWide {
+                precision: bits,
+                q1: decimals(&s.q1),
+                q2: decimals(&s.q2),
+                p_minus: decimals(&s.p_minus),
+                p_plus: decimals(&s.p_plus),
+            })
+        }
+        Query::Lagrangian(p) => {
+            let (r, l) = discrete_lagrangian_in::<I>(model, &p.q0, &p.q1, p.h, opts)?;
+            Ok(Answer::LagrangianWide {
+                precision: bits,
+                l: l.decimal(),
+                s: decimals(&r.s),
+            })
+        }
+        _ => Err(Error::input_key(
+            "precision",
+            "`precision` is read by flow, retract, step and lagrangian only",
+        )),
+    }
+}
+
+fn flow_in<I>(
     bits: u32,
     model: &Model,
     q: &[f64],
@@ -39,7 +98,10 @@ fn flow_in<I: Ival + OutwardDecimal>(
     t: &At,
     jacobian: bool,
     opts: &FlowOptions,
-) -> Result<Answer, Error> {
+) -> Result<Answer, Error>
+where
+    I: Ival + OutwardDecimal,
+{
     let dec = |e: FlowEnclosure<I>| FlowEnclosure {
         q: decimals(&e.q),
         u: decimals(&e.u),
@@ -81,6 +143,6 @@ fn flow_in<I: Ival + OutwardDecimal>(
     }
 }
 
-fn decimals<I: OutwardDecimal>(x: &[I]) -> Vec<DecimalInterval> {
+fn decimals<P: OutwardDecimal>(x: &[P]) -> Vec<DecimalInterval> {
     x.iter().map(|v| v.decimal()).collect()
 }

@@ -85,9 +85,26 @@ pub(crate) struct PairArgs {
     pub deadline: Option<String>,
     #[arg(long, allow_hyphen_values = true, help = WORK_HELP)]
     pub work: Option<String>,
+    #[arg(long, allow_hyphen_values = true, help = PRECISION_HELP)]
+    pub precision: Option<String>,
     /// Print one JSON object
     #[arg(long)]
     pub json: bool,
+}
+
+const PRECISION_HELP: &str = "Significand bits to compute with: 53 (default, f64 intervals) \
+     up to 4096; above 53 each end prints as a decimal string rounded outward (retract, step, \
+     lagrangian and flow)";
+
+/// `query` at the precision of `--precision` (none: 53 bits; contract E18).
+fn precise(query: Query, precision: Option<&str>) -> Result<Query, Error> {
+    match precision.map(protocol::parse_precision).transpose()? {
+        Some(bits) if bits > 53 => Ok(Query::Precise {
+            precision: bits,
+            query: Box::new(query),
+        }),
+        _ => Ok(query),
+    }
 }
 
 const DEADLINE_HELP: &str = "Time budget in seconds (> 0): past it, refused with exit 3 \
@@ -128,9 +145,7 @@ pub(crate) enum Cmd {
         /// Also enclose the derivative D(q, u)(T) / D(q, u)(0) (JSON key `jacobian`)
         #[arg(long)]
         jacobian: bool,
-        /// Significand bits to compute with: 53 (default, f64 intervals) up to 4096; above
-        /// 53 each end prints as a decimal string rounded outward
-        #[arg(long, allow_hyphen_values = true)]
+        #[arg(long, allow_hyphen_values = true, help = PRECISION_HELP)]
         precision: Option<String>,
         #[arg(long, allow_hyphen_values = true, help = DEADLINE_HELP)]
         deadline: Option<String>,
@@ -469,18 +484,37 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
                 t,
                 order: order.map_or(Ok(0), |o| protocol::parse_order(&o))?,
                 jacobian,
-                precision: precision.map_or(Ok(53), |p| protocol::parse_precision(&p))?,
             };
+            let query = precise(query, precision.as_deref())?;
             (query, budget(&deadline, &work)?, json)
         }
-        Cmd::Retract(a) => (Query::Retract(pair(&a)?), pair_budget(&a)?, a.json),
-        Cmd::Step(a) => (Query::Step(pair(&a)?), pair_budget(&a)?, a.json),
-        Cmd::Lagrangian(a) => (Query::Lagrangian(pair(&a)?), pair_budget(&a)?, a.json),
+        Cmd::Retract(a) => (
+            precise(Query::Retract(pair(&a)?), a.precision.as_deref())?,
+            pair_budget(&a)?,
+            a.json,
+        ),
+        Cmd::Step(a) => (
+            precise(Query::Step(pair(&a)?), a.precision.as_deref())?,
+            pair_budget(&a)?,
+            a.json,
+        ),
+        Cmd::Lagrangian(a) => (
+            precise(Query::Lagrangian(pair(&a)?), a.precision.as_deref())?,
+            pair_budget(&a)?,
+            a.json,
+        ),
         Cmd::Integrate {
             pair: a,
             scheme,
             steps,
         } => {
+            if a.precision.is_some() {
+                return Err(Error::input_key(
+                    "precision",
+                    "--precision is read by flow, retract, step and lagrangian, not integrate \
+                     (its trajectory is the scheme's, in f64)",
+                ));
+            }
             let p = pair(&a)?;
             let scheme = scheme.parse()?;
             let steps = protocol::parse_steps(&steps)?;

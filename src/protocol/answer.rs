@@ -53,6 +53,46 @@ pub enum Answer {
         /// The certified state at each of `times`, in order.
         enclosures: Vec<FlowEnclosure<DecimalInterval>>,
     },
+    /// `retract` computed with more than 53 bits (contract E18): the keys of `retract`, each
+    /// end a decimal string rounded outward.
+    RetractWide {
+        /// The significand bits the answer was computed with.
+        precision: u32,
+        /// `R^{e-}` in the basis of D.
+        u0: Vec<DecimalInterval>,
+        /// `v0 = E(Q0)^T u0`.
+        v0: Vec<DecimalInterval>,
+        /// `v1 = qd(h)`.
+        v1: Vec<DecimalInterval>,
+        /// The defect `s`.
+        s: Vec<DecimalInterval>,
+        /// `q(h) = Q1 + N(Q1) s`.
+        q1: Vec<DecimalInterval>,
+        /// `false` when the defect is proved non-zero (the pair is off M_h^{e,nh}).
+        possibly_member: bool,
+    },
+    /// `step` computed with more than 53 bits (contract E18).
+    StepWide {
+        /// The significand bits the answer was computed with.
+        precision: u32,
+        /// `q(h)`.
+        q1: Vec<DecimalInterval>,
+        /// `q(2h)`.
+        q2: Vec<DecimalInterval>,
+        /// `F^-_{h,nh} l`.
+        p_minus: Vec<DecimalInterval>,
+        /// `F^+_{h,nh} l`.
+        p_plus: Vec<DecimalInterval>,
+    },
+    /// `lagrangian` computed with more than 53 bits (contract E18).
+    LagrangianWide {
+        /// The significand bits the answer was computed with.
+        precision: u32,
+        /// Contains the action.
+        l: DecimalInterval,
+        /// The retraction's defect `s`.
+        s: Vec<DecimalInterval>,
+    },
     /// `retract`: the exact retractions and the defect of the pair.
     Retract(Retraction),
     /// `step`: one step of the exact discrete flow with the Legendre transforms.
@@ -114,22 +154,56 @@ impl Answer {
                 v0: &r.v0,
                 v1: &r.v1,
                 defect: &r.s,
-                member: if r.possibly_member() {
-                    "possible"
-                } else {
-                    "no"
-                },
+                member: member(r.possibly_member()),
                 q1: &r.q1,
+                precision: None,
             }),
             Answer::Step(s) => value(StepView {
                 q1: &s.q1,
                 q2: &s.q2,
                 p_minus: &s.p_minus,
                 p_plus: &s.p_plus,
+                precision: None,
             }),
             Answer::Lagrangian { l, retraction } => value(LagrangianView {
-                l: *l,
+                l,
                 defect: &retraction.s,
+                precision: None,
+            }),
+            Answer::RetractWide {
+                precision,
+                u0,
+                v0,
+                v1,
+                s,
+                q1,
+                possibly_member,
+            } => value(RetractView {
+                u0,
+                v0,
+                v1,
+                defect: s,
+                member: member(*possibly_member),
+                q1,
+                precision: Some(*precision),
+            }),
+            Answer::StepWide {
+                precision,
+                q1,
+                q2,
+                p_minus,
+                p_plus,
+            } => value(StepView {
+                q1,
+                q2,
+                p_minus,
+                p_plus,
+                precision: Some(*precision),
+            }),
+            Answer::LagrangianWide { precision, l, s } => value(LagrangianView {
+                l,
+                defect: s,
+                precision: Some(*precision),
             }),
             Answer::Check {
                 verdict: v, passed, ..
@@ -456,29 +530,47 @@ struct Stop<'a, I> {
 /// `retract`: the retraction with its defect `s` as `defect`, and whether the pair may be
 /// a member of M_h^{e,nh}.
 #[derive(Serialize)]
-struct RetractView<'a> {
-    u0: &'a [Interval],
-    v0: &'a [Interval],
-    v1: &'a [Interval],
-    defect: &'a [Interval],
+struct RetractView<'a, P> {
+    u0: &'a [P],
+    v0: &'a [P],
+    v1: &'a [P],
+    defect: &'a [P],
     member: &'static str,
-    q1: &'a [Interval],
+    q1: &'a [P],
+    /// Only above 53 bits (contract E18).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    precision: Option<u32>,
+}
+
+/// The `member` key of `retract`.
+fn member(possibly: bool) -> &'static str {
+    if possibly {
+        "possible"
+    } else {
+        "no"
+    }
 }
 
 /// `step`: the step without its retraction.
 #[derive(Serialize)]
-struct StepView<'a> {
-    q1: &'a [Interval],
-    q2: &'a [Interval],
-    p_minus: &'a [Interval],
-    p_plus: &'a [Interval],
+struct StepView<'a, P> {
+    q1: &'a [P],
+    q2: &'a [P],
+    p_minus: &'a [P],
+    p_plus: &'a [P],
+    /// Only above 53 bits (contract E18).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    precision: Option<u32>,
 }
 
 /// `lagrangian`: the action and the retraction's defect.
 #[derive(Serialize)]
-struct LagrangianView<'a> {
-    l: Interval,
-    defect: &'a [Interval],
+struct LagrangianView<'a, P> {
+    l: &'a P,
+    defect: &'a [P],
+    /// Only above 53 bits (contract E18).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    precision: Option<u32>,
 }
 
 /// `check`: the verdict without the exact trajectory, with the decision; `max_defect` only

@@ -82,9 +82,15 @@ pub enum Query {
         order: usize,
         /// Also the derivative D(q, u)(t) / D(q, u)(0) (`flow --jacobian`).
         jacobian: bool,
-        /// The significand bits to compute with: 53 (or 0, not given: f64 intervals) or
-        /// more ([spec/12-precision.md](crate::spec::precision), contract E18).
+    },
+    /// `flow`, `retract`, `step` or `lagrangian` computed with `precision > 53` significand
+    /// bits ([spec/12-precision.md](crate::spec::precision), contract E18): the answer's ends are decimal strings
+    /// rounded outward. Other queries are refused at a precision above 53.
+    Precise {
+        /// The significand bits asked for (at least; the answer says those used).
         precision: u32,
+        /// The query.
+        query: Box<Query>,
     },
     /// `retract` (contract command 2): the exact retraction at the pair ([spec eqs.
     /// (6.2)-(6.4)](crate::spec::exact_discrete)).
@@ -230,6 +236,7 @@ pub fn default_work(q: &Query) -> Option<u64> {
         Query::Retract(_) | Query::Step(_) | Query::Lagrangian(_) => Some(STEP_WORK),
         Query::Check { q, .. } => Some(STEP_WORK.saturating_mul(q.len().max(1) as u64)),
         Query::Flow { .. } | Query::Integrate { .. } | Query::Order { .. } => None,
+        Query::Precise { query, .. } => default_work(query),
     }
 }
 
@@ -352,16 +359,12 @@ impl Session {
                 t,
                 order,
                 jacobian,
-                precision,
             } => {
                 let model = self.model(scene)?;
                 let o = FlowOptions {
                     order: (*order > 0).then_some(*order),
                     ..opts
                 };
-                if *precision > 53 {
-                    return crate::precise::flow_answer(*precision, &model, q, u, t, *jacobian, &o);
-                }
                 let t = match t {
                     At::One(t) => *t,
                     At::Many(times) => {
@@ -388,6 +391,21 @@ impl Session {
                     enclosure,
                     jacobian,
                 })
+            }
+            Query::Precise { precision, query } => {
+                let model = match &**query {
+                    Query::Flow { scene, .. } => self.model(scene)?,
+                    Query::Retract(p) | Query::Step(p) | Query::Lagrangian(p) => {
+                        self.model(&p.scene)?
+                    }
+                    _ => {
+                        return Err(Error::input_key(
+                            "precision",
+                            "`precision` is read by flow, retract, step and lagrangian only",
+                        ))
+                    }
+                };
+                crate::precise::answer(*precision, &model, query, &opts)
             }
             Query::Retract(p) => {
                 let model = self.model(&p.scene)?;

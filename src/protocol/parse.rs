@@ -431,7 +431,7 @@ const COMMON_KEYS: [&str; 6] = ["id", "cmd", "scene", "params", "deadline", "wor
 pub fn query_keys(cmd: &str) -> Option<Vec<&'static str>> {
     let own: &[&str] = match cmd {
         "flow" => &["q", "u", "t", "times", "order", "jacobian", "precision"],
-        "retract" | "step" | "lagrangian" => &["q0", "q1", "h"],
+        "retract" | "step" | "lagrangian" => &["q0", "q1", "h", "precision"],
         "integrate" => &["q0", "q1", "h", "scheme", "steps"],
         "check" => &["h", "t", "q", "tol", "defect_tol", "pairs"],
         "order" => &["scheme", "q", "u", "h", "rungs"],
@@ -469,8 +469,30 @@ pub fn work_from_json(v: &Value) -> Result<Option<u64>, Error> {
 impl Query {
     /// A batch query object (contract command 5): the flags' names as keys. Strict: every
     /// key must be one its command reads (a near miss is named), every number a finite JSON
-    /// number, every vector an array of them.
+    /// number, every vector an array of them. A `precision` above 53 (flow, retract, step,
+    /// lagrangian; contract E18) wraps the query in [`Query::Precise`].
     pub fn from_json(v: &Value) -> Result<Query, Error> {
+        let q = Query::from_json_f64(v)?;
+        match v.get("precision") {
+            None => Ok(q),
+            Some(_) => {
+                let o = v
+                    .as_object()
+                    .ok_or_else(|| Error::input("a query must be a JSON object"))?;
+                let bits = json_uint(o, "precision", 53, MAX_PRECISION as u64)? as u32;
+                Ok(if bits > 53 {
+                    Query::Precise {
+                        precision: bits,
+                        query: Box::new(q),
+                    }
+                } else {
+                    q
+                })
+            }
+        }
+    }
+
+    fn from_json_f64(v: &Value) -> Result<Query, Error> {
         let o = v
             .as_object()
             .ok_or_else(|| Error::input("a query must be a JSON object"))?;
@@ -526,10 +548,6 @@ impl Query {
                             format!("`jacobian` must be true or false, got {}", kind(other)),
                         ))
                     }
-                },
-                precision: match o.get("precision") {
-                    None => 53,
-                    Some(_) => json_uint(o, "precision", 53, MAX_PRECISION as u64)? as u32,
                 },
             }),
             "order" => Ok(Query::Order {
