@@ -134,3 +134,70 @@ fn double_double_and_f64_flows_agree_and_the_wider_bits_are_narrower() {
         }
     }
 }
+
+/// The ends of a `[lo, hi]` pair of decimal strings as a double-double interval.
+fn decimal_pair(v: &serde_json::Value) -> DdInterval {
+    let lo = DdInterval::from_decimal(v[0].as_str().expect("a string end")).unwrap();
+    let hi = DdInterval::from_decimal(v[1].as_str().expect("a string end")).unwrap();
+    lo.hull(hi)
+}
+
+/// `flow --precision 106 --json` as a user runs it: string ends, the precision used, the
+/// closed form of the knife at T = 50 inside, about 1e-28 wide; the f64 answer (no flag) is
+/// unchanged in form.
+#[test]
+fn the_command_line_answers_at_106_bits_with_decimal_ends() {
+    let args = ["flow", "--scene", "knife", "--q", "0,0,0", "--u", "0.8,0.8", "--t", "50"];
+    let out = crate::common::run_args(&[&args[..], &["--precision", "106", "--json"]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["precision"], 106);
+    let line = TABLE.lines().find(|l| l.starts_with("knife 0.0,0.0,0.0 0.8,0.8 50.0 ")).unwrap();
+    let f: Vec<&str> = line.split_whitespace().collect();
+    let got: Vec<&serde_json::Value> = ["q", "u", "v"]
+        .iter()
+        .flat_map(|k| v[k].as_array().unwrap())
+        .collect();
+    for (k, x) in got.iter().enumerate() {
+        let x = decimal_pair(x);
+        assert!(reference(&f[4 + 4 * k..8 + 4 * k]).subset(x), "component {k}: {x}");
+        assert!(x.wid_up() < 1e-27 * x.mag_up().max(1.0), "component {k}: {x}");
+    }
+    let plain = crate::common::run_args(&[&args[..], &["--json"]].concat());
+    let p: serde_json::Value = serde_json::from_slice(&plain.stdout).unwrap();
+    assert!(p.get("precision").is_none() && p["q"][0][0].is_f64());
+}
+
+/// Retract, step and lagrangian at 106 bits through `batch`, with an f64 query beside them;
+/// `precision` on a query that does not read it, and out of range, is an input error.
+#[test]
+fn batch_reads_precision_where_it_applies_and_refuses_it_elsewhere() {
+    let pair = r#""scene":"particle","q0":[0,0,0],"q1":[0.4,0.4,0],"h":0.5"#;
+    let input = [
+        format!(r#"{{"id":1,"cmd":"retract",{pair},"precision":106}}"#),
+        format!(r#"{{"id":2,"cmd":"step",{pair},"precision":90}}"#),
+        format!(r#"{{"id":3,"cmd":"lagrangian",{pair},"precision":106}}"#),
+        format!(r#"{{"id":4,"cmd":"step",{pair},"precision":53}}"#),
+        format!(r#"{{"id":5,"cmd":"step",{pair},"precision":52}}"#),
+        format!(r#"{{"id":6,"cmd":"check","scene":"particle","h":0.5,"q":[[0,0,0],[0.4,0.4,0]],"precision":106}}"#),
+    ]
+    .join("\n");
+    let a = crate::common::batch_answers(&input);
+    let line = EXACT.lines().next().unwrap();
+    let f: Vec<&str> = line.split_whitespace().collect();
+    // u0, s of the closed form (tests/data/exact_reference.py), the step's q2 and l
+    let u0: Vec<DdInterval> = (0..2).map(|k| decimal_pair(&a[0]["ok"]["u0"][k])).collect();
+    assert!(reference(&f[3..7]).subset(u0[0]) && reference(&f[7..11]).subset(u0[1]));
+    assert!(reference(&f[11..15]).subset(decimal_pair(&a[0]["ok"]["defect"][0])));
+    assert_eq!(a[1]["ok"]["precision"], 106);
+    for k in 0..3 {
+        let q2 = decimal_pair(&a[1]["ok"]["q2"][k]);
+        assert!(reference(&f[15 + 4 * k..19 + 4 * k]).subset(q2), "q2[{k}] = {q2}");
+    }
+    assert!(reference(&f[27..31]).subset(decimal_pair(&a[2]["ok"]["l"])));
+    assert!(a[3]["ok"]["q2"][0][0].is_f64() && a[3]["ok"].get("precision").is_none());
+    for k in [4, 5] {
+        assert_eq!(a[k]["error"]["code"], 2, "{}", a[k]);
+        assert!(a[k]["error"]["message"].as_str().unwrap().contains("precision"));
+    }
+}
