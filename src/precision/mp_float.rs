@@ -743,6 +743,23 @@ pub fn to_decimal(x: &Mp, digits: usize, up: bool) -> String {
     let digits = digits.clamp(1, 100_000);
     // round the magnitude away from zero when the direction and the sign agree
     let away = up != x.neg;
+    let sign = if x.neg { "-" } else { "" };
+    // beyond 2^(±2^20) the exact expansion is too long: a power of ten on the safe side
+    // (2^(t-1) <= |x| < 2^t; log10 2 is taken 1e-12 wide of its value on each side)
+    if x.top() > 1 << 20 {
+        if away {
+            return format!("{sign}inf");
+        }
+        let k = ((x.top() - 1) as f64 * (core::f64::consts::LOG10_2 - 1e-12)).floor() as i64;
+        return format!("{sign}1e{}", k - 1);
+    }
+    if x.top() < -(1 << 20) {
+        if !away {
+            return "0".into();
+        }
+        let k = (x.top() as f64 * (core::f64::consts::LOG10_2 - 1e-12)).ceil() as i64;
+        return format!("{sign}1e{}", k + 1);
+    }
     // first guess of the decimal exponent F with 10^(d-1) <= |x| 10^-F < 10^d
     let mut f = (((x.top() - 1) as f64) * core::f64::consts::LOG10_2).floor() as i64
         - (digits as i64 - 1);
@@ -783,7 +800,6 @@ pub fn to_decimal(x: &Mp, digits: usize, up: bool) -> String {
         }
         let s = q.to_str_radix(10);
         let e10 = f + digits as i64 - 1;
-        let sign = if x.neg { "-" } else { "" };
         let (head, tail) = s.split_at(1);
         let tail = tail.trim_end_matches('0');
         return if tail.is_empty() {
