@@ -82,6 +82,7 @@ mod interval;
 pub mod model;
 pub mod newton;
 pub mod oracle;
+pub mod precision;
 mod progress;
 #[cfg(feature = "cli")]
 #[cfg_attr(docsrs, doc(cfg(feature = "cli")))]

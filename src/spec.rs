@@ -55,6 +55,9 @@ pub mod scene_files {}
 #[doc = include_str!("../spec/11-testing.md")]
 pub mod testing {}
 
+#[doc = include_str!("../spec/12-precision-mp.md")]
+pub mod precision {}
+
 #[doc = include_str!("../spec/contract.md")]
 pub mod contract {}
 

@@ -28,6 +28,7 @@ mod fuzz_corpus;
 mod input_readers;
 mod knife_eps;
 mod oracle_properties;
+mod precision_mp;
 mod public_types;
 mod readme_commands;
 mod readme_own_scheme;
