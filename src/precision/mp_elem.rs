@@ -354,7 +354,11 @@ fn sinh_kernel(x: &MpInterval, w: u32) -> MpInterval {
 /// cosh over a narrow interval with finite ends of one sign (12.2.4).
 fn cosh_kernel(x: &MpInterval, w: u32) -> MpInterval {
     let w2 = w + 16;
-    let x = if x.sup().is_negative() { x.neg() } else { x.clone() };
+    let x = if x.sup().is_negative() {
+        x.neg()
+    } else {
+        x.clone()
+    };
     let e = exp_kernel(&x.with_prec(w2), w2);
     let one = c(1.0, w);
     e.add_ref(&e.recip())
@@ -676,7 +680,11 @@ mod tests {
             return 0;
         }
         let u = pow2(x.mag().top() - x.prec() as i64);
-        w.div(&u, 64, Round::Up).unwrap().ceil().to_i64().unwrap_or(i64::MAX)
+        w.div(&u, 64, Round::Up)
+            .unwrap()
+            .ceil()
+            .to_i64()
+            .unwrap_or(i64::MAX)
     }
 
     #[test]
@@ -758,7 +766,10 @@ mod tests {
         let y = MpInterval::from_f64_pair(-1.0, 4.0, P).unwrap();
         assert_eq!(y.sqrt(), MpInterval::from_f64_pair(0.0, 2.0, P).unwrap());
         assert!(y.ln().inf().is_infinite());
-        assert!(MpInterval::from_f64_pair(-2.0, -1.0, P).unwrap().ln().is_empty());
+        assert!(MpInterval::from_f64_pair(-2.0, -1.0, P)
+            .unwrap()
+            .ln()
+            .is_empty());
         assert_eq!(*y.cosh().inf(), Mp::from_i64(1));
         assert!(MpInterval::entire(P).exp().inf().is_zero());
         assert_eq!(*MpInterval::entire(P).tanh().sup(), Mp::from_i64(1));

@@ -71,7 +71,11 @@ fn round_parts(
             let above_half = half && tz < k - 1;
             (inexact, half, above_half)
         };
-        man = if k >= bits { BigUint::ZERO } else { man >> (k as u64) };
+        man = if k >= bits {
+            BigUint::ZERO
+        } else {
+            man >> (k as u64)
+        };
         exp += k;
         if inexact {
             let away = match mode {
@@ -217,15 +221,7 @@ impl Mp {
                 f64::INFINITY
             };
         }
-        let r = round_parts(
-            self.neg,
-            self.man.clone(),
-            self.exp,
-            53,
-            -1074,
-            1024,
-            mode,
-        );
+        let r = round_parts(self.neg, self.man.clone(), self.exp, 53, -1074, 1024, mode);
         if r.inf {
             return if r.neg {
                 f64::NEG_INFINITY
@@ -403,15 +399,7 @@ impl Mp {
         if is_zero(&man) {
             return Some(Mp::zero());
         }
-        Some(round_parts(
-            neg,
-            man,
-            e,
-            prec,
-            -EXP_LIMIT,
-            EXP_LIMIT,
-            mode,
-        ))
+        Some(round_parts(neg, man, e, prec, -EXP_LIMIT, EXP_LIMIT, mode))
     }
 
     /// `x - y` rounded to `prec` bits; `None` for `inf - inf` of one sign.
@@ -761,8 +749,8 @@ pub fn to_decimal(x: &Mp, digits: usize, up: bool) -> String {
         return format!("{sign}1e{}", k + 1);
     }
     // first guess of the decimal exponent F with 10^(d-1) <= |x| 10^-F < 10^d
-    let mut f = (((x.top() - 1) as f64) * core::f64::consts::LOG10_2).floor() as i64
-        - (digits as i64 - 1);
+    let mut f =
+        (((x.top() - 1) as f64) * core::f64::consts::LOG10_2).floor() as i64 - (digits as i64 - 1);
     let lo = BigUint::from(10u32).pow(digits as u32 - 1);
     let hi = &lo * 10u32;
     loop {
@@ -852,9 +840,15 @@ mod tests {
     fn directed_rounding_of_the_basic_operations() {
         // 1/3 at 10 bits: 1.010101010|10... 2^-2 -> down 682/2048, up 683/2048
         let t = mp(1.0).div(&mp(3.0), 10, Round::Down).unwrap();
-        assert_eq!(t, Mp::from_parts(false, 341u32.into(), -10, 10, Round::Near));
+        assert_eq!(
+            t,
+            Mp::from_parts(false, 341u32.into(), -10, 10, Round::Near)
+        );
         let t = mp(1.0).div(&mp(3.0), 10, Round::Up).unwrap();
-        assert_eq!(t, Mp::from_parts(false, 683u32.into(), -11, 10, Round::Near));
+        assert_eq!(
+            t,
+            Mp::from_parts(false, 683u32.into(), -11, 10, Round::Near)
+        );
         let t = mp(-1.0).div(&mp(3.0), 10, Round::Up).unwrap();
         assert_eq!(t, Mp::from_parts(true, 341u32.into(), -10, 10, Round::Near));
         // exact results are not moved
@@ -909,7 +903,10 @@ mod tests {
         assert_eq!(to_decimal(&mp(1.0), 5, true), "1e0");
         assert_eq!(to_decimal(&mp(0.1), 3, false), "1e-1");
         assert_eq!(to_decimal(&mp(0.1), 3, true), "1.01e-1");
-        assert_eq!(to_decimal(&mp(1e300), 20, false), "1.0000000000000000525e300");
+        assert_eq!(
+            to_decimal(&mp(1e300), 20, false),
+            "1.0000000000000000525e300"
+        );
         let (n, d, e) = parse_decimal("-12.5e-3").unwrap();
         assert!(n);
         assert_eq!(d, BigUint::from(125u32));

@@ -50,7 +50,7 @@ fn apply(f: &str, x: &MpInterval) -> MpInterval {
 }
 
 /// Every line: the answer contains the reference enclosure (so a wrong answer fails), and
-/// lies within 4 units of the precision of it on each side (so a sloppy one fails).
+/// lies within 2 units of the precision of it on each side (so a sloppy one fails).
 #[test]
 fn elementary_functions_against_mpmath() {
     let mut count = 0;
@@ -69,14 +69,14 @@ fn elementary_functions_against_mpmath() {
             v[4],
             v[5]
         );
-        // tightness: y within [rlo - 4u, rhi + 4u], u the unit at the magnitude of y
+        // tightness: y within [rlo - 2u, rhi + 2u], u the unit at the magnitude of y
         let mag = y.inf().abs().max(y.sup().abs());
-        let u = Mp::from_i64(4).ldexp(mag.top() - prec as i64, Round::Near);
+        let u = Mp::from_i64(2).ldexp(mag.top() - prec as i64, Round::Near);
         let lo_ok = rlo.inf().sub(&u, 8 * prec, Round::Down).unwrap() <= *y.inf();
         let hi_ok = *y.sup() <= rhi.sup().add(&u, 8 * prec, Round::Up).unwrap();
         assert!(
             lo_ok && hi_ok,
-            "{f}({x}) = {y} is more than 4 units wider than [{}, {}] ({} units wide)",
+            "{f}({x}) = {y} is more than 2 units wider than [{}, {}] ({} units wide)",
             v[4],
             v[5],
             ulps(&y)
@@ -91,12 +91,20 @@ fn elementary_functions_against_mpmath() {
 #[test]
 fn printing_is_outward_and_carries_the_precision() {
     for prec in [113, 160, 256, 1000] {
-        for s in ["0.1", "-2.5e-300", "3.14159265358979323846264338327950288", "700.5"] {
+        for s in [
+            "0.1",
+            "-2.5e-300",
+            "3.14159265358979323846264338327950288",
+            "700.5",
+        ] {
             let x = MpInterval::from_decimal(s, prec).unwrap().exp();
             let d = x.default_digits();
             let lo = MpInterval::from_decimal(&x.inf_decimal(d), 2 * prec).unwrap();
             let hi = MpInterval::from_decimal(&x.sup_decimal(d), 2 * prec).unwrap();
-            assert!(lo.sup() <= x.inf() && x.sup() <= hi.inf(), "{prec} {s}: {x}");
+            assert!(
+                lo.sup() <= x.inf() && x.sup() <= hi.inf(),
+                "{prec} {s}: {x}"
+            );
             let printed = MpInterval::new(lo.inf(), hi.sup(), prec).unwrap();
             assert!(ulps(&printed) <= ulps(&x) + 4, "{prec} {s}: {x}");
         }
@@ -201,15 +209,17 @@ fn leaf() -> impl Strategy<Value = f64> {
 }
 
 fn expr() -> impl Strategy<Value = Expr> {
-    leaf().prop_map(Expr::Leaf).prop_recursive(4, 24, 2, |inner| {
-        prop_oneof![
-            (inner.clone(), inner.clone()).prop_map(|(a, b)| Expr::Add(a.into(), b.into())),
-            (inner.clone(), inner.clone()).prop_map(|(a, b)| Expr::Sub(a.into(), b.into())),
-            (inner.clone(), inner.clone()).prop_map(|(a, b)| Expr::Mul(a.into(), b.into())),
-            (inner.clone(), inner.clone()).prop_map(|(a, b)| Expr::Div(a.into(), b.into())),
-            inner.prop_map(|a| Expr::Sqr(a.into())),
-        ]
-    })
+    leaf()
+        .prop_map(Expr::Leaf)
+        .prop_recursive(4, 24, 2, |inner| {
+            prop_oneof![
+                (inner.clone(), inner.clone()).prop_map(|(a, b)| Expr::Add(a.into(), b.into())),
+                (inner.clone(), inner.clone()).prop_map(|(a, b)| Expr::Sub(a.into(), b.into())),
+                (inner.clone(), inner.clone()).prop_map(|(a, b)| Expr::Mul(a.into(), b.into())),
+                (inner.clone(), inner.clone()).prop_map(|(a, b)| Expr::Div(a.into(), b.into())),
+                inner.prop_map(|a| Expr::Sqr(a.into())),
+            ]
+        })
 }
 
 #[test]
@@ -259,51 +269,57 @@ fn basic_operations_are_tightest() {
     );
     let precs = prop_oneof![Just(8u32), Just(53), Just(113), Just(160), Just(256)];
     runner
-        .run(
-            &(leaf(), leaf(), 0usize..5, precs),
-            |(a, b, op, prec)| {
-                let (x, y) = (MpInterval::from_f64(a, 1000), MpInterval::from_f64(b, 1000));
-                let (x, y) = (x.with_prec(prec), y.with_prec(prec));
-                prop_assume!(x.inf() == x.sup() && y.inf() == y.sup());
-                let r = match op {
-                    0 => x.clone() + y.clone(),
-                    1 => x.clone() - y.clone(),
-                    2 => x.clone() * y.clone(),
-                    3 => x.clone() / y.clone(),
-                    _ => x.abs().sqrt(),
-                };
-                prop_assume!(!r.is_empty() && r.is_finite());
-                let qa = q_of_mp(x.inf());
-                let qb = q_of_mp(y.inf());
-                let exact_q = match op {
-                    0 => Q(&qa.0 * &qb.1 + &qb.0 * &qa.1, &qa.1 * &qb.1),
-                    1 => Q(&qa.0 * &qb.1 - &qb.0 * &qa.1, &qa.1 * &qb.1),
-                    2 => Q(&qa.0 * &qb.0, &qa.1 * &qb.1),
-                    3 => {
-                        let (n, d) = (&qa.0 * &qb.1, &qa.1 * &qb.0);
-                        if d.sign() == Sign::Minus {
-                            Q(-n, -d)
-                        } else {
-                            Q(n, d)
-                        }
+        .run(&(leaf(), leaf(), 0usize..5, precs), |(a, b, op, prec)| {
+            let (x, y) = (MpInterval::from_f64(a, 1000), MpInterval::from_f64(b, 1000));
+            let (x, y) = (x.with_prec(prec), y.with_prec(prec));
+            prop_assume!(x.inf() == x.sup() && y.inf() == y.sup());
+            let r = match op {
+                0 => x.clone() + y.clone(),
+                1 => x.clone() - y.clone(),
+                2 => x.clone() * y.clone(),
+                3 => x.clone() / y.clone(),
+                _ => x.abs().sqrt(),
+            };
+            prop_assume!(!r.is_empty() && r.is_finite());
+            let qa = q_of_mp(x.inf());
+            let qb = q_of_mp(y.inf());
+            let exact_q = match op {
+                0 => Q(&qa.0 * &qb.1 + &qb.0 * &qa.1, &qa.1 * &qb.1),
+                1 => Q(&qa.0 * &qb.1 - &qb.0 * &qa.1, &qa.1 * &qb.1),
+                2 => Q(&qa.0 * &qb.0, &qa.1 * &qb.1),
+                3 => {
+                    let (n, d) = (&qa.0 * &qb.1, &qa.1 * &qb.0);
+                    if d.sign() == Sign::Minus {
+                        Q(-n, -d)
+                    } else {
+                        Q(n, d)
                     }
-                    _ => {
-                        // sqrt: check lo^2 <= |a| <= hi^2 instead
-                        let lo = q_of_mp(r.inf());
-                        let hi = q_of_mp(r.sup());
-                        let aa = Q(BigInt::from_biguint(Sign::Plus, qa.0.magnitude().clone()), qa.1.clone());
-                        prop_assert!(q_le(&Q(&lo.0 * &lo.0, &lo.1 * &lo.1), &aa));
-                        prop_assert!(q_le(&aa, &Q(&hi.0 * &hi.0, &hi.1 * &hi.1)));
-                        prop_assert!(ulps(&r) <= 1, "sqrt {a} at {prec}: {r}");
-                        return Ok(());
-                    }
-                };
-                prop_assert!(q_le(&q_of_mp(r.inf()), &exact_q), "{a} {op} {b} at {prec}: {r}");
-                prop_assert!(q_le(&exact_q, &q_of_mp(r.sup())), "{a} {op} {b} at {prec}: {r}");
-                prop_assert!(ulps(&r) <= 1, "{a} {op} {b} at {prec}: {r}");
-                Ok(())
-            },
-        )
+                }
+                _ => {
+                    // sqrt: check lo^2 <= |a| <= hi^2 instead
+                    let lo = q_of_mp(r.inf());
+                    let hi = q_of_mp(r.sup());
+                    let aa = Q(
+                        BigInt::from_biguint(Sign::Plus, qa.0.magnitude().clone()),
+                        qa.1.clone(),
+                    );
+                    prop_assert!(q_le(&Q(&lo.0 * &lo.0, &lo.1 * &lo.1), &aa));
+                    prop_assert!(q_le(&aa, &Q(&hi.0 * &hi.0, &hi.1 * &hi.1)));
+                    prop_assert!(ulps(&r) <= 1, "sqrt {a} at {prec}: {r}");
+                    return Ok(());
+                }
+            };
+            prop_assert!(
+                q_le(&q_of_mp(r.inf()), &exact_q),
+                "{a} {op} {b} at {prec}: {r}"
+            );
+            prop_assert!(
+                q_le(&exact_q, &q_of_mp(r.sup())),
+                "{a} {op} {b} at {prec}: {r}"
+            );
+            prop_assert!(ulps(&r) <= 1, "{a} {op} {b} at {prec}: {r}");
+            Ok(())
+        })
         .unwrap();
 }
 
