@@ -437,7 +437,7 @@ impl MpInterval {
             return MpInterval::from_f64(1.0, p);
         }
         let m = n.unsigned_abs();
-        let r = if m % 2 == 0 {
+        let r = if m.is_multiple_of(2) {
             MpInterval::raw(
                 pow_mag(&self.mig(), m, p, Round::Down),
                 pow_mag(&self.mag(), m, p, Round::Up),

@@ -444,6 +444,10 @@ fn increasing(
         return x.clone();
     }
     let w = p + GUARD;
+    if x.inf() == x.sup() {
+        // a point: one kernel call gives both ends
+        return kern(&MpInterval::point(x.inf(), w), w).with_prec(p);
+    }
     let lo = if x.inf().is_infinite() {
         at_minus_inf
     } else {
@@ -451,8 +455,6 @@ fn increasing(
     };
     let hi = if x.sup().is_infinite() {
         at_plus_inf
-    } else if x.inf() == x.sup() {
-        kern(&MpInterval::point(x.sup(), w), w).sup().clone()
     } else {
         kern(&MpInterval::point(x.sup(), w), w).sup().clone()
     };
@@ -760,7 +762,7 @@ mod tests {
         assert!(s.inf() <= iv(1.0).sin().inf());
         let c = x.cos();
         assert!(c.contains(&iv(2.0).cos().inf().clone()) && c.sup() >= iv(1.0).cos().sup());
-        assert!(x.tan().is_finite() == false);
+        assert!(!x.tan().is_finite());
         let wide = MpInterval::from_f64_pair(0.0, 7.0, P).unwrap();
         assert_eq!(wide.sin(), MpInterval::from_f64_pair(-1.0, 1.0, P).unwrap());
         let y = MpInterval::from_f64_pair(-1.0, 4.0, P).unwrap();

@@ -81,7 +81,7 @@ fn round_parts(
             let away = match mode {
                 Round::Up => !neg,
                 Round::Down => neg,
-                Round::Near => above_half || (half && !above_half && man.bit(0)),
+                Round::Near => above_half || (half && man.bit(0)),
             };
             if away {
                 man += 1u32;
