@@ -247,8 +247,10 @@ fn sin_cos_kernel(x: &MpInterval, w: u32) -> (MpInterval, MpInterval) {
         return (c(0.0, w), c(1.0, w));
     }
     let w2 = w + 16;
-    let top = x.mag().top().max(0);
-    let (k, r) = if top <= -1 {
+    let raw_top = x.mag().top();
+    let top = raw_top.max(0);
+    let (k, r) = if raw_top <= -1 {
+        // |x| < 1/2: no reduction (k = 0)
         (Mp::zero(), x.with_prec(w2))
     } else {
         // x = k pi/2 + r; pi is taken with top(x) + w + 64 bits, more if the subtraction
