@@ -637,6 +637,18 @@ impl MpInterval {
         r.with_prec(p).intersection(&unit)
     }
 
+    /// `(sin x, cos x)` with one argument reduction for a point `x` (as [`MpInterval::sin`]
+    /// and [`MpInterval::cos`] otherwise) (12.2.4, 12.2.5).
+    pub fn sin_cos(&self) -> (MpInterval, MpInterval) {
+        let p = self.prec();
+        if self.is_empty() || self.inf() != self.sup() {
+            return (self.sin(), self.cos());
+        }
+        let w = p + GUARD;
+        let (s, c) = sin_cos_kernel(&MpInterval::point(self.inf(), w), w);
+        (s.with_prec(p), c.with_prec(p))
+    }
+
     /// Tangent: the whole line if a pole (odd multiple of pi/2) may lie in the argument,
     /// else increasing (12.2.5).
     pub fn tan(&self) -> MpInterval {
@@ -734,6 +746,8 @@ mod tests {
         // asinh(sinh x) = x, ln(exp x) = x
         assert!(sh.asinh().contains_f64(0.75));
         assert!(iv(-3.5).exp().ln().contains_f64(-3.5));
+        let (s, c) = iv(2.5).sin_cos();
+        assert_eq!((s, c), (iv(2.5).sin(), iv(2.5).cos()));
         assert!(iv(1e-300).asinh().contains_f64(1e-300));
         assert!(iv(-0.3).sinh().asinh().contains_f64(-0.3));
         for f in [
