@@ -16,6 +16,10 @@ use std::sync::{Mutex, OnceLock};
 /// Guard bits of the kernels over the requested precision.
 const GUARD: u32 = 40;
 
+/// Beyond `2^REDUCTION_LIMIT` in magnitude sin, cos and tan give up the reduction modulo
+/// pi/2 (it would need more than `REDUCTION_LIMIT` bits of pi): `[-1, 1]`, the whole line.
+const REDUCTION_LIMIT: i64 = 1 << 20;
+
 fn c(x: f64, w: u32) -> MpInterval {
     MpInterval::from_f64(x, w)
 }
@@ -187,6 +191,10 @@ fn exp_kernel(x: &MpInterval, w: u32) -> MpInterval {
 
 /// ln over a narrow interval `x` of positive finite ends (12.2.4).
 fn ln_kernel(x: &MpInterval, w: u32) -> MpInterval {
+    if x.sup().is_infinite() {
+        let lo = ln_kernel(&MpInterval::point(x.inf(), w), w);
+        return MpInterval::new(lo.inf(), &Mp::infinity(false), w).unwrap();
+    }
     let one = Mp::from_i64(1);
     if *x.inf() == one && *x.sup() == one {
         return c(0.0, w);
@@ -425,6 +433,16 @@ fn asinh_kernel(x: &MpInterval, w: u32) -> MpInterval {
             };
         }
     }
+    if x.inf().top() > super::mp_float::EXP_LIMIT / 4 {
+        // x^2 would leave the exponent range: asinh x = ln(2x) + [0, 1/(4 x^2)], and
+        // 1/(4 x^2) < 2^-(2^39) is below 2^-(w + 10)
+        let l = ln_kernel(&xx.ldexp(1), w2);
+        let hi = l.sup().add(&pow2(-(w2 as i64) - 10), w2, Round::Up);
+        return match hi {
+            Some(hi) => MpInterval::new(l.inf(), &hi, w).unwrap_or(MpInterval::entire(w)),
+            None => MpInterval::entire(w),
+        };
+    }
     // ln(x + sqrt(x^2 + 1)), x >= 1/2
     let one = c(1.0, w2);
     let t = xx.add_ref(&xx.sqr().add_ref(&one).sqrt());
@@ -461,6 +479,29 @@ fn increasing(
         kern(&MpInterval::point(x.sup(), w), w).sup().clone()
     };
     MpInterval::new(&lo, &hi, p).unwrap_or(MpInterval::entire(p))
+}
+
+/// Cuts `y` to the bounds that hold on the reals: `[lo, hi]` (either may be infinite).
+fn cut(y: MpInterval, lo: f64, hi: f64) -> MpInterval {
+    let p = y.prec();
+    let b = MpInterval::new(
+        &Mp::from_f64(lo).unwrap_or(Mp::infinity(true)),
+        &Mp::from_f64(hi).unwrap_or(Mp::infinity(false)),
+        p,
+    )
+    .unwrap_or(MpInterval::entire(p));
+    y.intersection(&b)
+}
+
+/// For an odd increasing function (atan, sinh, tanh, asinh): the sign of the argument.
+fn same_sign(x: &MpInterval, y: MpInterval) -> MpInterval {
+    if !x.inf().is_negative() {
+        cut(y, 0.0, f64::INFINITY)
+    } else if !x.sup().is_positive() {
+        cut(y, f64::NEG_INFINITY, 0.0)
+    } else {
+        y
+    }
 }
 
 /// The integers `j` that may have `j pi/2` in `x` (finite, non-degenerate): `[ceil(inf T),
@@ -512,7 +553,18 @@ impl MpInterval {
 
     /// `e^x` (12.2.4, 12.2.5).
     pub fn exp(&self) -> MpInterval {
-        increasing(self, exp_kernel, Mp::zero(), Mp::infinity(false))
+        let y = cut(
+            increasing(self, exp_kernel, Mp::zero(), Mp::infinity(false)),
+            0.0,
+            f64::INFINITY,
+        );
+        if !self.inf().is_negative() {
+            cut(y, 1.0, f64::INFINITY)
+        } else if !self.sup().is_positive() {
+            cut(y, 0.0, 1.0)
+        } else {
+            y
+        }
     }
 
     /// Natural logarithm; the part of the argument at or below 0 is dropped: an argument
@@ -534,34 +586,52 @@ impl MpInterval {
             };
             return MpInterval::new(&Mp::infinity(true), &hi, p).unwrap();
         }
-        increasing(self, ln_kernel, Mp::infinity(true), Mp::infinity(false))
+        let y = increasing(self, ln_kernel, Mp::infinity(true), Mp::infinity(false));
+        let one = Mp::from_i64(1);
+        if *self.inf() >= one {
+            cut(y, 0.0, f64::INFINITY)
+        } else if *self.sup() <= one {
+            cut(y, f64::NEG_INFINITY, 0.0)
+        } else {
+            y
+        }
     }
 
     /// Arctangent (12.2.4, 12.2.5).
     pub fn atan(&self) -> MpInterval {
         let p = self.prec();
         let half_pi = MpInterval::pi(p + GUARD).ldexp(-1);
-        increasing(
+        let y = increasing(
             self,
             atan_kernel,
             half_pi.sup().neg(),
             half_pi.sup().clone(),
-        )
+        );
+        same_sign(self, y)
     }
 
     /// Hyperbolic sine (12.2.4, 12.2.5).
     pub fn sinh(&self) -> MpInterval {
-        increasing(self, sinh_kernel, Mp::infinity(true), Mp::infinity(false))
+        same_sign(
+            self,
+            increasing(self, sinh_kernel, Mp::infinity(true), Mp::infinity(false)),
+        )
     }
 
     /// Hyperbolic tangent (12.2.4, 12.2.5).
     pub fn tanh(&self) -> MpInterval {
-        increasing(self, tanh_kernel, Mp::from_i64(-1), Mp::from_i64(1))
+        same_sign(
+            self,
+            increasing(self, tanh_kernel, Mp::from_i64(-1), Mp::from_i64(1)),
+        )
     }
 
     /// Inverse hyperbolic sine (12.2.4, 12.2.5).
     pub fn asinh(&self) -> MpInterval {
-        increasing(self, asinh_kernel, Mp::infinity(true), Mp::infinity(false))
+        same_sign(
+            self,
+            increasing(self, asinh_kernel, Mp::infinity(true), Mp::infinity(false)),
+        )
     }
 
     /// Hyperbolic cosine: decreasing on `x <= 0`, increasing on `x >= 0`, 1 at 0 (12.2.5).
@@ -606,7 +676,7 @@ impl MpInterval {
         if self.is_empty() {
             return self.clone();
         }
-        if !self.is_finite() {
+        if !self.is_finite() || self.mag().top() > REDUCTION_LIMIT {
             return unit;
         }
         let w = p + GUARD;
@@ -641,7 +711,7 @@ impl MpInterval {
     /// and [`MpInterval::cos`] otherwise) (12.2.4, 12.2.5).
     pub fn sin_cos(&self) -> (MpInterval, MpInterval) {
         let p = self.prec();
-        if self.is_empty() || self.inf() != self.sup() {
+        if self.is_empty() || self.inf() != self.sup() || self.mag().top() > REDUCTION_LIMIT {
             return (self.sin(), self.cos());
         }
         let w = p + GUARD;
@@ -656,7 +726,7 @@ impl MpInterval {
         if self.is_empty() {
             return self.clone();
         }
-        if !self.is_finite() {
+        if !self.is_finite() || self.mag().top() > REDUCTION_LIMIT {
             return MpInterval::entire(p);
         }
         let w = p + GUARD;
@@ -798,5 +868,25 @@ mod tests {
         assert_eq!(big.tanh().sup(), &Mp::from_i64(1));
         let s = big.sin();
         assert!(ulps(&s) <= 3, "{s}");
+        // numbers far beyond the doubles: answers, no hang
+        let huge = MpInterval::point(&Mp::from_i64(3).ldexp(1 << 39, Round::Near), P);
+        let unit = MpInterval::from_f64_pair(-1.0, 1.0, P).unwrap();
+        assert_eq!(huge.sin(), unit);
+        assert!(!huge.tan().is_finite());
+        assert!(huge.exp().sup().is_infinite());
+        assert_eq!(huge.tanh().sup(), &Mp::from_i64(1));
+        let a = huge.asinh();
+        let l = huge.ln();
+        assert!(a.is_finite() && l.is_finite() && a.inf() > l.sup());
+        assert!(huge.atan().subset(&MpInterval::pi(P).ldexp(-1).hull(&unit)));
+        assert!(huge.sqr().sup().is_infinite() && huge.sqrt().is_finite());
+        let tiny = MpInterval::point(&Mp::from_i64(3).ldexp(-(1 << 39), Round::Near), P);
+        assert_eq!(tiny.exp().inf(), &Mp::from_i64(1));
+        assert_eq!(tiny.neg().exp().sup(), &Mp::from_i64(1));
+        assert!(!tiny.sinh().inf().is_negative() && !tiny.neg().atan().sup().is_positive());
+        assert!(!iv(1.0 + 1e-15).ln().inf().is_negative());
+        assert!(tiny.sin().contains(tiny.inf()) || tiny.sin().sup() >= tiny.inf());
+        assert!(tiny.ln().is_finite() && tiny.atan().is_finite());
+        assert!(huge.to_string().starts_with("[1e"));
     }
 }

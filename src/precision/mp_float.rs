@@ -732,16 +732,16 @@ pub fn to_decimal(x: &Mp, digits: usize, up: bool) -> String {
     // round the magnitude away from zero when the direction and the sign agree
     let away = up != x.neg;
     let sign = if x.neg { "-" } else { "" };
-    // beyond 2^(±2^20) the exact expansion is too long: a power of ten on the safe side
+    // beyond 2^(±2^16) the exact expansion is too long: a power of ten on the safe side
     // (2^(t-1) <= |x| < 2^t; log10 2 is taken 1e-12 wide of its value on each side)
-    if x.top() > 1 << 20 {
+    if x.top() > 1 << 16 {
         if away {
             return format!("{sign}inf");
         }
         let k = ((x.top() - 1) as f64 * (core::f64::consts::LOG10_2 - 1e-12)).floor() as i64;
         return format!("{sign}1e{}", k - 1);
     }
-    if x.top() < -(1 << 20) {
+    if x.top() < -(1 << 16) {
         if !away {
             return "0".into();
         }

@@ -9,8 +9,9 @@ REF_LO, REF_HI: a rigorous enclosure of the exact range of FUNC over [IN_LO, IN_
 (a point when IN_LO = IN_HI), as decimals of about 2 PREC bits rounded outward: mpmath's value
 at 3 PREC + 64 bits, checked against a second evaluation at 3 PREC + 192 bits, widened by a
 relative 2^-(2 PREC + 16) and then rounded outward to DIGITS decimal digits. An exact end (the
-extrema +-1 of sin and cos, and the bounds of sin, cos, tanh and cosh on the reals, which
-cut the widened values) is written exactly.
+extrema +-1 of sin and cos, and the bounds on the reals that cut the widened values:
+|sin|, |cos|, |tanh| <= 1, cosh >= 1, exp >= 1 or <= 1 by the sign of x, ln >= 0 or <= 0 by
+x against 1, atan, sinh, tanh, asinh of the sign of x) is written exactly.
 Run: python3 -m venv /tmp/mpv && /tmp/mpv/bin/pip install mpmath
      /tmp/mpv/bin/python tests/data/mp_reference.py > tests/data/mp_reference.txt
 """
@@ -104,6 +105,20 @@ def rigorous(fname, x, prec):
         lo, hi = max(lo, Fraction(-1)), min(hi, Fraction(1))
     if fname == "cosh":
         lo = max(lo, Fraction(1))
+    if fname == "exp":
+        lo = max(lo, Fraction(1) if x >= 0 else Fraction(0))
+        if x <= 0:
+            hi = min(hi, Fraction(1))
+    if fname == "ln":
+        if x >= 1:
+            lo = max(lo, Fraction(0))
+        if x <= 1:
+            hi = min(hi, Fraction(0))
+    if fname in ("atan", "sinh", "tanh", "asinh"):
+        if x >= 0:
+            lo = max(lo, Fraction(0))
+        if x <= 0:
+            hi = min(hi, Fraction(0))
     return lo, hi
 
 
