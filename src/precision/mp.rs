@@ -408,6 +408,22 @@ impl MpInterval {
         }
     }
 
+    /// `x / n` for a positive integer `n`, rounded outward (division by a positive number is
+    /// increasing).
+    pub fn div_u64(&self, n: u64) -> MpInterval {
+        let p = self.prec;
+        if self.is_empty() || n == 0 {
+            return MpInterval::empty(p);
+        }
+        match (
+            self.lo.div_u64(n, p, Round::Down),
+            self.hi.div_u64(n, p, Round::Up),
+        ) {
+            (Some(lo), Some(hi)) => MpInterval::raw(lo, hi, p),
+            _ => MpInterval::entire(p),
+        }
+    }
+
     /// `1 / x` rounded outward.
     pub fn recip(&self) -> MpInterval {
         MpInterval::from_f64(1.0, self.prec).div_ref(self)

@@ -60,7 +60,7 @@ fn atan_series(t: &MpInterval, w: u32) -> MpInterval {
     loop {
         n += 1;
         pw = pw.mul_ref(&t2);
-        let term = pw.div_ref(&int(2 * n + 1, w));
+        let term = pw.div_u64((2 * n + 1) as u64);
         if term.mag() <= tiny.mul(&t.mag(), w, Round::Down) || n > 100_000 {
             // the remainder after the terms up to n - 1 is at most |this term|
             return widen(&sum, &term.mag());
@@ -84,7 +84,7 @@ fn atanh_series(z: &MpInterval, w: u32) -> MpInterval {
     loop {
         n += 1;
         pw = pw.mul_ref(&z2);
-        let term = pw.div_ref(&int(2 * n + 1, w));
+        let term = pw.div_u64((2 * n + 1) as u64);
         if term.mag() <= tiny.mul(&z.mag(), w, Round::Down) || n > 100_000 {
             return widen(&sum, &term.mag().ldexp(1, Round::Up));
         }
@@ -174,7 +174,7 @@ fn exp_kernel(x: &MpInterval, w: u32) -> MpInterval {
     let mut n: i64 = 0;
     loop {
         n += 1;
-        term = term.mul_ref(&t).div_ref(&int(n, wt));
+        term = term.mul_ref(&t).div_u64((n) as u64);
         if term.mag() <= tiny || n > 100_000 {
             // tail after the terms up to n - 1: at most |t|^n/n! (1 + |t| + |t|^2 + ...)
             // <= 2 |t|^n / n! for |t| <= 1/2, and |term| bounds |t|^n / n! from above
@@ -249,8 +249,14 @@ fn atan_kernel(x: &MpInterval, w: u32) -> MpInterval {
     r.with_prec(w)
 }
 
-/// sin and cos of a narrow interval with finite ends (12.2.4).
-fn sin_cos_kernel(x: &MpInterval, w: u32) -> (MpInterval, MpInterval) {
+/// sin and cos of a narrow interval with finite ends (12.2.4); a value not asked for
+/// (`want_sin`, `want_cos`) is returned as `[-1, 1]` without its series.
+fn sin_cos_kernel(
+    x: &MpInterval,
+    w: u32,
+    want_sin: bool,
+    want_cos: bool,
+) -> (MpInterval, MpInterval) {
     if x.is_exact_zero() {
         return (c(0.0, w), c(1.0, w));
     }
@@ -281,15 +287,20 @@ fn sin_cos_kernel(x: &MpInterval, w: u32) -> (MpInterval, MpInterval) {
             extra = lost + 72;
         }
     };
+    let q = k.integer_mod4();
+    // sin x is +-sin r for even q, +-cos r for odd q; cos x the other way round
+    let need_sin_r = (want_sin && q % 2 == 0) || (want_cos && q % 2 == 1);
+    let need_cos_r = (want_sin && q % 2 == 1) || (want_cos && q % 2 == 0);
+    let unit = MpInterval::from_f64_pair(-1.0, 1.0, w).unwrap();
     let r2 = r.sqr();
     let tiny = pow2(-(w2 as i64) - 8);
     // sin r = sum (-1)^n r^(2n+1)/(2n+1)!, |remainder| <= |r|^(2N+3)/(2N+3)! (Lagrange)
     let mut s = r.clone();
     let mut term = r.clone();
     let mut n: i64 = 0;
-    loop {
+    while need_sin_r {
         n += 1;
-        term = term.mul_ref(&r2).div_ref(&int((2 * n) * (2 * n + 1), w2));
+        term = term.mul_ref(&r2).div_u64(((2 * n) * (2 * n + 1)) as u64);
         if term.mag() <= tiny.mul(&r.mag(), w2, Round::Down) || n > 100_000 {
             s = widen(&s, &term.mag());
             break;
@@ -301,12 +312,18 @@ fn sin_cos_kernel(x: &MpInterval, w: u32) -> (MpInterval, MpInterval) {
         };
     }
     // cos r = sum (-1)^n r^(2n)/(2n)!, |remainder| <= |r|^(2N+2)/(2N+2)!
+    if !need_sin_r {
+        s = unit.clone();
+    }
     let mut co = c(1.0, w2);
     let mut term = c(1.0, w2);
     let mut n: i64 = 0;
-    loop {
+    if !need_cos_r {
+        co = unit.clone();
+    }
+    while need_cos_r {
         n += 1;
-        term = term.mul_ref(&r2).div_ref(&int((2 * n - 1) * (2 * n), w2));
+        term = term.mul_ref(&r2).div_u64(((2 * n - 1) * (2 * n)) as u64);
         if term.mag() <= tiny || n > 100_000 {
             co = widen(&co, &term.mag());
             break;
@@ -317,8 +334,7 @@ fn sin_cos_kernel(x: &MpInterval, w: u32) -> (MpInterval, MpInterval) {
             co.add_ref(&term)
         };
     }
-    let unit = MpInterval::from_f64_pair(-1.0, 1.0, w).unwrap();
-    let (s, co) = match k.integer_mod4() {
+    let (s, co) = match q {
         0 => (s, co),
         1 => (co, s.neg()),
         2 => (s.neg(), co.neg()),
@@ -349,7 +365,7 @@ fn sinh_kernel(x: &MpInterval, w: u32) -> MpInterval {
         let mut n: i64 = 0;
         loop {
             n += 1;
-            term = term.mul_ref(&x2).div_ref(&int((2 * n) * (2 * n + 1), w2));
+            term = term.mul_ref(&x2).div_u64(((2 * n) * (2 * n + 1)) as u64);
             if term.mag() <= tiny.mul(&x.mag(), w2, Round::Down) || n > 100_000 {
                 return widen(&s, &term.mag().ldexp(1, Round::Up)).with_prec(w);
             }
@@ -421,8 +437,8 @@ fn asinh_kernel(x: &MpInterval, w: u32) -> MpInterval {
             p = p
                 .mul_ref(&x2)
                 .mul_ref(&int(2 * n - 1, w2))
-                .div_ref(&int(2 * n, w2));
-            let term = p.div_ref(&int(2 * n + 1, w2));
+                .div_u64((2 * n) as u64);
+            let term = p.div_u64((2 * n + 1) as u64);
             if term.mag() <= tiny.mul(&xx.mag(), w2, Round::Down) || n > 100_000 {
                 return widen(&s, &term.mag()).with_prec(w);
             }
@@ -681,7 +697,7 @@ impl MpInterval {
         }
         let w = p + GUARD;
         let at = |v: &Mp| {
-            let (s, c) = sin_cos_kernel(&MpInterval::point(v, w), w);
+            let (s, c) = sin_cos_kernel(&MpInterval::point(v, w), w, sin, !sin);
             if sin {
                 s
             } else {
@@ -715,7 +731,7 @@ impl MpInterval {
             return (self.sin(), self.cos());
         }
         let w = p + GUARD;
-        let (s, c) = sin_cos_kernel(&MpInterval::point(self.inf(), w), w);
+        let (s, c) = sin_cos_kernel(&MpInterval::point(self.inf(), w), w, true, true);
         (s.with_prec(p), c.with_prec(p))
     }
 
@@ -731,7 +747,7 @@ impl MpInterval {
         }
         let w = p + GUARD;
         let at = |v: &Mp| {
-            let (s, c) = sin_cos_kernel(&MpInterval::point(v, w), w);
+            let (s, c) = sin_cos_kernel(&MpInterval::point(v, w), w, true, true);
             s.div_ref(&c)
         };
         if self.inf() != self.sup() {

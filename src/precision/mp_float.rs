@@ -464,6 +464,37 @@ impl Mp {
         })
     }
 
+    /// `x / d` for a positive integer `d`, rounded to `prec` bits (the quotient of (12.2.1)
+    /// with a one-limb divisor); `None` for `d = 0`.
+    pub fn div_u64(&self, d: u64, prec: u32, mode: Round) -> Option<Mp> {
+        if d == 0 {
+            return None;
+        }
+        if self.inf || self.is_zero() {
+            return Some(self.clone());
+        }
+        let prec = prec.max(1) as u64;
+        // q = floor(man 2^s / d) has at least prec + 2 bits (d < 2^64)
+        let s = (prec as i64 + 2 + 64 - self.man.bits() as i64).max(0) as u64;
+        let num = &self.man << s;
+        let q = &num / d;
+        let exact = is_zero(&(&num % d));
+        let e = self.exp - s as i64;
+        Some(if exact {
+            round_parts(self.neg, q, e, prec, -EXP_LIMIT, EXP_LIMIT, mode)
+        } else {
+            round_parts(
+                self.neg,
+                (q << 1u32) + 1u32,
+                e - 1,
+                prec,
+                -EXP_LIMIT,
+                EXP_LIMIT,
+                mode,
+            )
+        })
+    }
+
     /// `sqrt(x)` rounded to `prec` bits; `None` for `x < 0` (12.2.1).
     pub fn sqrt(&self, prec: u32, mode: Round) -> Option<Mp> {
         let prec = prec.max(1) as u64;
@@ -851,6 +882,12 @@ mod tests {
         );
         let t = mp(-1.0).div(&mp(3.0), 10, Round::Up).unwrap();
         assert_eq!(t, Mp::from_parts(true, 341u32.into(), -10, 10, Round::Near));
+        for d in [3u64, 7, 10, u64::MAX] {
+            for mode in [Round::Down, Round::Up, Round::Near] {
+                let a = mp(-2.5).div(&Mp::from_parts(false, d.into(), 0, 64, mode), 100, mode);
+                assert_eq!(mp(-2.5).div_u64(d, 100, mode), a);
+            }
+        }
         // exact results are not moved
         assert_eq!(mp(3.0).mul(&mp(7.0), 5, Round::Up), mp(21.0));
         assert_eq!(mp(9.0).sqrt(3, Round::Down).unwrap(), mp(3.0));
