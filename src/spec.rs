@@ -16,6 +16,7 @@
 //! - [9. Figures and the stability table](report)
 //! - [10. Scene files](scene_files)
 //! - [11. Testing other integrators](testing)
+//! - [12. Precision: interval scalars beyond 53 bits](precision) (12.2: arbitrary precision)
 //! - [The command-line contract](contract): commands, flags, output and exit statuses
 //! - [Design and house style](design): the layers and why
 
