@@ -295,45 +295,45 @@ fn sin_cos_kernel(
     let r2 = r.sqr();
     let tiny = pow2(-(w2 as i64) - 8);
     // sin r = sum (-1)^n r^(2n+1)/(2n+1)!, |remainder| <= |r|^(2N+3)/(2N+3)! (Lagrange)
-    let mut s = r.clone();
-    let mut term = r.clone();
-    let mut n: i64 = 0;
-    while need_sin_r {
-        n += 1;
-        term = term.mul_ref(&r2).div_u64(((2 * n) * (2 * n + 1)) as u64);
-        if term.mag() <= tiny.mul(&r.mag(), w2, Round::Down) || n > 100_000 {
-            s = widen(&s, &term.mag());
-            break;
+    let s = if need_sin_r {
+        let mut s = r.clone();
+        let mut term = r.clone();
+        let mut n: i64 = 0;
+        loop {
+            n += 1;
+            term = term.mul_ref(&r2).div_u64(((2 * n) * (2 * n + 1)) as u64);
+            if term.mag() <= tiny.mul(&r.mag(), w2, Round::Down) || n > 100_000 {
+                break widen(&s, &term.mag());
+            }
+            s = if n % 2 == 1 {
+                s.sub_ref(&term)
+            } else {
+                s.add_ref(&term)
+            };
         }
-        s = if n % 2 == 1 {
-            s.sub_ref(&term)
-        } else {
-            s.add_ref(&term)
-        };
-    }
+    } else {
+        unit.clone()
+    };
     // cos r = sum (-1)^n r^(2n)/(2n)!, |remainder| <= |r|^(2N+2)/(2N+2)!
-    if !need_sin_r {
-        s = unit.clone();
-    }
-    let mut co = c(1.0, w2);
-    let mut term = c(1.0, w2);
-    let mut n: i64 = 0;
-    if !need_cos_r {
-        co = unit.clone();
-    }
-    while need_cos_r {
-        n += 1;
-        term = term.mul_ref(&r2).div_u64(((2 * n - 1) * (2 * n)) as u64);
-        if term.mag() <= tiny || n > 100_000 {
-            co = widen(&co, &term.mag());
-            break;
+    let co = if need_cos_r {
+        let mut co = c(1.0, w2);
+        let mut term = c(1.0, w2);
+        let mut n: i64 = 0;
+        loop {
+            n += 1;
+            term = term.mul_ref(&r2).div_u64(((2 * n - 1) * (2 * n)) as u64);
+            if term.mag() <= tiny || n > 100_000 {
+                break widen(&co, &term.mag());
+            }
+            co = if n % 2 == 1 {
+                co.sub_ref(&term)
+            } else {
+                co.add_ref(&term)
+            };
         }
-        co = if n % 2 == 1 {
-            co.sub_ref(&term)
-        } else {
-            co.add_ref(&term)
-        };
-    }
+    } else {
+        unit.clone()
+    };
     let (s, co) = match q {
         0 => (s, co),
         1 => (co, s.neg()),
