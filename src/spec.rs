@@ -16,7 +16,7 @@
 //! - [9. Figures and the stability table](report)
 //! - [10. Scene files](scene_files)
 //! - [11. Testing other integrators](testing)
-//! - [12. Precision beyond binary64](precision): double-double intervals
+//! - [12. Precision beyond binary64](precision): the interval types, their rounding proofs, the engine at any precision
 //! - [The command-line contract](contract): commands, flags, output and exit statuses
 //! - [Design and house style](design): the layers and why
 
@@ -56,7 +56,7 @@ pub mod scene_files {}
 #[doc = include_str!("../spec/11-testing.md")]
 pub mod testing {}
 
-#[doc = include_str!("../spec/12-precision-dd.md")]
+#[doc = include_str!("../spec/12-precision.md")]
 pub mod precision {}
 
 #[doc = include_str!("../spec/contract.md")]

@@ -30,6 +30,7 @@ mod knife_eps;
 mod oracle_properties;
 mod precision_dd;
 mod precision_flow;
+mod precision_mp;
 mod public_types;
 mod readme_commands;
 mod readme_own_scheme;

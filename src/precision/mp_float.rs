@@ -1,0 +1,957 @@
+//! `Mp`: a binary floating-point number of any precision (the ends of
+//! [`MpInterval`](super::mp::MpInterval)), with every operation rounded in a chosen direction.
+//!
+//! A finite `Mp` is `(-1)^neg * man * 2^exp` with `man` an unbounded natural number
+//! (`num_bigint::BigUint`, 64-bit limbs) and `exp` an `i64`; `man` is odd or zero (canonical
+//! form, so equal values have equal representations). The precision is not stored in the
+//! number: each operation takes the number of significand bits of its result and a direction
+//! ([`Round`]). Every operation computes the exact result (or an exact stand-in that provably
+//! rounds the same way) and rounds it once: [spec (12.2.1)](crate::spec::precision).
+//! Exponents are kept within `[-EXP_LIMIT, EXP_LIMIT]`: beyond, a result overflows to an
+//! infinity or to the largest finite number, or underflows to 0 or the smallest positive
+//! number, as the direction says (12.2.1).
+
+use core::cmp::Ordering;
+use num_bigint::BigUint;
+
+/// Rounding direction of an [`Mp`] operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Round {
+    /// Toward minus infinity (the lower end of an interval).
+    Down,
+    /// Toward plus infinity (the upper end of an interval).
+    Up,
+    /// To nearest, ties to even (points: centres and Newton guesses).
+    Near,
+}
+
+/// The bound on the binary exponent of a finite nonzero [`Mp`]: `2^-EXP_LIMIT <= |x| <
+/// 2^EXP_LIMIT`.
+pub const EXP_LIMIT: i64 = 1 << 40;
+
+/// An arbitrary precision binary floating-point number, or an infinity (see the module doc).
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub struct Mp {
+    neg: bool,
+    inf: bool,
+    man: BigUint,
+    exp: i64,
+}
+
+fn is_zero(m: &BigUint) -> bool {
+    m.bits() == 0
+}
+
+/// Rounds `(-1)^neg * man * 2^exp` (exact) to at most `prec` significant bits, at an exponent
+/// of at least `emin`, in direction `mode`; a result at or beyond `2^emax` in magnitude
+/// overflows (12.2.1).
+fn round_parts(
+    neg: bool,
+    mut man: BigUint,
+    mut exp: i64,
+    prec: u64,
+    emin: i64,
+    emax: i64,
+    mode: Round,
+) -> Mp {
+    if is_zero(&man) {
+        return Mp::zero();
+    }
+    let bits = man.bits() as i64;
+    let k = (bits - prec as i64).max(emin - exp).max(0);
+    if k > 0 {
+        // the value lies in [t, t + 1) * 2^(exp + k), t = floor(man / 2^k)
+        let (inexact, half, above_half) = if k > bits + 1 {
+            (true, false, false)
+        } else {
+            let tz = man.trailing_zeros().unwrap_or(0) as i64;
+            let inexact = tz < k;
+            let half = man.bit((k - 1) as u64);
+            // strictly above the half: the half bit set and some bit below it set
+            let above_half = half && tz < k - 1;
+            (inexact, half, above_half)
+        };
+        man = if k >= bits {
+            BigUint::ZERO
+        } else {
+            man >> (k as u64)
+        };
+        exp += k;
+        if inexact {
+            let away = match mode {
+                Round::Up => !neg,
+                Round::Down => neg,
+                Round::Near => above_half || (half && man.bit(0)),
+            };
+            if away {
+                man += 1u32;
+            }
+        }
+    }
+    if is_zero(&man) {
+        return Mp::zero();
+    }
+    let tz = man.trailing_zeros().unwrap_or(0);
+    if tz > 0 {
+        man >>= tz;
+        exp += tz as i64;
+    }
+    if exp + man.bits() as i64 > emax {
+        // overflow: away from zero gives the infinity, toward zero the largest finite number
+        let away = match mode {
+            Round::Up => !neg,
+            Round::Down => neg,
+            Round::Near => true,
+        };
+        return if away {
+            Mp::infinity(neg)
+        } else {
+            Mp::max_finite(neg, prec, emax)
+        };
+    }
+    Mp {
+        neg,
+        inf: false,
+        man,
+        exp,
+    }
+}
+
+impl Mp {
+    /// Zero.
+    pub fn zero() -> Mp {
+        Mp {
+            neg: false,
+            inf: false,
+            man: BigUint::ZERO,
+            exp: 0,
+        }
+    }
+
+    /// Plus (`neg = false`) or minus infinity.
+    pub fn infinity(neg: bool) -> Mp {
+        Mp {
+            neg,
+            inf: true,
+            man: BigUint::ZERO,
+            exp: 0,
+        }
+    }
+
+    /// The largest finite number of `prec` bits below `2^emax`, with sign `neg`.
+    fn max_finite(neg: bool, prec: u64, emax: i64) -> Mp {
+        let man = (BigUint::from(1u32) << prec) - 1u32;
+        Mp {
+            neg,
+            inf: false,
+            man,
+            exp: emax - prec as i64,
+        }
+    }
+
+    /// The largest finite `Mp` of `prec` bits (just below `2^EXP_LIMIT`).
+    pub fn max_value(prec: u32) -> Mp {
+        Mp::max_finite(false, prec as u64, EXP_LIMIT)
+    }
+
+    /// The smallest positive `Mp`, `2^-EXP_LIMIT`.
+    pub fn min_positive() -> Mp {
+        Mp {
+            neg: false,
+            inf: false,
+            man: BigUint::from(1u32),
+            exp: -EXP_LIMIT,
+        }
+    }
+
+    /// `(-1)^neg * man * 2^exp` rounded to `prec` bits in direction `mode`.
+    pub fn from_parts(neg: bool, man: BigUint, exp: i64, prec: u32, mode: Round) -> Mp {
+        round_parts(
+            neg,
+            man,
+            exp,
+            prec.max(1) as u64,
+            -EXP_LIMIT,
+            EXP_LIMIT,
+            mode,
+        )
+    }
+
+    /// The exact value of the integer `i`.
+    pub fn from_i64(i: i64) -> Mp {
+        let man = BigUint::from(i.unsigned_abs());
+        round_parts(i < 0, man, 0, 64, -EXP_LIMIT, EXP_LIMIT, Round::Near)
+    }
+
+    /// The exact value of a double; `None` for NaN. Infinite doubles give infinities.
+    pub fn from_f64(x: f64) -> Option<Mp> {
+        if x.is_nan() {
+            return None;
+        }
+        if x.is_infinite() {
+            return Some(Mp::infinity(x < 0.0));
+        }
+        let bits = x.to_bits();
+        let neg = bits >> 63 == 1;
+        let be = ((bits >> 52) & 0x7ff) as i64;
+        let frac = bits & ((1u64 << 52) - 1);
+        let (man, exp) = if be == 0 {
+            (frac, -1074)
+        } else {
+            (frac | (1u64 << 52), be - 1075)
+        };
+        Some(round_parts(
+            neg,
+            BigUint::from(man),
+            exp,
+            64,
+            -EXP_LIMIT,
+            EXP_LIMIT,
+            Round::Near,
+        ))
+    }
+
+    /// This number rounded to a double in direction `mode` (overflow: an infinity in the
+    /// away direction, `f64::MAX` toward zero; underflow through the subnormals to 0).
+    pub fn to_f64(&self, mode: Round) -> f64 {
+        if self.inf {
+            return if self.neg {
+                f64::NEG_INFINITY
+            } else {
+                f64::INFINITY
+            };
+        }
+        let r = round_parts(self.neg, self.man.clone(), self.exp, 53, -1074, 1024, mode);
+        if r.inf {
+            return if r.neg {
+                f64::NEG_INFINITY
+            } else {
+                f64::INFINITY
+            };
+        }
+        if r.is_zero() {
+            return 0.0;
+        }
+        // r = m 2^e exactly, m < 2^53, e >= -1074, m 2^e < 2^1024
+        let m = r.man.iter_u64_digits().next().unwrap_or(0);
+        let mut e = r.exp;
+        let mut m = m;
+        let shift = 53 - (64 - m.leading_zeros() as i64);
+        // normalize to 53 bits where the exponent allows (a normal double)
+        let s = shift.min(e + 1074).max(0);
+        m <<= s;
+        e -= s;
+        let bits = if m >> 52 == 0 {
+            // subnormal: e = -1074
+            m
+        } else {
+            let be = (e + 1075) as u64;
+            (be << 52) | (m & ((1u64 << 52) - 1))
+        };
+        let v = f64::from_bits(bits);
+        if r.neg {
+            -v
+        } else {
+            v
+        }
+    }
+
+    /// Whether this is zero.
+    pub fn is_zero(&self) -> bool {
+        !self.inf && is_zero(&self.man)
+    }
+
+    /// Whether this is finite.
+    pub fn is_finite(&self) -> bool {
+        !self.inf
+    }
+
+    /// Whether this is an infinity.
+    pub fn is_infinite(&self) -> bool {
+        self.inf
+    }
+
+    /// Whether this is strictly negative (minus infinity included).
+    pub fn is_negative(&self) -> bool {
+        self.neg && (self.inf || !is_zero(&self.man))
+    }
+
+    /// Whether this is strictly positive (plus infinity included).
+    pub fn is_positive(&self) -> bool {
+        !self.neg && (self.inf || !is_zero(&self.man))
+    }
+
+    /// The number of significant bits of the (finite) significand.
+    pub fn significant_bits(&self) -> u64 {
+        self.man.bits()
+    }
+
+    /// For a finite nonzero number, `t` with `2^(t-1) <= |x| < 2^t`.
+    pub fn top(&self) -> i64 {
+        self.exp + self.man.bits() as i64
+    }
+
+    /// The exponent of the canonical form `(-1)^neg man 2^exp` (man odd).
+    pub fn exponent(&self) -> i64 {
+        self.exp
+    }
+
+    /// The significand of the canonical form.
+    pub fn mantissa(&self) -> &BigUint {
+        &self.man
+    }
+
+    /// `-x` (exact).
+    pub fn neg(&self) -> Mp {
+        let mut r = self.clone();
+        if r.inf || !is_zero(&r.man) {
+            r.neg = !r.neg;
+        }
+        r
+    }
+
+    /// `|x|` (exact).
+    pub fn abs(&self) -> Mp {
+        let mut r = self.clone();
+        r.neg = false;
+        r
+    }
+
+    /// `x 2^k` rounded (exact unless it leaves the exponent range).
+    pub fn ldexp(&self, k: i64, mode: Round) -> Mp {
+        if self.inf || self.is_zero() {
+            return self.clone();
+        }
+        let k = k.clamp(-4 * EXP_LIMIT, 4 * EXP_LIMIT);
+        round_parts(
+            self.neg,
+            self.man.clone(),
+            self.exp + k,
+            self.man.bits().max(1),
+            -EXP_LIMIT,
+            EXP_LIMIT,
+            mode,
+        )
+    }
+
+    /// This number rounded to `prec` bits in direction `mode`.
+    pub fn round(&self, prec: u32, mode: Round) -> Mp {
+        if self.inf {
+            return self.clone();
+        }
+        Mp::from_parts(self.neg, self.man.clone(), self.exp, prec, mode)
+    }
+
+    /// `x + y` rounded to `prec` bits; `inf + (-inf)` is `None` (12.2.1).
+    pub fn add(&self, y: &Mp, prec: u32, mode: Round) -> Option<Mp> {
+        let prec = prec.max(1) as u64;
+        if self.inf || y.inf {
+            if self.inf && y.inf && self.neg != y.neg {
+                return None;
+            }
+            return Some(if self.inf { self.clone() } else { y.clone() });
+        }
+        if self.is_zero() {
+            return Some(round_parts(
+                y.neg,
+                y.man.clone(),
+                y.exp,
+                prec,
+                -EXP_LIMIT,
+                EXP_LIMIT,
+                mode,
+            ));
+        }
+        if y.is_zero() {
+            return Some(round_parts(
+                self.neg,
+                self.man.clone(),
+                self.exp,
+                prec,
+                -EXP_LIMIT,
+                EXP_LIMIT,
+                mode,
+            ));
+        }
+        let (a, b) = if self.top() >= y.top() {
+            (self, y)
+        } else {
+            (y, self)
+        };
+        // far apart: b is replaced by a nonzero number of its sign below every rounding
+        // breakpoint near a (12.2.1)
+        let l = (a.man.bits().max(prec + 2) + 1) as i64;
+        let (bman, bexp) = if a.top() - b.top() > l {
+            (BigUint::from(1u32), a.top() - l - 1)
+        } else {
+            (b.man.clone(), b.exp)
+        };
+        let e = a.exp.min(bexp);
+        let am = &a.man << ((a.exp - e) as u64);
+        let bm = bman << ((bexp - e) as u64);
+        let (neg, man) = if a.neg == b.neg {
+            (a.neg, am + bm)
+        } else if am >= bm {
+            (a.neg, am - bm)
+        } else {
+            (b.neg, bm - am)
+        };
+        if is_zero(&man) {
+            return Some(Mp::zero());
+        }
+        Some(round_parts(neg, man, e, prec, -EXP_LIMIT, EXP_LIMIT, mode))
+    }
+
+    /// `x - y` rounded to `prec` bits; `None` for `inf - inf` of one sign.
+    pub fn sub(&self, y: &Mp, prec: u32, mode: Round) -> Option<Mp> {
+        self.add(&y.neg(), prec, mode)
+    }
+
+    /// `x y` rounded to `prec` bits, with `0 * inf = 0` (the interval convention: a zero end
+    /// times an unbounded end) (12.2.1).
+    pub fn mul(&self, y: &Mp, prec: u32, mode: Round) -> Mp {
+        let neg = self.neg != y.neg;
+        if self.is_zero() || y.is_zero() {
+            return Mp::zero();
+        }
+        if self.inf || y.inf {
+            return Mp::infinity(neg);
+        }
+        round_parts(
+            neg,
+            &self.man * &y.man,
+            self.exp + y.exp,
+            prec.max(1) as u64,
+            -EXP_LIMIT,
+            EXP_LIMIT,
+            mode,
+        )
+    }
+
+    /// `x / y` rounded to `prec` bits; `None` when `y = 0` or both are infinite;
+    /// `finite / inf = 0` (12.2.1).
+    pub fn div(&self, y: &Mp, prec: u32, mode: Round) -> Option<Mp> {
+        let prec = prec.max(1) as u64;
+        if y.is_zero() || (self.inf && y.inf) {
+            return None;
+        }
+        let neg = self.neg != y.neg;
+        if self.inf {
+            return Some(Mp::infinity(neg));
+        }
+        if y.inf || self.is_zero() {
+            return Some(Mp::zero());
+        }
+        // q = floor(man_x 2^s / man_y) has at least prec + 2 bits; a nonzero remainder is
+        // kept as a sticky bit below q
+        let s = (prec as i64 + 2 + y.man.bits() as i64 - self.man.bits() as i64).max(0) as u64;
+        let num = &self.man << s;
+        let q = &num / &y.man;
+        let exact = &q * &y.man == num;
+        let e = self.exp - y.exp - s as i64;
+        Some(if exact {
+            round_parts(neg, q, e, prec, -EXP_LIMIT, EXP_LIMIT, mode)
+        } else {
+            round_parts(
+                neg,
+                (q << 1u32) + 1u32,
+                e - 1,
+                prec,
+                -EXP_LIMIT,
+                EXP_LIMIT,
+                mode,
+            )
+        })
+    }
+
+    /// `x / d` for a positive integer `d`, rounded to `prec` bits (the quotient of (12.2.1)
+    /// with a one-limb divisor); `None` for `d = 0`.
+    pub fn div_u64(&self, d: u64, prec: u32, mode: Round) -> Option<Mp> {
+        if d == 0 {
+            return None;
+        }
+        if self.inf || self.is_zero() {
+            return Some(self.clone());
+        }
+        let prec = prec.max(1) as u64;
+        // q = floor(man 2^s / d) has at least prec + 2 bits (d < 2^64)
+        let s = (prec as i64 + 2 + 64 - self.man.bits() as i64).max(0) as u64;
+        let num = &self.man << s;
+        let q = &num / d;
+        let exact = is_zero(&(&num % d));
+        let e = self.exp - s as i64;
+        Some(if exact {
+            round_parts(self.neg, q, e, prec, -EXP_LIMIT, EXP_LIMIT, mode)
+        } else {
+            round_parts(
+                self.neg,
+                (q << 1u32) + 1u32,
+                e - 1,
+                prec,
+                -EXP_LIMIT,
+                EXP_LIMIT,
+                mode,
+            )
+        })
+    }
+
+    /// `sqrt(x)` rounded to `prec` bits; `None` for `x < 0` (12.2.1).
+    pub fn sqrt(&self, prec: u32, mode: Round) -> Option<Mp> {
+        let prec = prec.max(1) as u64;
+        if self.is_negative() {
+            return None;
+        }
+        if self.inf || self.is_zero() {
+            return Some(self.clone());
+        }
+        // m 2^e with e even and m of at least 2 prec + 4 bits; r = floor(sqrt(m)) has at least
+        // prec + 2 bits; an inexact root keeps a sticky bit below r
+        let mut s = (2 * prec as i64 + 4 - self.man.bits() as i64).max(0);
+        if (self.exp - s).rem_euclid(2) != 0 {
+            s += 1;
+        }
+        let m = &self.man << (s as u64);
+        let r = m.sqrt();
+        let exact = &r * &r == m;
+        let e = (self.exp - s) / 2;
+        Some(if exact {
+            round_parts(false, r, e, prec, -EXP_LIMIT, EXP_LIMIT, mode)
+        } else {
+            round_parts(
+                false,
+                (r << 1u32) + 1u32,
+                e - 1,
+                prec,
+                -EXP_LIMIT,
+                EXP_LIMIT,
+                mode,
+            )
+        })
+    }
+
+    /// The smaller of two numbers.
+    pub fn min(self, y: Mp) -> Mp {
+        if y < self {
+            y
+        } else {
+            self
+        }
+    }
+
+    /// The larger of two numbers.
+    pub fn max(self, y: Mp) -> Mp {
+        if y > self {
+            y
+        } else {
+            self
+        }
+    }
+
+    /// `floor(x)` for finite `x` (exact).
+    pub fn floor(&self) -> Mp {
+        self.to_integer(false)
+    }
+
+    /// `ceil(x)` for finite `x` (exact).
+    pub fn ceil(&self) -> Mp {
+        self.to_integer(true)
+    }
+
+    fn to_integer(&self, up: bool) -> Mp {
+        if self.inf || self.exp >= 0 {
+            return self.clone();
+        }
+        let k = (-self.exp) as u64;
+        let t = &self.man >> k;
+        // self is not an integer (man odd, exp < 0): its magnitude lies in (t, t + 1)
+        let away = if up { !self.neg } else { self.neg };
+        let t = if away { t + 1u32 } else { t };
+        round_parts(
+            self.neg,
+            t,
+            0,
+            u64::MAX >> 2,
+            -EXP_LIMIT,
+            EXP_LIMIT,
+            Round::Near,
+        )
+    }
+
+    /// For an integer-valued `x`, `x mod 4` in `0..4`.
+    pub fn integer_mod4(&self) -> u32 {
+        if self.is_zero() || self.inf || self.exp >= 2 {
+            return 0;
+        }
+        let low = self.man.iter_u64_digits().next().unwrap_or(0);
+        let v = ((low << self.exp.max(0)) & 3) as u32;
+        if self.neg {
+            (4 - v) % 4
+        } else {
+            v
+        }
+    }
+
+    /// The value of an integer-valued `x` if it fits an `i64`.
+    pub fn to_i64(&self) -> Option<i64> {
+        if self.inf || self.exp < 0 || self.top() > 62 {
+            return None;
+        }
+        let m = self.man.iter_u64_digits().next().unwrap_or(0) << self.exp;
+        Some(if self.neg { -(m as i64) } else { m as i64 })
+    }
+}
+
+impl PartialOrd for Mp {
+    fn partial_cmp(&self, other: &Mp) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Mp {
+    fn cmp(&self, y: &Mp) -> Ordering {
+        let sx = sign(self);
+        let sy = sign(y);
+        if sx != sy {
+            return sx.cmp(&sy);
+        }
+        if sx == 0 {
+            return Ordering::Equal;
+        }
+        let mag = match (self.inf, y.inf) {
+            (true, true) => Ordering::Equal,
+            (true, false) => Ordering::Greater,
+            (false, true) => Ordering::Less,
+            (false, false) => {
+                let (tx, ty) = (self.top(), y.top());
+                if tx != ty {
+                    tx.cmp(&ty)
+                } else {
+                    let e = self.exp.min(y.exp);
+                    let a = &self.man << ((self.exp - e) as u64);
+                    let b = &y.man << ((y.exp - e) as u64);
+                    a.cmp(&b)
+                }
+            }
+        };
+        if sx < 0 {
+            mag.reverse()
+        } else {
+            mag
+        }
+    }
+}
+
+fn sign(x: &Mp) -> i8 {
+    if x.is_positive() {
+        1
+    } else if x.is_negative() {
+        -1
+    } else {
+        0
+    }
+}
+
+impl core::fmt::Debug for Mp {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        if self.inf {
+            return write!(f, "{}inf", if self.neg { "-" } else { "" });
+        }
+        write!(
+            f,
+            "{}{:#x}p{}",
+            if self.neg { "-" } else { "" },
+            self.man,
+            self.exp
+        )
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Decimal conversion, exact on the dyadic value (12.2.6).
+
+/// The decimal number `(-1)^neg n 10^e` rounded to `prec` bits in direction `mode` (not
+/// `Near`); `e` limited to `|e| <= 10^6` by the caller.
+pub(crate) fn decimal_to_mp(neg: bool, n: &BigUint, e: i64, prec: u32, mode: Round) -> Mp {
+    if is_zero(n) {
+        return Mp::zero();
+    }
+    if e >= 0 {
+        let v = n * BigUint::from(10u32).pow(e as u32);
+        return Mp::from_parts(neg, v, 0, prec, mode);
+    }
+    let den = Mp::from_parts(
+        false,
+        BigUint::from(5u32).pow((-e) as u32),
+        0,
+        u32::MAX,
+        Round::Near,
+    );
+    let num = Mp::from_parts(neg, n.clone(), e, u32::MAX, Round::Near);
+    // n 10^e = (n 2^e) / 5^-e; both exact above (prec u32::MAX keeps every bit)
+    num.div(&den, prec, mode).unwrap_or_else(Mp::zero)
+}
+
+/// Parses a decimal `[+-]digits[.digits][(e|E)[+-]digits]` into sign, digits and exponent.
+pub(crate) fn parse_decimal(s: &str) -> Option<(bool, BigUint, i64)> {
+    let s = s.trim();
+    let (neg, rest) = match s.as_bytes().first()? {
+        b'-' => (true, &s[1..]),
+        b'+' => (false, &s[1..]),
+        _ => (false, s),
+    };
+    let (mant, exp) = match rest.find(['e', 'E']) {
+        Some(i) => (&rest[..i], Some(&rest[i + 1..])),
+        None => (rest, None),
+    };
+    let (ip, fp) = match mant.find('.') {
+        Some(i) => (&mant[..i], &mant[i + 1..]),
+        None => (mant, ""),
+    };
+    if ip.is_empty() && fp.is_empty() {
+        return None;
+    }
+    if !ip.bytes().chain(fp.bytes()).all(|c| c.is_ascii_digit()) {
+        return None;
+    }
+    let mut e: i64 = match exp {
+        Some(t) => {
+            let (eneg, digits) = match t.as_bytes().first()? {
+                b'-' => (true, &t[1..]),
+                b'+' => (false, &t[1..]),
+                _ => (false, t),
+            };
+            if digits.is_empty() || digits.len() > 8 || !digits.bytes().all(|c| c.is_ascii_digit())
+            {
+                return None;
+            }
+            let v: i64 = digits.parse().ok()?;
+            if eneg {
+                -v
+            } else {
+                v
+            }
+        }
+        None => 0,
+    };
+    let digits = format!("{ip}{fp}");
+    let digits = digits.trim_start_matches('0');
+    e -= fp.len() as i64;
+    let n = if digits.is_empty() {
+        BigUint::ZERO
+    } else {
+        if digits.len() > 100_000 {
+            return None;
+        }
+        BigUint::parse_bytes(digits.as_bytes(), 10)?
+    };
+    if e.abs() > 1_000_000 {
+        return None;
+    }
+    Some((neg, n, e))
+}
+
+/// `x` written with `digits` significant decimal digits, rounded down (`up = false`) or up,
+/// as `d.ddd...e±X` (12.2.6). Infinities print as `inf` / `-inf`, zero as `0`.
+pub fn to_decimal(x: &Mp, digits: usize, up: bool) -> String {
+    if x.inf {
+        return if x.neg { "-inf".into() } else { "inf".into() };
+    }
+    if x.is_zero() {
+        return "0".into();
+    }
+    let digits = digits.clamp(1, 100_000);
+    // round the magnitude away from zero when the direction and the sign agree
+    let away = up != x.neg;
+    let sign = if x.neg { "-" } else { "" };
+    // beyond 2^(±2^16) the exact expansion is too long: a power of ten on the safe side
+    // (2^(t-1) <= |x| < 2^t; log10 2 is taken 1e-12 wide of its value on each side)
+    if x.top() > 1 << 16 {
+        if away {
+            return format!("{sign}inf");
+        }
+        let k = ((x.top() - 1) as f64 * (core::f64::consts::LOG10_2 - 1e-12)).floor() as i64;
+        return format!("{sign}1e{}", k - 1);
+    }
+    if x.top() < -(1 << 16) {
+        if !away {
+            return "0".into();
+        }
+        let k = (x.top() as f64 * (core::f64::consts::LOG10_2 - 1e-12)).ceil() as i64;
+        return format!("{sign}1e{}", k + 1);
+    }
+    // first guess of the decimal exponent F with 10^(d-1) <= |x| 10^-F < 10^d
+    let mut f =
+        (((x.top() - 1) as f64) * core::f64::consts::LOG10_2).floor() as i64 - (digits as i64 - 1);
+    let lo = BigUint::from(10u32).pow(digits as u32 - 1);
+    let hi = &lo * 10u32;
+    loop {
+        // |x| 10^-F = man 2^exp 10^-F = num / den exactly
+        let mut num = x.man.clone();
+        let mut den = BigUint::from(1u32);
+        if x.exp >= 0 {
+            num <<= x.exp as u64;
+        } else {
+            den <<= (-x.exp) as u64;
+        }
+        if f >= 0 {
+            den *= BigUint::from(10u32).pow(f as u32);
+        } else {
+            num *= BigUint::from(10u32).pow((-f) as u32);
+        }
+        let q = &num / &den;
+        if q >= hi {
+            f += 1;
+            continue;
+        }
+        if q < lo {
+            f -= 1;
+            continue;
+        }
+        let exact = &q * &den == num;
+        let mut q = q;
+        if !exact && away {
+            q += 1u32;
+        }
+        if q == hi {
+            // 99..9 rounded up to 10^d: one digit fewer
+            q = lo.clone();
+            f += 1;
+        }
+        let s = q.to_str_radix(10);
+        let e10 = f + digits as i64 - 1;
+        let (head, tail) = s.split_at(1);
+        let tail = tail.trim_end_matches('0');
+        return if tail.is_empty() {
+            format!("{sign}{head}e{e10}")
+        } else {
+            format!("{sign}{head}.{tail}e{e10}")
+        };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mp(x: f64) -> Mp {
+        Mp::from_f64(x).unwrap()
+    }
+
+    #[test]
+    fn f64_round_trip_and_directed_conversion() {
+        for &x in &[
+            1.0,
+            -2.5,
+            0.1,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            5e-324,
+            -3e-310,
+            1e300,
+        ] {
+            let m = mp(x);
+            assert_eq!(m.to_f64(Round::Down), x);
+            assert_eq!(m.to_f64(Round::Up), x);
+            assert_eq!(m.to_f64(Round::Near), x);
+        }
+        // 1 + 2^-60 lies strictly between 1 and next_up(1)
+        let y = mp(1.0).add(&mp(2f64.powi(-60)), 200, Round::Near).unwrap();
+        assert_eq!(y.to_f64(Round::Down), 1.0);
+        assert_eq!(y.to_f64(Round::Up), 1.0f64.next_up());
+        assert_eq!(y.to_f64(Round::Near), 1.0);
+        let big = mp(f64::MAX).mul(&mp(2.0), 100, Round::Near);
+        assert_eq!(big.to_f64(Round::Up), f64::INFINITY);
+        assert_eq!(big.to_f64(Round::Down), f64::MAX);
+        let tiny = mp(5e-324).mul(&mp(0.25), 100, Round::Near);
+        assert_eq!(tiny.to_f64(Round::Down), 0.0);
+        assert_eq!(tiny.to_f64(Round::Up), 5e-324);
+    }
+
+    #[test]
+    fn directed_rounding_of_the_basic_operations() {
+        // 1/3 at 10 bits: 1.010101010|10... 2^-2 -> down 682/2048, up 683/2048
+        let t = mp(1.0).div(&mp(3.0), 10, Round::Down).unwrap();
+        assert_eq!(
+            t,
+            Mp::from_parts(false, 341u32.into(), -10, 10, Round::Near)
+        );
+        let t = mp(1.0).div(&mp(3.0), 10, Round::Up).unwrap();
+        assert_eq!(
+            t,
+            Mp::from_parts(false, 683u32.into(), -11, 10, Round::Near)
+        );
+        let t = mp(-1.0).div(&mp(3.0), 10, Round::Up).unwrap();
+        assert_eq!(t, Mp::from_parts(true, 341u32.into(), -10, 10, Round::Near));
+        for d in [3u64, 7, 10, u64::MAX] {
+            for mode in [Round::Down, Round::Up, Round::Near] {
+                let a = mp(-2.5).div(&Mp::from_parts(false, d.into(), 0, 64, mode), 100, mode);
+                assert_eq!(mp(-2.5).div_u64(d, 100, mode), a);
+            }
+        }
+        // exact results are not moved
+        assert_eq!(mp(3.0).mul(&mp(7.0), 5, Round::Up), mp(21.0));
+        assert_eq!(mp(9.0).sqrt(3, Round::Down).unwrap(), mp(3.0));
+        // sqrt 2 at 8 bits: 1.0110101|0000010... -> [181/128, 182/128]
+        assert_eq!(
+            mp(2.0).sqrt(8, Round::Down).unwrap(),
+            Mp::from_parts(false, 181u32.into(), -7, 8, Round::Near)
+        );
+        assert_eq!(
+            mp(2.0).sqrt(8, Round::Up).unwrap(),
+            Mp::from_parts(false, 182u32.into(), -7, 8, Round::Near)
+        );
+        // far apart sums
+        let one = mp(1.0);
+        let e = mp(1e-300);
+        assert_eq!(one.add(&e, 100, Round::Down).unwrap(), one);
+        assert!(one.add(&e, 100, Round::Up).unwrap() > one);
+        assert!(one.sub(&e, 100, Round::Down).unwrap() < one);
+        assert_eq!(one.sub(&e, 100, Round::Up).unwrap(), one);
+        assert_eq!(one.add(&e, 100, Round::Near).unwrap(), one);
+        // ties to even: 1 + 2^-10 at 10 bits is a tie between 1 and 1 + 2^-9
+        let t = one.add(&mp(2f64.powi(-10)), 10, Round::Near).unwrap();
+        assert_eq!(t, one);
+        let t = mp(1.0 + 2f64.powi(-9))
+            .add(&mp(2f64.powi(-10)), 10, Round::Near)
+            .unwrap();
+        assert_eq!(t, mp(1.0 + 2f64.powi(-8)));
+    }
+
+    #[test]
+    fn ordering_floor_ceil_mod4() {
+        assert!(mp(-2.0) < mp(-1.5));
+        assert!(Mp::infinity(true) < mp(-1e300));
+        assert!(mp(0.0) < mp(5e-324));
+        assert_eq!(mp(2.5).floor(), mp(2.0));
+        assert_eq!(mp(-2.5).floor(), mp(-3.0));
+        assert_eq!(mp(-2.5).ceil(), mp(-2.0));
+        assert_eq!(mp(7.0).integer_mod4(), 3);
+        assert_eq!(mp(-7.0).integer_mod4(), 1);
+        assert_eq!(mp(2f64.powi(80)).integer_mod4(), 0);
+        assert_eq!(mp(-6.0).integer_mod4(), 2);
+    }
+
+    #[test]
+    fn decimal_printing_is_directed() {
+        let third = mp(1.0).div(&mp(3.0), 200, Round::Down).unwrap();
+        assert_eq!(to_decimal(&third, 5, false), "3.3333e-1");
+        assert_eq!(to_decimal(&third, 5, true), "3.3334e-1");
+        assert_eq!(to_decimal(&third.neg(), 5, false), "-3.3334e-1");
+        assert_eq!(to_decimal(&mp(1.0), 5, true), "1e0");
+        assert_eq!(to_decimal(&mp(0.1), 3, false), "1e-1");
+        assert_eq!(to_decimal(&mp(0.1), 3, true), "1.01e-1");
+        assert_eq!(
+            to_decimal(&mp(1e300), 20, false),
+            "1.0000000000000000525e300"
+        );
+        let (n, d, e) = parse_decimal("-12.5e-3").unwrap();
+        assert!(n);
+        assert_eq!(d, BigUint::from(125u32));
+        assert_eq!(e, -4);
+        assert!(parse_decimal("1e").is_none());
+        assert!(parse_decimal(".").is_none());
+        assert!(parse_decimal("1.2.3").is_none());
+        let x = decimal_to_mp(false, &BigUint::from(1u32), -1, 53, Round::Near);
+        assert_eq!(x, mp(0.1));
+    }
+}
