@@ -142,8 +142,9 @@ pub(super) fn flow_set_general<I: Ival>(
         // remainder not meet the tolerance, the step is tried again at order p.
         let mut p_step = p;
         if last && !fixed && opts.given_order().is_none() {
-            p_step = LOW_ORDERS
-                .into_iter()
+            p_step = I::low_orders()
+                .iter()
+                .copied()
                 .find(|&q| q < p && step_size(mid.rows().first(q + 1), q, &m_f64, I::eps()) >= rem.sup())
                 .unwrap_or(p);
         }

@@ -38,6 +38,8 @@ pub trait Ival: Coef + PartialEq + Debug + Send + Sync {
     fn short_order() -> usize;
     /// The orders tried for the variational equation, lowest first ([spec eq. (5.6)](crate::spec::enclosure)).
     fn jac_orders() -> &'static [usize];
+    /// The lower orders a last step may take instead of the flow's ([spec (5.8')](crate::spec::enclosure)).
+    fn low_orders() -> &'static [usize];
     /// The degenerate interval of a point.
     fn pt(x: Self::Pt) -> Self;
     /// A point in the interval (its midpoint, or near it), for a non-empty bounded one.
@@ -139,6 +141,9 @@ impl Ival for Interval {
     fn jac_orders() -> &'static [usize] {
         &super::step::JAC_ORDERS
     }
+    fn low_orders() -> &'static [usize] {
+        &super::control::LOW_ORDERS
+    }
     fn pt(x: f64) -> Self {
         crate::scalar::point(x)
     }
@@ -227,6 +232,9 @@ impl Ival for DdInterval {
     }
     fn jac_orders() -> &'static [usize] {
         &[3, 5, 8, 12, 16, 20, 26, 32, 40]
+    }
+    fn low_orders() -> &'static [usize] {
+        &[8, 12, 16, 20, 24, 28, 32]
     }
     fn pt(x: Dd) -> Self {
         DdInterval::point(x)

@@ -147,12 +147,21 @@ fn decimal_pair(v: &serde_json::Value) -> DdInterval {
 /// unchanged in form.
 #[test]
 fn the_command_line_answers_at_106_bits_with_decimal_ends() {
-    let args = ["flow", "--scene", "knife", "--q", "0,0,0", "--u", "0.8,0.8", "--t", "50"];
+    let args = [
+        "flow", "--scene", "knife", "--q", "0,0,0", "--u", "0.8,0.8", "--t", "50",
+    ];
     let out = crate::common::run_args(&[&args[..], &["--precision", "106", "--json"]].concat());
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["precision"], 106);
-    let line = TABLE.lines().find(|l| l.starts_with("knife 0.0,0.0,0.0 0.8,0.8 50.0 ")).unwrap();
+    let line = TABLE
+        .lines()
+        .find(|l| l.starts_with("knife 0.0,0.0,0.0 0.8,0.8 50.0 "))
+        .unwrap();
     let f: Vec<&str> = line.split_whitespace().collect();
     let got: Vec<&serde_json::Value> = ["q", "u", "v"]
         .iter()
@@ -160,8 +169,14 @@ fn the_command_line_answers_at_106_bits_with_decimal_ends() {
         .collect();
     for (k, x) in got.iter().enumerate() {
         let x = decimal_pair(x);
-        assert!(reference(&f[4 + 4 * k..8 + 4 * k]).subset(x), "component {k}: {x}");
-        assert!(x.wid_up() < 1e-27 * x.mag_up().max(1.0), "component {k}: {x}");
+        assert!(
+            reference(&f[4 + 4 * k..8 + 4 * k]).subset(x),
+            "component {k}: {x}"
+        );
+        assert!(
+            x.wid_up() < 1e-27 * x.mag_up().max(1.0),
+            "component {k}: {x}"
+        );
     }
     let plain = crate::common::run_args(&[&args[..], &["--json"]].concat());
     let p: serde_json::Value = serde_json::from_slice(&plain.stdout).unwrap();
@@ -192,12 +207,18 @@ fn batch_reads_precision_where_it_applies_and_refuses_it_elsewhere() {
     assert_eq!(a[1]["ok"]["precision"], 106);
     for k in 0..3 {
         let q2 = decimal_pair(&a[1]["ok"]["q2"][k]);
-        assert!(reference(&f[15 + 4 * k..19 + 4 * k]).subset(q2), "q2[{k}] = {q2}");
+        assert!(
+            reference(&f[15 + 4 * k..19 + 4 * k]).subset(q2),
+            "q2[{k}] = {q2}"
+        );
     }
     assert!(reference(&f[27..31]).subset(decimal_pair(&a[2]["ok"]["l"])));
     assert!(a[3]["ok"]["q2"][0][0].is_f64() && a[3]["ok"].get("precision").is_none());
     for k in [4, 5] {
         assert_eq!(a[k]["error"]["code"], 2, "{}", a[k]);
-        assert!(a[k]["error"]["message"].as_str().unwrap().contains("precision"));
+        assert!(a[k]["error"]["message"]
+            .as_str()
+            .unwrap()
+            .contains("precision"));
     }
 }
