@@ -645,7 +645,10 @@ fn used_exactly(given: &Value, q: &Query) {
                 .parse()
                 .expect("a scheme");
             assert_eq!(named, *scheme);
-            ("order", ["scheme", "q", "u", "h", "rungs"].as_slice())
+            (
+                "order",
+                ["scheme", "q", "u", "h", "rungs", "precision"].as_slice(),
+            )
         }
         Query::Precise { .. } => unreachable!("unwrapped above"),
     };

@@ -83,9 +83,25 @@ where
                 s: decimals(&r.s),
             })
         }
+        Query::Order {
+            scheme,
+            q,
+            u,
+            h,
+            rungs,
+            ..
+        } => {
+            let mut s = crate::schemes::Scheme::new(model, *scheme);
+            let a =
+                crate::protocol::order::answer(model, &mut s, q, u, *h, *rungs, opts, Some(bits))?;
+            Ok(Answer::OrderWide {
+                precision: bits,
+                order: a,
+            })
+        }
         _ => Err(Error::input_key(
             "precision",
-            "`precision` is read by flow, retract, step and lagrangian only",
+            "`precision` is read by flow, retract, step, lagrangian and order only",
         )),
     }
 }

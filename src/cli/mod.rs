@@ -97,7 +97,7 @@ const PRECISION_HELP: &str = "Significand bits to compute with: 53 (default, f64
      lagrangian and flow)";
 
 /// `query` at the precision of `--precision` (none: 53 bits; contract E18).
-fn precise(query: Query, precision: Option<&str>) -> Result<Query, Error> {
+pub(super) fn precise(query: Query, precision: Option<&str>) -> Result<Query, Error> {
     match precision.map(protocol::parse_precision).transpose()? {
         Some(bits) if bits > 53 => Ok(Query::Precise {
             precision: bits,
@@ -254,6 +254,10 @@ pub(crate) enum Cmd {
         /// Rungs of the local ladder, each half the last (default 5, at most 12)
         #[arg(long, allow_hyphen_values = true)]
         rungs: Option<String>,
+        /// Significand bits of the local ladder's exact steps: 53 (default) up to 106 (the
+        /// global ladder stays at 53)
+        #[arg(long, allow_hyphen_values = true)]
+        precision: Option<String>,
         /// Print one JSON object
         #[arg(long)]
         json: bool,
@@ -386,6 +390,7 @@ pub(crate) fn run(args: Vec<String>) -> i32 {
             u,
             h,
             rungs,
+            precision,
             json,
         }) => order::run(
             &scene,
@@ -394,6 +399,7 @@ pub(crate) fn run(args: Vec<String>) -> i32 {
             &u,
             h.as_deref(),
             rungs.as_deref(),
+            precision.as_deref(),
             json,
         )
         .map(Some),

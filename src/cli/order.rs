@@ -13,6 +13,7 @@ pub fn run(
     u: &str,
     h: Option<&str>,
     rungs: Option<&str>,
+    precision: Option<&str>,
     as_json: bool,
 ) -> Result<String, Error> {
     let spec = scene_spec(scene)?;
@@ -33,5 +34,6 @@ pub fn run(
         h: h0,
         rungs,
     };
+    let query = super::precise(query, precision)?;
     Ok(Session::default().answer(&query)?.render(as_json))
 }

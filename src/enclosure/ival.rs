@@ -58,6 +58,8 @@ pub trait Ival: Coef + PartialEq + Debug + Send + Sync {
     fn wid(&self) -> f64;
     /// An f64 upper bound of `max |x|`.
     fn mag(&self) -> f64;
+    /// An f64 lower bound of `min |x|`.
+    fn mig(&self) -> f64;
     /// The f64 midpoint, for choices only.
     fn mid(&self) -> f64 {
         Self::pt_f64(self.mid_pt())
@@ -171,6 +173,9 @@ impl Ival for Interval {
     fn mag(&self) -> f64 {
         Interval::mag(*self)
     }
+    fn mig(&self) -> f64 {
+        Interval::mig(*self)
+    }
     fn mid(&self) -> f64 {
         Interval::mid(*self)
     }
@@ -262,6 +267,9 @@ impl Ival for DdInterval {
     }
     fn mag(&self) -> f64 {
         self.mag_up()
+    }
+    fn mig(&self) -> f64 {
+        self.mig_down()
     }
     fn contains(&self, x: f64) -> bool {
         self.contains_f64(x)

@@ -93,6 +93,14 @@ pub enum Answer {
         /// The retraction's defect `s`.
         s: Vec<DecimalInterval>,
     },
+    /// `order` with the local ladder's exact steps computed with more than 53 bits
+    /// (contract E18): the keys of `order` plus `precision`.
+    OrderWide {
+        /// The significand bits of the local ladder's exact steps.
+        precision: u32,
+        /// The errors and orders.
+        order: super::order::OrderAnswer,
+    },
     /// `retract`: the exact retractions and the defect of the pair.
     Retract(Retraction),
     /// `step`: one step of the exact discrete flow with the Legendre transforms.
@@ -214,6 +222,11 @@ impl Answer {
                 json!({ "scenes": list })
             }
             Answer::Order(o) => o.to_json(),
+            Answer::OrderWide { precision, order } => {
+                let mut v = order.to_json();
+                v["precision"] = (*precision).into();
+                v
+            }
         }
     }
 
@@ -267,6 +280,10 @@ impl Answer {
             }
             Answer::Scenes(_) => scenes_text(&self.to_json()),
             Answer::Order(o) => o.to_text(),
+            Answer::OrderWide { precision, order } => format!(
+                "{}\n(the local errors computed with {precision} bits)",
+                order.to_text()
+            ),
             _ => human(&self.to_json()),
         }
     }

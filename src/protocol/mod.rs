@@ -398,6 +398,7 @@ impl Session {
                     Query::Retract(p) | Query::Step(p) | Query::Lagrangian(p) => {
                         self.model(&p.scene)?
                     }
+                    Query::Order { scene, .. } => self.model(scene)?,
                     _ => {
                         return Err(Error::input_key(
                             "precision",
@@ -460,7 +461,7 @@ impl Session {
                 let model = self.model(scene)?;
                 // a stepper of its own (the kit's steppers take `&mut self`)
                 let mut s = Scheme::new(&model, *scheme);
-                let a = order::answer(&model, &mut s, q, u, *h, *rungs, &opts)?;
+                let a = order::answer(&model, &mut s, q, u, *h, *rungs, &opts, None)?;
                 Ok(Answer::Order(a))
             }
             Query::Integrate {

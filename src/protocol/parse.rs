@@ -434,7 +434,7 @@ pub fn query_keys(cmd: &str) -> Option<Vec<&'static str>> {
         "retract" | "step" | "lagrangian" => &["q0", "q1", "h", "precision"],
         "integrate" => &["q0", "q1", "h", "scheme", "steps"],
         "check" => &["h", "t", "q", "tol", "defect_tol", "pairs"],
-        "order" => &["scheme", "q", "u", "h", "rungs"],
+        "order" => &["scheme", "q", "u", "h", "rungs", "precision"],
         _ => return None,
     };
     Some(COMMON_KEYS.iter().chain(own).copied().collect())
