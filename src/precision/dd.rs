@@ -380,6 +380,10 @@ fn overflow(h: f64) -> DdInterval {
 #[inline(always)]
 fn add_pt(x: Dd, y: Dd) -> DdInterval {
     let (s, t) = two_sum(x.hi, y.hi);
+    if !s.is_finite() {
+        // fl(x_h + y_h) overflowed: |x + y| >= (1 - u) f64::MAX > 2^1023 (12.1.3).
+        return overflow(s);
+    }
     let (u, v) = two_sum(x.lo, y.lo);
     let (w, we) = two_sum(t, u);
     let (zh, zl) = two_sum(s, w);
@@ -809,30 +813,42 @@ impl DdInterval {
         DdInterval { lo, hi }
     }
 
-    /// `2^k * self` for `|k| <= 2200`, outward rounded (exact unless it leaves the normal range).
+    /// `2^k * self`, outward rounded (exact unless it leaves the normal range).
     pub fn scale_pow2(self, k: i32) -> DdInterval {
         if self.is_empty() {
             return self;
         }
-        let k1 = k / 2;
-        let k2 = k - k1;
-        let down = |x: f64| mul2(mul2(x, k1, true), k2, true);
-        let upf = |x: f64| mul2(mul2(x, k1, false), k2, false);
+        let down = |x: f64| mul2(x, k, true);
+        let upf = |x: f64| mul2(x, k, false);
         let lo = if self.lo.is_finite() { end_down(down(self.lo.hi), down(self.lo.lo)) } else { self.lo };
         let hi = if self.hi.is_finite() { end_up(upf(self.hi.hi), upf(self.hi.lo)) } else { self.hi };
         DdInterval { lo, hi }
     }
 }
 
-/// `x * 2^k` (`|k| <= 1100`) rounded down (`down`) or up: exact when the product is normal or
+/// `x * 2^k` rounded down (`down`) or up: exact when the product is normal or
 /// zero from zero; otherwise one outward step, since the product is rounded to nearest
 /// ([spec (12.1.2)](crate::spec::precision)).
 #[inline]
 fn mul2(x: f64, k: i32, down: bool) -> f64 {
-    if x == 0.0 {
-        return 0.0;
+    let mut y = x;
+    let mut k = k;
+    while k != 0 && y != 0.0 && y.is_finite() {
+        // Each step is a directed bound and multiplying by 2^step > 0 is monotone.
+        let step = k.clamp(-1000, 1000);
+        y = mul2_step(y, step, down);
+        k -= step;
     }
-    let y = x * pow2(k.clamp(-1074, 1023));
+    y
+}
+
+/// One step of [`mul2`], `|k| <= 1000`.
+#[inline]
+fn mul2_step(x: f64, k: i32, down: bool) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let y = x * pow2(k);
     if y.is_finite() && y.abs() >= f64::MIN_POSITIVE {
         y
     } else if y.is_finite() {
