@@ -376,36 +376,51 @@ fn overflow(h: f64) -> DdInterval {
     }
 }
 
-/// The enclosure of `x + y` for finite `x, y` ([spec (12.1.5)](crate::spec::precision)).
+/// `(h, l, e)` with `|x + y - (h + l)| <= e` for finite `x, y`; `e = 0` when `h + l` is exact
+/// and `(h, l)` normalised; `h` infinite when the leading sum overflows
+/// ([spec (12.1.5)](crate::spec::precision)).
 #[inline(always)]
-fn add_pt(x: Dd, y: Dd) -> DdInterval {
+fn add_core(x: Dd, y: Dd) -> (f64, f64, f64) {
     let (s, t) = two_sum(x.hi, y.hi);
     if !s.is_finite() {
         // fl(x_h + y_h) overflowed: |x + y| >= (1 - u) f64::MAX > 2^1023 (12.1.3).
-        return overflow(s);
+        return (s, 0.0, 0.0);
     }
     let (u, v) = two_sum(x.lo, y.lo);
     let (w, we) = two_sum(t, u);
     let (zh, zl) = two_sum(s, w);
     // x + y == zh + zl + we + v exactly.
-    if we == 0.0 && v == 0.0 && zh.is_finite() {
-        let d = Dd { hi: zh + 0.0, lo: zl + 0.0 };
-        return DdInterval { lo: d, hi: d };
+    if we == 0.0 && v == 0.0 {
+        return (zh + 0.0, zl + 0.0, 0.0);
     }
     let r = we + v;
     let l = zl + r;
     let e = up(U * up(r.abs() + l.abs()));
-    enclose(zh, l, e)
+    (zh, l, e)
 }
 
-/// The enclosure of `x * y` for finite `x, y` ([spec (12.1.6)](crate::spec::precision)).
+/// The enclosure of `x + y` for finite `x, y` ([spec (12.1.5)](crate::spec::precision)).
 #[inline(always)]
-fn mul_pt(x: Dd, y: Dd) -> DdInterval {
+fn add_pt(x: Dd, y: Dd) -> DdInterval {
+    let (h, l, e) = add_core(x, y);
+    if e == 0.0 && h.is_finite() {
+        let d = Dd { hi: h, lo: l };
+        return DdInterval { lo: d, hi: d };
+    }
+    enclose(h, l, e)
+}
+
+/// `(h, l, e)` with `|x y - (h + l)| <= e` for finite `x, y`; `e = 0` when exact
+/// ([spec (12.1.6)](crate::spec::precision)).
+#[inline(always)]
+fn mul_core(x: Dd, y: Dd) -> (f64, f64, f64) {
+    if x.hi == 0.0 || y.hi == 0.0 {
+        return (0.0, 0.0, 0.0);
+    }
     let (ch, cl1) = two_prod(x.hi, y.hi);
     if x.lo == 0.0 && y.lo == 0.0 && ch.is_finite() && ch.abs() >= EXACT_PRODUCT {
         // A product of two doubles, no underflow: ch + cl1 is exact (TwoProd).
-        let d = Dd::new(ch, cl1);
-        return DdInterval { lo: d, hi: d };
+        return (ch + 0.0, cl1 + 0.0, 0.0);
     }
     let tl0 = x.lo * y.lo;
     let tl1 = x.hi.mul_add(y.lo, tl0);
@@ -413,7 +428,122 @@ fn mul_pt(x: Dd, y: Dd) -> DdInterval {
     let cl3 = cl1 + cl2;
     let s = up(up(up(tl0.abs() + tl1.abs()) + cl2.abs()) + cl3.abs());
     let e = up(up(U * s) + 4.0 * ETA);
-    enclose(ch, cl3, e)
+    (ch, cl3, e)
+}
+
+/// The enclosure of `x * y` for finite `x, y` ([spec (12.1.6)](crate::spec::precision)).
+#[inline(always)]
+fn mul_pt(x: Dd, y: Dd) -> DdInterval {
+    let (h, l, e) = mul_core(x, y);
+    if e == 0.0 && h.is_finite() {
+        let d = Dd { hi: h, lo: l };
+        return DdInterval { lo: d, hi: d };
+    }
+    enclose(h, l, e)
+}
+
+/// An upper bound of `a + b` for `a, b >= 0` (exact when one is 0).
+#[inline(always)]
+fn add_up(a: f64, b: f64) -> f64 {
+    if a == 0.0 {
+        b
+    } else if b == 0.0 {
+        a
+    } else {
+        up(a + b)
+    }
+}
+
+/// An upper bound of `a b` for `a, b >= 0` (exactly 0 when one is 0).
+#[inline(always)]
+fn mul_up(a: f64, b: f64) -> f64 {
+    if a == 0.0 || b == 0.0 {
+        0.0
+    } else {
+        up(a * b)
+    }
+}
+
+/// A ball `c +- r`: a double-double centre and an f64 radius, standing for every real within
+/// `r` of `c` ([spec (12.1.19)](crate::spec::precision)). The elementary functions evaluate
+/// their series in balls: one error-free product or sum per operation instead of one per end.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Ball {
+    c: Dd,
+    r: f64,
+}
+
+impl Ball {
+    /// A ball containing the interval (finite, non-empty; otherwise the radius is infinite).
+    pub(super) fn from_interval(x: DdInterval) -> Ball {
+        if x.is_empty() || !x.is_finite() {
+            return Ball { c: Dd::ZERO, r: f64::INFINITY };
+        }
+        if x.is_point() {
+            return Ball { c: x.lo, r: 0.0 };
+        }
+        let c = x.mid();
+        let r = add_pt(x.hi, -c).hi.to_f64_up().max(add_pt(c, -x.lo).hi.to_f64_up());
+        Ball { c, r }
+    }
+
+    /// The interval of the ball, rounded outward (12.1.3).
+    pub(super) fn to_interval(self) -> DdInterval {
+        if !(self.r.is_finite() && self.c.hi.is_finite()) {
+            return DdInterval::ENTIRE;
+        }
+        if self.r == 0.0 {
+            return DdInterval { lo: self.c, hi: self.c };
+        }
+        enclose(self.c.hi, self.c.lo, self.r)
+    }
+
+    /// The centre `h + l` renormalised exactly, the radius enlarged by `e`.
+    #[inline(always)]
+    fn make(h: f64, l: f64, r: f64) -> Ball {
+        let (a, b) = two_sum(h, l);
+        if a.is_finite() && r.is_finite() {
+            Ball { c: Dd { hi: a + 0.0, lo: b + 0.0 }, r }
+        } else {
+            Ball { c: Dd::ZERO, r: f64::INFINITY }
+        }
+    }
+
+    /// An upper bound of `|c|`.
+    #[inline(always)]
+    fn mag_c(self) -> f64 {
+        add_up(self.c.hi.abs(), self.c.lo.abs())
+    }
+
+    #[inline(always)]
+    pub(super) fn add(self, o: Ball) -> Ball {
+        let (h, l, e) = add_core(self.c, o.c);
+        Ball::make(h, l, add_up(add_up(self.r, o.r), e))
+    }
+
+    /// `|ab - c_a c_b| <= |c_a| r_b + |c_b| r_a + r_a r_b`, plus the rounding of `c_a c_b`.
+    #[inline(always)]
+    pub(super) fn mul(self, o: Ball) -> Ball {
+        let (h, l, e) = mul_core(self.c, o.c);
+        let r = if self.r == 0.0 && o.r == 0.0 {
+            e
+        } else {
+            let cross = add_up(mul_up(self.mag_c(), o.r), mul_up(o.mag_c(), self.r));
+            add_up(add_up(cross, mul_up(self.r, o.r)), e)
+        };
+        Ball::make(h, l, r)
+    }
+
+    /// The ball enlarged by `rho >= 0`.
+    #[inline(always)]
+    pub(super) fn widen(self, rho: f64) -> Ball {
+        Ball { c: self.c, r: add_up(self.r, rho) }
+    }
+
+    #[inline(always)]
+    pub(super) fn neg(self) -> Ball {
+        Ball { c: -self.c, r: self.r }
+    }
 }
 
 /// `2^-969`: a product of two doubles at least this large has an exact FMA error term (its

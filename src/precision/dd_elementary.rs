@@ -13,7 +13,7 @@
 //! For every function `f` here and every interval `x`, `f(x)` contains `f(t)` for every real
 //! `t` in `x` where `f` is defined.
 
-use super::dd::{big_to_interval, dd_to_big, pow2, two_prod, Dd, DdInterval};
+use super::dd::{big_to_interval, dd_to_big, pow2, two_prod, Ball, Dd, DdInterval};
 use super::dd_big::Big;
 use std::sync::OnceLock;
 
@@ -56,25 +56,28 @@ const PI: DdInterval = constant(PI_HI, PI_LO_DOWN, PI_LO_UP);
 const FRAC_PI_2: DdInterval = constant(FRAC_PI_2_HI, FRAC_PI_2_LO_DOWN, FRAC_PI_2_LO_UP);
 const LN2: DdInterval = constant(LN2_HI, LN2_LO_DOWN, LN2_LO_UP);
 
-/// `1/n!` for `n <= 40`, enclosed ([spec (12.1.11)](crate::spec::precision)).
-fn inv_fact() -> &'static [DdInterval; 41] {
-    static T: OnceLock<[DdInterval; 41]> = OnceLock::new();
+/// `1/n!` for `n <= 40`, enclosed by interval division `[1/n!] = [1/(n-1)!] / n`, as balls
+/// ([spec (12.1.10)](crate::spec::precision)).
+fn inv_fact() -> &'static [Ball; 41] {
+    static T: OnceLock<[Ball; 41]> = OnceLock::new();
     T.get_or_init(|| {
-        let mut t = [DdInterval::ONE; 41];
-        for n in 1..41 {
-            t[n] = t[n - 1] / DdInterval::from_f64(n as f64);
+        let mut iv = DdInterval::ONE;
+        let mut t = [Ball::from_interval(iv); 41];
+        for (n, c) in t.iter_mut().enumerate().skip(1) {
+            iv = iv / DdInterval::from_f64(n as f64);
+            *c = Ball::from_interval(iv);
         }
         t
     })
 }
 
-/// `1/(2n+1)` for `n <= 30`, enclosed.
-fn inv_odd() -> &'static [DdInterval; 31] {
-    static T: OnceLock<[DdInterval; 31]> = OnceLock::new();
+/// `1/(2n+1)` for `n <= 30`, enclosed, as balls.
+fn inv_odd() -> &'static [Ball; 31] {
+    static T: OnceLock<[Ball; 31]> = OnceLock::new();
     T.get_or_init(|| {
-        let mut t = [DdInterval::ONE; 31];
+        let mut t = [Ball::from_interval(DdInterval::ONE); 31];
         for (n, c) in t.iter_mut().enumerate() {
-            *c = DdInterval::ONE / DdInterval::from_f64((2 * n + 1) as f64);
+            *c = Ball::from_interval(DdInterval::ONE / DdInterval::from_f64((2 * n + 1) as f64));
         }
         t
     })
@@ -102,19 +105,18 @@ fn pow_up(m: f64, n: u32) -> f64 {
     r
 }
 
-/// `sum_n sign^n c[step n + off] s^n` for `n = 0..=nmax` by Horner's scheme in interval
-/// arithmetic.
-fn horner(s: DdInterval, nmax: usize, coef: impl Fn(usize) -> DdInterval) -> DdInterval {
+/// `sum_{n <= nmax} coef(n) s^n` by Horner's scheme in ball arithmetic (12.1.19).
+fn horner(s: Ball, nmax: usize, coef: impl Fn(usize) -> Ball) -> Ball {
     let mut acc = coef(nmax);
     for n in (0..nmax).rev() {
-        acc = acc * s + coef(n);
+        acc = acc.mul(s).add(coef(n));
     }
     acc
 }
 
-fn alt(n: usize, c: DdInterval) -> DdInterval {
+fn alt(n: usize, c: Ball) -> Ball {
     if n % 2 == 1 {
-        -c
+        c.neg()
     } else {
         c
     }
@@ -130,12 +132,12 @@ const EXP_DEG: usize = 24;
 /// Lagrange remainder `e^|r| |r|^25 / 25!` (`<= 1.5 |r|^25 * 6.45e-26`).
 fn exp_kernel(r: DdInterval) -> DdInterval {
     let t = inv_fact();
-    let p = horner(r, EXP_DEG, |n| t[n]);
+    let p = horner(Ball::from_interval(r), EXP_DEG, |n| t[n]);
     let m = r.mag_up();
     // e^m 1/25! <= 1.0e-25 for m <= 0.36; otherwise e^m <= 3^ceil(m).
     let c = if m <= 0.36 { 1.0e-25 } else { (pow_up(3.0, m.ceil().min(1000.0) as u32) * 6.5e-26).next_up() };
     let rho = rem_bound(m, EXP_DEG as u32 + 1, c);
-    p + sym(rho)
+    p.widen(rho).to_interval()
 }
 
 /// `2^s exp(x)` for a point `x` (`|s| <= 2`).
@@ -191,9 +193,9 @@ const LN_DEG: usize = 21;
 /// remainder `|s|^(2N+2) / ((2N+3)(1 - s^2))` relative to `2 s`.
 fn ln1p_kernel(y: DdInterval) -> DdInterval {
     let s = y / (y + DdInterval::from_f64(2.0));
-    let s2 = s.sqr();
+    let sb = Ball::from_interval(s);
     let t = inv_odd();
-    let p = horner(s2, LN_DEG, |n| t[n]);
+    let p = horner(Ball::from_interval(s.sqr()), LN_DEG, |n| t[n]);
     let m = s.mag_up();
     // 1 - s^2 rounded down; not positive only for arguments far outside the intended range.
     let den = (1.0 - (m * m).next_up()).next_down();
@@ -201,7 +203,7 @@ fn ln1p_kernel(y: DdInterval) -> DdInterval {
         return DdInterval::ENTIRE;
     }
     let rho = (rem_bound(m, 2 * LN_DEG as u32 + 2, 1.0 / (2 * LN_DEG + 3) as f64 * (1.0 + 1e-15)) / den).next_up();
-    (s * (p + sym(rho))).scale_pow2(1)
+    sb.mul(p.widen(rho)).to_interval().scale_pow2(1)
 }
 
 /// `ln x` for a finite point `x > 0`: `x = 2^k m` with `m` in `[1/sqrt2, sqrt2]`,
@@ -294,17 +296,19 @@ const COS_DEG: usize = 14;
 /// derivatives of sin are bounded by 1).
 fn sin_kernel(r: DdInterval) -> DdInterval {
     let t = inv_fact();
-    let p = horner(r.sqr(), SIN_DEG, |n| alt(n, t[2 * n + 1]));
+    let rb = Ball::from_interval(r);
+    let p = horner(rb.mul(rb), SIN_DEG, |n| alt(n, t[2 * n + 1]));
     let rho = rem_bound(r.mag_up(), 2 * SIN_DEG as u32 + 2, 1.2e-31); // 1/29! < 1.2e-31
-    r * (p + sym(rho))
+    rb.mul(p.widen(rho)).to_interval()
 }
 
 /// `cos r = sum (-1)^n r^2n/(2n)! + rho`, `|rho| <= |r|^30/30!`.
 fn cos_kernel(r: DdInterval) -> DdInterval {
     let t = inv_fact();
-    let p = horner(r.sqr(), COS_DEG, |n| alt(n, t[2 * n]));
+    let rb = Ball::from_interval(r);
+    let p = horner(rb.mul(rb), COS_DEG, |n| alt(n, t[2 * n]));
     let rho = rem_bound(r.mag_up(), 2 * COS_DEG as u32 + 2, 3.8e-33); // 1/30! < 3.8e-33
-    p + sym(rho)
+    p.widen(rho).to_interval()
 }
 
 /// `sin x` from `x = K pi/2 + r` with `K mod 4 = k`.
@@ -432,21 +436,22 @@ impl DdInterval {
 // ---------------------------------------------------------------------------------------------
 // atan ([spec (12.1.14)](crate::spec::precision)).
 
-/// Degree in `z^2` of the atan series on `|z| <= tan(pi/32) < 0.0985`: `z^32/33 < 2^-112`.
-const ATAN_DEG: usize = 15;
+/// Degree in `z^2` of the atan series on `|z| <= tan(pi/16) < 0.1990`: `z^48/49 < 2^-117`.
+const ATAN_DEG: usize = 23;
 
-/// `atan y` for an interval `y` in `[0, 1]`: three half-angle steps
+/// `atan y` for an interval `y` in `[0, 1]`: two half-angle steps
 /// `atan y = 2 atan(y / (1 + sqrt(1 + y^2)))`, then `z (sum (-1)^n z^2n/(2n+1) + rho)`,
 /// `|rho| <= |z|^(2N+2)/(2N+3)` (alternating series with decreasing terms).
 fn atan_kernel(y: DdInterval) -> DdInterval {
     let mut z = y;
-    for _ in 0..3 {
+    for _ in 0..2 {
         z = z / (DdInterval::ONE + (DdInterval::ONE + z.sqr()).sqrt());
     }
     let t = inv_odd();
-    let p = horner(z.sqr(), ATAN_DEG, |n| alt(n, t[n]));
+    let zb = Ball::from_interval(z);
+    let p = horner(zb.mul(zb), ATAN_DEG, |n| alt(n, t[n]));
     let rho = rem_bound(z.mag_up(), 2 * ATAN_DEG as u32 + 2, 1.0 / (2 * ATAN_DEG + 3) as f64 * (1.0 + 1e-15));
-    (z * (p + sym(rho))).scale_pow2(3)
+    zb.mul(p.widen(rho)).to_interval().scale_pow2(2)
 }
 
 /// `atan x` for a finite point.
@@ -491,9 +496,10 @@ fn sinh_pt(x: Dd) -> DdInterval {
     let xi = DdInterval::point(x);
     if x.abs().hi() <= 0.5 {
         let t = inv_fact();
-        let p = horner(xi.sqr(), SINH_DEG, |n| t[2 * n + 1]);
+        let xb = Ball::from_interval(xi);
+        let p = horner(xb.mul(xb), SINH_DEG, |n| t[2 * n + 1]);
         let rho = rem_bound(x.abs().to_f64_up(), 2 * SINH_DEG as u32 + 2, 1.1e-28); // 1.13/27! < 1.1e-28
-        return xi * (p + sym(rho));
+        return xb.mul(p.widen(rho)).to_interval();
     }
     xi.exp_scaled(-1) - (-xi).exp_scaled(-1)
 }
