@@ -26,10 +26,13 @@ const ETA: f64 = 4.9406564584124654e-324;
 const TWO_1023: f64 = 8.98846567431158e307;
 
 /// An upper bound of `x` when `x` is the rounded-to-nearest value of a real `y >= 0`: the next
-/// double up is `>= y` ([spec (12.1.2)](crate::spec::precision)).
+/// double up is `>= y` ([spec (12.1.2)](crate::spec::precision)). Only for `x >= +0` (the bounds
+/// here are sums and products of absolute values): then the next double up is the next bit
+/// pattern; `+inf` and NaN give NaN, which every later finiteness check refuses.
 #[inline(always)]
 fn up(x: f64) -> f64 {
-    x.next_up()
+    debug_assert!(x.is_nan() || x.to_bits() >> 63 == 0, "up() of a negative number");
+    f64::from_bits(x.to_bits().wrapping_add(1))
 }
 
 /// TwoSum (Knuth): `s + t == a + b` exactly, `s = fl(a + b)`, for finite `a, b` with a finite sum.
