@@ -21,9 +21,9 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 /// `u = 2^-53`, the unit roundoff of binary64.
 const U: f64 = 1.0 / 9007199254740992.0;
 /// `2^-1074`, the smallest positive subnormal: a bound of the underflow error of one product.
-const ETA: f64 = 4.9406564584124654e-324;
+const ETA: f64 = f64::from_bits(1);
 /// `2^1023`: a lower bound of every overflowing result ([spec (12.1.3)](crate::spec::precision)).
-const TWO_1023: f64 = 8.98846567431158e307;
+const TWO_1023: f64 = f64::from_bits(2046 << 52);
 
 /// An upper bound of `x` when `x` is the rounded-to-nearest value of a real `y >= 0`: the next
 /// double up is `>= y` ([spec (12.1.2)](crate::spec::precision)). Only for `x >= +0` (the bounds
@@ -31,7 +31,10 @@ const TWO_1023: f64 = 8.98846567431158e307;
 /// pattern; `+inf` and NaN give NaN, which every later finiteness check refuses.
 #[inline(always)]
 fn up(x: f64) -> f64 {
-    debug_assert!(x.is_nan() || x.to_bits() >> 63 == 0, "up() of a negative number");
+    debug_assert!(
+        x.is_nan() || x.to_bits() >> 63 == 0,
+        "up() of a negative number"
+    );
     f64::from_bits(x.to_bits().wrapping_add(1))
 }
 
@@ -76,16 +79,28 @@ impl Dd {
     /// 1.
     pub const ONE: Dd = Dd { hi: 1.0, lo: 0.0 };
     /// `+inf` (an end of an unbounded interval, not a real).
-    pub const INFINITY: Dd = Dd { hi: f64::INFINITY, lo: 0.0 };
+    pub const INFINITY: Dd = Dd {
+        hi: f64::INFINITY,
+        lo: 0.0,
+    };
     /// `-inf`.
-    pub const NEG_INFINITY: Dd = Dd { hi: f64::NEG_INFINITY, lo: 0.0 };
+    pub const NEG_INFINITY: Dd = Dd {
+        hi: f64::NEG_INFINITY,
+        lo: 0.0,
+    };
     /// `f64::MAX`.
-    pub const MAX: Dd = Dd { hi: f64::MAX, lo: 0.0 };
+    pub const MAX: Dd = Dd {
+        hi: f64::MAX,
+        lo: 0.0,
+    };
 
     /// The exact double `x` (`-0.0` becomes `+0.0`).
     #[inline]
     pub fn from_f64(x: f64) -> Dd {
-        Dd { hi: x + 0.0, lo: 0.0 }
+        Dd {
+            hi: x + 0.0,
+            lo: 0.0,
+        }
     }
 
     /// The pair `(hi, lo)` as given; the caller guarantees `hi == fl(hi + lo)`.
@@ -98,7 +113,10 @@ impl Dd {
     pub fn new(hi: f64, lo: f64) -> Dd {
         let (s, t) = two_sum(hi, lo);
         if s.is_finite() {
-            Dd { hi: s + 0.0, lo: t + 0.0 }
+            Dd {
+                hi: s + 0.0,
+                lo: t + 0.0,
+            }
         } else {
             Dd { hi: s, lo: 0.0 }
         }
@@ -187,7 +205,11 @@ impl Dd {
     /// ([spec (12.1.1)](crate::spec::precision)).
     pub fn sqrt(self) -> Dd {
         if self.hi <= 0.0 || !self.hi.is_finite() {
-            return if self.hi == f64::INFINITY { self } else { Dd::ZERO };
+            return if self.hi == f64::INFINITY {
+                self
+            } else {
+                Dd::ZERO
+            };
         }
         let s = self.hi.sqrt();
         let r = (-s).mul_add(s, self.hi) + self.lo;
@@ -238,7 +260,10 @@ impl Neg for Dd {
     type Output = Dd;
     #[inline]
     fn neg(self) -> Dd {
-        Dd { hi: -self.hi + 0.0, lo: -self.lo + 0.0 }
+        Dd {
+            hi: -self.hi + 0.0,
+            lo: -self.lo + 0.0,
+        }
     }
 }
 
@@ -256,7 +281,10 @@ impl Add for Dd {
         if h.is_finite() {
             Dd { hi: h, lo: l }
         } else {
-            Dd { hi: self.hi + o.hi, lo: 0.0 }
+            Dd {
+                hi: self.hi + o.hi,
+                lo: 0.0,
+            }
         }
     }
 }
@@ -329,7 +357,10 @@ pub struct DdInterval {
 fn end_down(h: f64, l: f64) -> Dd {
     let (s, t) = two_sum(h, l);
     if s.is_finite() {
-        Dd { hi: s + 0.0, lo: t + 0.0 }
+        Dd {
+            hi: s + 0.0,
+            lo: t + 0.0,
+        }
     } else if s > 0.0 {
         Dd::MAX
     } else {
@@ -342,7 +373,10 @@ fn end_down(h: f64, l: f64) -> Dd {
 fn end_up(h: f64, l: f64) -> Dd {
     let (s, t) = two_sum(h, l);
     if s.is_finite() {
-        Dd { hi: s + 0.0, lo: t + 0.0 }
+        Dd {
+            hi: s + 0.0,
+            lo: t + 0.0,
+        }
     } else if s < 0.0 {
         -Dd::MAX
     } else {
@@ -364,16 +398,25 @@ fn enclose(h: f64, l: f64, e: f64) -> DdInterval {
     if !(ld.is_finite() && lu.is_finite()) {
         return DdInterval::ENTIRE;
     }
-    DdInterval { lo: end_down(h, ld), hi: end_up(h, lu) }
+    DdInterval {
+        lo: end_down(h, ld),
+        hi: end_up(h, lu),
+    }
 }
 
 /// The enclosure of a real known to be at least `2^1023` in magnitude with the sign of `h`.
 #[inline(never)]
 fn overflow(h: f64) -> DdInterval {
     if h == f64::INFINITY {
-        DdInterval { lo: Dd::from_f64(TWO_1023), hi: Dd::INFINITY }
+        DdInterval {
+            lo: Dd::from_f64(TWO_1023),
+            hi: Dd::INFINITY,
+        }
     } else if h == f64::NEG_INFINITY {
-        DdInterval { lo: Dd::NEG_INFINITY, hi: Dd::from_f64(-TWO_1023) }
+        DdInterval {
+            lo: Dd::NEG_INFINITY,
+            hi: Dd::from_f64(-TWO_1023),
+        }
     } else {
         DdInterval::ENTIRE
     }
@@ -480,13 +523,19 @@ impl Ball {
     /// A ball containing the interval (finite, non-empty; otherwise the radius is infinite).
     pub(super) fn from_interval(x: DdInterval) -> Ball {
         if x.is_empty() || !x.is_finite() {
-            return Ball { c: Dd::ZERO, r: f64::INFINITY };
+            return Ball {
+                c: Dd::ZERO,
+                r: f64::INFINITY,
+            };
         }
         if x.is_point() {
             return Ball { c: x.lo, r: 0.0 };
         }
         let c = x.mid();
-        let r = add_pt(x.hi, -c).hi.to_f64_up().max(add_pt(c, -x.lo).hi.to_f64_up());
+        let r = add_pt(x.hi, -c)
+            .hi
+            .to_f64_up()
+            .max(add_pt(c, -x.lo).hi.to_f64_up());
         Ball { c, r }
     }
 
@@ -496,7 +545,10 @@ impl Ball {
             return DdInterval::ENTIRE;
         }
         if self.r == 0.0 {
-            return DdInterval { lo: self.c, hi: self.c };
+            return DdInterval {
+                lo: self.c,
+                hi: self.c,
+            };
         }
         enclose(self.c.hi, self.c.lo, self.r)
     }
@@ -506,9 +558,18 @@ impl Ball {
     fn make(h: f64, l: f64, r: f64) -> Ball {
         let (a, b) = two_sum(h, l);
         if a.is_finite() && r.is_finite() {
-            Ball { c: Dd { hi: a + 0.0, lo: b + 0.0 }, r }
+            Ball {
+                c: Dd {
+                    hi: a + 0.0,
+                    lo: b + 0.0,
+                },
+                r,
+            }
         } else {
-            Ball { c: Dd::ZERO, r: f64::INFINITY }
+            Ball {
+                c: Dd::ZERO,
+                r: f64::INFINITY,
+            }
         }
     }
 
@@ -540,25 +601,35 @@ impl Ball {
     /// The ball enlarged by `rho >= 0`.
     #[inline(always)]
     pub(super) fn widen(self, rho: f64) -> Ball {
-        Ball { c: self.c, r: add_up(self.r, rho) }
+        Ball {
+            c: self.c,
+            r: add_up(self.r, rho),
+        }
     }
 
     #[inline(always)]
     pub(super) fn neg(self) -> Ball {
-        Ball { c: -self.c, r: self.r }
+        Ball {
+            c: -self.c,
+            r: self.r,
+        }
     }
 }
 
 /// `2^-969`: a product of two doubles at least this large has an exact FMA error term (its
 /// error is a multiple of `2^-1073`).
-const EXACT_PRODUCT: f64 = 2.0041683600089728e-292;
+const EXACT_PRODUCT: f64 = f64::from_bits(54 << 52);
 
 /// `[a, b] / [c, d]` in f64 with outward rounding (`c, d` of one strict sign, all finite).
 #[inline]
 fn div_f64_iv(a: f64, b: f64, c: f64, d: f64) -> (f64, f64) {
     let q = [a / c, a / d, b / c, b / d];
     let lo = q.iter().copied().fold(f64::INFINITY, f64::min).next_down();
-    let hi = q.iter().copied().fold(f64::NEG_INFINITY, f64::max).next_up();
+    let hi = q
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max)
+        .next_up();
     (lo, hi)
 }
 
@@ -572,15 +643,23 @@ fn div_pt(x: Dd, y: Dd) -> DdInterval {
     if x.hi.abs() < SMALL || y.hi.abs() < SMALL {
         // Scale tiny operands up (exact) so that the residual stays far above the subnormal
         // range: x / y = (x 2^kx) / (y 2^ky) 2^(ky - kx).
-        let kx = if x.hi.abs() < SMALL { -exponent(x.hi) } else { 0 };
-        let ky = if y.hi.abs() < SMALL { -exponent(y.hi) } else { 0 };
+        let kx = if x.hi.abs() < SMALL {
+            -exponent(x.hi)
+        } else {
+            0
+        };
+        let ky = if y.hi.abs() < SMALL {
+            -exponent(y.hi)
+        } else {
+            0
+        };
         return div_pt_normal(x.scale_pow2_up(kx), y.scale_pow2_up(ky)).scale_pow2(ky - kx);
     }
     div_pt_normal(x, y)
 }
 
 /// Below this magnitude an operand of a division or square root is first scaled up: `2^-900`.
-const SMALL: f64 = 1.1882295093162296e-271;
+const SMALL: f64 = f64::from_bits(123 << 52);
 
 /// The exponent `k` of a finite non-zero double: `2^k <= |x| < 2^(k+1)`.
 #[inline]
@@ -610,7 +689,11 @@ fn div_pt_normal(x: Dd, y: Dd) -> DdInterval {
         return DdInterval::ENTIRE;
     }
     let (dl, dh) = div_f64_iv(rl, rh, y.to_f64_down(), y.to_f64_up());
-    DdInterval::point(q) + DdInterval { lo: Dd::from_f64(dl), hi: Dd::from_f64(dh) }
+    DdInterval::point(q)
+        + DdInterval {
+            lo: Dd::from_f64(dl),
+            hi: Dd::from_f64(dh),
+        }
 }
 
 /// `x - p` for a point `x` and an interval `p` with finite ends.
@@ -619,7 +702,10 @@ fn add_pt_iv(x: Dd, p: DdInterval) -> DdInterval {
     if p.lo == p.hi {
         return add_pt(x, -p.lo);
     }
-    DdInterval { lo: add_pt(x, -p.hi).lo, hi: add_pt(x, -p.lo).hi }
+    DdInterval {
+        lo: add_pt(x, -p.hi).lo,
+        hi: add_pt(x, -p.lo).hi,
+    }
 }
 
 /// The enclosure of `sqrt(x)` for finite `x > 0` via the residual: `sqrt(x) = q + r / (sqrt(x) + q)`
@@ -648,21 +734,41 @@ fn sqrt_pt_normal(x: Dd) -> DdInterval {
     let dh = (2.0 * qu + m).next_up();
     if !(rl.is_finite() && rh.is_finite() && dl > 0.0 && dh.is_finite()) {
         // Not reached for finite positive x (the residual is tiny); the bound stays sound.
-        return DdInterval { lo: Dd::ZERO, hi: Dd::from_f64(up(x.to_f64_up().sqrt())) }.hull(DdInterval::point(q));
+        return DdInterval {
+            lo: Dd::ZERO,
+            hi: Dd::from_f64(up(x.to_f64_up().sqrt())),
+        }
+        .hull(DdInterval::point(q));
     }
     let (dl, dh) = div_f64_iv(rl, rh, dl, dh);
-    DdInterval::point(q) + DdInterval { lo: Dd::from_f64(dl), hi: Dd::from_f64(dh) }
+    DdInterval::point(q)
+        + DdInterval {
+            lo: Dd::from_f64(dl),
+            hi: Dd::from_f64(dh),
+        }
 }
 
 impl DdInterval {
     /// The empty set.
-    pub const EMPTY: DdInterval = DdInterval { lo: Dd::INFINITY, hi: Dd::NEG_INFINITY };
+    pub const EMPTY: DdInterval = DdInterval {
+        lo: Dd::INFINITY,
+        hi: Dd::NEG_INFINITY,
+    };
     /// The whole real line.
-    pub const ENTIRE: DdInterval = DdInterval { lo: Dd::NEG_INFINITY, hi: Dd::INFINITY };
+    pub const ENTIRE: DdInterval = DdInterval {
+        lo: Dd::NEG_INFINITY,
+        hi: Dd::INFINITY,
+    };
     /// `[0, 0]`.
-    pub const ZERO: DdInterval = DdInterval { lo: Dd::ZERO, hi: Dd::ZERO };
+    pub const ZERO: DdInterval = DdInterval {
+        lo: Dd::ZERO,
+        hi: Dd::ZERO,
+    };
     /// `[1, 1]`.
-    pub const ONE: DdInterval = DdInterval { lo: Dd::ONE, hi: Dd::ONE };
+    pub const ONE: DdInterval = DdInterval {
+        lo: Dd::ONE,
+        hi: Dd::ONE,
+    };
 
     /// The degenerate interval `[x, x]` of an exact double; empty for NaN, the whole line for
     /// an infinity (an infinity is not a real number).
@@ -744,7 +850,10 @@ impl DdInterval {
     /// half-bounded interval, NaN for the empty interval.
     pub fn mid(self) -> Dd {
         if self.is_empty() {
-            return Dd { hi: f64::NAN, lo: 0.0 };
+            return Dd {
+                hi: f64::NAN,
+                lo: 0.0,
+            };
         }
         match (self.lo.is_finite(), self.hi.is_finite()) {
             (false, false) => Dd::ZERO,
@@ -837,7 +946,8 @@ impl DdInterval {
     /// `self` lies in the interior of `o` (an infinite end of `o` counts as strictly outside).
     pub fn interior(self, o: DdInterval) -> bool {
         self.is_empty()
-            || ((o.lo < self.lo || o.lo.hi == f64::NEG_INFINITY) && (self.hi < o.hi || o.hi.hi == f64::INFINITY))
+            || ((o.lo < self.lo || o.lo.hi == f64::NEG_INFINITY)
+                && (self.hi < o.hi || o.hi.hi == f64::INFINITY))
     }
 
     /// No common point.
@@ -853,7 +963,10 @@ impl DdInterval {
         if o.is_empty() {
             return self;
         }
-        DdInterval { lo: dmin(self.lo, o.lo), hi: dmax(self.hi, o.hi) }
+        DdInterval {
+            lo: dmin(self.lo, o.lo),
+            hi: dmax(self.hi, o.hi),
+        }
     }
 
     /// The common part (exact).
@@ -874,7 +987,10 @@ impl DdInterval {
         } else if self.hi.hi <= 0.0 {
             -self
         } else {
-            DdInterval { lo: Dd::ZERO, hi: dmax(-self.lo, self.hi) }
+            DdInterval {
+                lo: Dd::ZERO,
+                hi: dmax(-self.lo, self.hi),
+            }
         }
     }
 
@@ -905,7 +1021,7 @@ impl DdInterval {
         if n == 0 {
             return DdInterval::ONE;
         }
-        if n % 2 == 0 {
+        if n.is_multiple_of(2) {
             return pow_nonneg(self.abs(), n);
         }
         let end = |p: Dd| -> DdInterval {
@@ -917,7 +1033,10 @@ impl DdInterval {
                 -pow_nonneg(DdInterval::point(-p), n)
             }
         };
-        DdInterval { lo: end(self.lo).lo, hi: end(self.hi).hi }
+        DdInterval {
+            lo: end(self.lo).lo,
+            hi: end(self.hi).hi,
+        }
     }
 
     /// `1 / x` (the whole line when `x` contains 0 and is not `[0, 0]`; empty for `[0, 0]`).
@@ -935,7 +1054,11 @@ impl DdInterval {
         if self.is_empty() || self.hi.hi < 0.0 {
             return DdInterval::EMPTY;
         }
-        let lo = if self.lo.hi <= 0.0 { Dd::ZERO } else { sqrt_pt(self.lo).lo };
+        let lo = if self.lo.hi <= 0.0 {
+            Dd::ZERO
+        } else {
+            sqrt_pt(self.lo).lo
+        };
         let hi = if self.hi.is_zero() {
             Dd::ZERO
         } else if !self.hi.is_finite() {
@@ -953,8 +1076,16 @@ impl DdInterval {
         }
         let down = |x: f64| mul2(x, k, true);
         let upf = |x: f64| mul2(x, k, false);
-        let lo = if self.lo.is_finite() { end_down(down(self.lo.hi), down(self.lo.lo)) } else { self.lo };
-        let hi = if self.hi.is_finite() { end_up(upf(self.hi.hi), upf(self.hi.lo)) } else { self.hi };
+        let lo = if self.lo.is_finite() {
+            end_down(down(self.lo.hi), down(self.lo.lo))
+        } else {
+            self.lo
+        };
+        let hi = if self.hi.is_finite() {
+            end_up(upf(self.hi.hi), upf(self.hi.lo))
+        } else {
+            self.hi
+        };
         DdInterval { lo, hi }
     }
 }
@@ -1045,7 +1176,10 @@ impl Neg for DdInterval {
         if self.is_empty() {
             return self;
         }
-        DdInterval { lo: -self.hi, hi: -self.lo }
+        DdInterval {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
     }
 }
 
@@ -1091,7 +1225,11 @@ fn mul_end(x: Dd, y: Dd) -> DdInterval {
     if x.is_finite() && y.is_finite() {
         return mul_pt(x, y);
     }
-    let s = if (x.hi > 0.0) == (y.hi > 0.0) { Dd::INFINITY } else { Dd::NEG_INFINITY };
+    let s = if (x.hi > 0.0) == (y.hi > 0.0) {
+        Dd::INFINITY
+    } else {
+        Dd::NEG_INFINITY
+    };
     DdInterval { lo: s, hi: s }
 }
 
@@ -1108,13 +1246,25 @@ impl Mul for DdInterval {
             return mul_end(a, c);
         }
         if a.hi >= 0.0 && c.hi >= 0.0 {
-            DdInterval { lo: mul_end(a, c).lo, hi: mul_end(b, d).hi }
+            DdInterval {
+                lo: mul_end(a, c).lo,
+                hi: mul_end(b, d).hi,
+            }
         } else if b.hi <= 0.0 && d.hi <= 0.0 {
-            DdInterval { lo: mul_end(b, d).lo, hi: mul_end(a, c).hi }
+            DdInterval {
+                lo: mul_end(b, d).lo,
+                hi: mul_end(a, c).hi,
+            }
         } else if a.hi >= 0.0 && d.hi <= 0.0 {
-            DdInterval { lo: mul_end(b, c).lo, hi: mul_end(a, d).hi }
+            DdInterval {
+                lo: mul_end(b, c).lo,
+                hi: mul_end(a, d).hi,
+            }
         } else if b.hi <= 0.0 && c.hi >= 0.0 {
-            DdInterval { lo: mul_end(a, d).lo, hi: mul_end(b, c).hi }
+            DdInterval {
+                lo: mul_end(a, d).lo,
+                hi: mul_end(b, c).hi,
+            }
         } else {
             let p = [mul_end(a, c), mul_end(a, d), mul_end(b, c), mul_end(b, d)];
             let lo = p.iter().map(|i| i.lo).fold(Dd::INFINITY, dmin);
@@ -1134,7 +1284,11 @@ fn div_end(x: Dd, y: Dd) -> DdInterval {
         // x finite here (an infinite x only meets a finite y in the cases of `div`).
         return DdInterval::ZERO;
     }
-    let s = if (x.hi > 0.0) == (y.hi > 0.0) { Dd::INFINITY } else { Dd::NEG_INFINITY };
+    let s = if (x.hi > 0.0) == (y.hi > 0.0) {
+        Dd::INFINITY
+    } else {
+        Dd::NEG_INFINITY
+    };
     DdInterval { lo: s, hi: s }
 }
 
@@ -1285,6 +1439,9 @@ fn pow2_wide(k: i32) -> f64 {
     }
 }
 
+/// The significant digits of a decimal read exactly; the rest only bound the value.
+const MAX_DECIMAL_DIGITS: usize = 800;
+
 /// `10^k` splits as `5^k 2^k`: the exact value of a decimal `±D * 10^k`, bounded outward.
 fn decimal_to_interval(neg: bool, d: &Big, k: i64) -> DdInterval {
     if d.is_zero() {
@@ -1293,11 +1450,17 @@ fn decimal_to_interval(neg: bool, d: &Big, k: i64) -> DdInterval {
     let digits = d.to_decimal().len() as i64;
     // Far outside the double range: avoid huge exact powers.
     if digits + k > 400 {
-        let m = DdInterval { lo: Dd::MAX, hi: Dd::INFINITY };
+        let m = DdInterval {
+            lo: Dd::MAX,
+            hi: Dd::INFINITY,
+        };
         return if neg { -m } else { m };
     }
     if digits + k < -400 {
-        let m = DdInterval { lo: Dd::ZERO, hi: Dd::from_f64(pow2(-1074)) };
+        let m = DdInterval {
+            lo: Dd::ZERO,
+            hi: Dd::from_f64(pow2(-1074)),
+        };
         return if neg { -m } else { m };
     }
     if k >= 0 {
@@ -1351,7 +1514,9 @@ impl DdInterval {
                     return None;
                 }
                 // Saturate: beyond ±10^9 every non-zero value over- or underflows anyway.
-                let v = ed.bytes().fold(0i64, |a, c| (a * 10 + (c - b'0') as i64).min(1_000_000_000));
+                let v = ed
+                    .bytes()
+                    .fold(0i64, |a, c| (a * 10 + (c - b'0') as i64).min(1_000_000_000));
                 if en {
                     -v
                 } else {
@@ -1359,12 +1524,27 @@ impl DdInterval {
                 }
             }
         };
+        k = k.saturating_sub(fp.len() as i64);
+        let digits: Vec<u8> = ip
+            .bytes()
+            .chain(fp.bytes())
+            .skip_while(|&c| c == b'0')
+            .collect();
+        // Beyond 800 significant digits (every double-double has fewer) the value lies in
+        // [D, D + 1] 10^k' with D the
+        // first 800 digits: bounded by the two ends, so that a long input stays cheap.
+        let (kept, dropped) = digits.split_at(digits.len().min(MAX_DECIMAL_DIGITS));
         let mut d = Big::zero();
-        for c in ip.bytes().chain(fp.bytes()).skip_while(|&c| c == b'0') {
+        for &c in kept {
             d.mul_small_add(10, (c - b'0') as u32);
         }
-        k -= fp.len() as i64;
-        Some(decimal_to_interval(neg, &d, k))
+        let k = k.saturating_add(dropped.len() as i64);
+        if dropped.iter().all(|&c| c == b'0') {
+            return Some(decimal_to_interval(neg, &d, k));
+        }
+        let mut d1 = d.clone();
+        d1.mul_small_add(1, 1);
+        Some(decimal_to_interval(neg, &d, k).hull(decimal_to_interval(neg, &d1, k)))
     }
 
     /// The lower end as a decimal with `digits` significant digits, rounded down.
@@ -1396,11 +1576,18 @@ pub fn dd_to_decimal(x: Dd, digits: usize, up_dir: bool) -> String {
         return "0".to_string();
     }
     // value = A * 10^de exactly.
-    let (a, de) = if e >= 0 { (q.shl(e as u64), 0i64) } else { (q.mul(&Big::pow5((-e) as u64)), e) };
+    let (a, de) = if e >= 0 {
+        (q.shl(e as u64), 0i64)
+    } else {
+        (q.mul(&Big::pow5((-e) as u64)), e)
+    };
     let s = a.to_decimal();
     let n = s.len();
     let (mut kept, dropped_nonzero) = if n > digits {
-        (s[..digits].as_bytes().to_vec(), s[digits..].bytes().any(|c| c != b'0'))
+        (
+            s.as_bytes()[..digits].to_vec(),
+            s[digits..].bytes().any(|c| c != b'0'),
+        )
     } else {
         (s.as_bytes().to_vec(), false)
     };
@@ -1453,7 +1640,12 @@ impl fmt::Display for DdInterval {
         if self.is_empty() {
             return write!(f, "[empty]");
         }
-        write!(f, "[{}, {}]", self.inf_decimal(DISPLAY_DIGITS), self.sup_decimal(DISPLAY_DIGITS))
+        write!(
+            f,
+            "[{}, {}]",
+            self.inf_decimal(DISPLAY_DIGITS),
+            self.sup_decimal(DISPLAY_DIGITS)
+        )
     }
 }
 
@@ -1491,7 +1683,7 @@ mod tests {
         assert!((DdInterval::from_decimal("0.1").unwrap() * iv(10.0)).contains_f64(1.0));
         assert!(!DdInterval::from_decimal("0.1").unwrap().contains_f64(0.1)); // 0.1 is not a double
         let third = iv(1.0) / iv(3.0);
-        assert!(third.wid_up() < 3.0 * 4.93e-32 / 3.0 * 2.0);
+        assert!(third.wid_up() < 2.0 * 4.93e-32);
         // (1 + 2^-30)^2 = (1 + 2^-29) + 2^-60 exactly: contained, and far from 1 + 2^-29.
         let x = DdInterval::from_f64(1.0 + pow2(-30));
         let s = x.sqr();
@@ -1502,7 +1694,9 @@ mod tests {
         assert!(y.contains(Dd::new(1.0, pow2(-59))) && !y.contains(Dd::new(1.0, pow2(-60))));
         assert!(iv(-1.5).powi(5).contains_f64(-7.59375));
         assert!(iv(2.0).powi(-3).contains_f64(0.125));
-        assert!(iv(-2.0).powi(i32::MIN).subset(DdInterval::from_f64_pair(0.0, pow2(-1000)).unwrap()));
+        assert!(iv(-2.0)
+            .powi(i32::MIN)
+            .subset(DdInterval::from_f64_pair(0.0, pow2(-1000)).unwrap()));
     }
 
     #[test]
@@ -1513,13 +1707,23 @@ mod tests {
         assert!(p.contains_f64(-15.0) && p.contains_f64(12.0) && p.contains_f64(10.0));
         assert!(p.subset(DdInterval::from_f64_pair(-15.000001, 12.000001).unwrap()));
         assert!(a.sqr().inf() == Dd::ZERO && a.sqr().contains_f64(9.0));
-        let q = DdInterval::from_f64_pair(1.0, 2.0).unwrap() / DdInterval::from_f64_pair(-4.0, -2.0).unwrap();
+        let q = DdInterval::from_f64_pair(1.0, 2.0).unwrap()
+            / DdInterval::from_f64_pair(-4.0, -2.0).unwrap();
         assert!(q.contains_f64(-1.0) && q.contains_f64(-0.25));
         assert!((iv(1.0) / DdInterval::from_f64_pair(-1.0, 1.0).unwrap()) == DdInterval::ENTIRE);
         assert!((iv(1.0) / iv(0.0)).is_empty());
-        assert_eq!(DdInterval::from_f64_pair(-1.0, 4.0).unwrap().sqrt().sup(), Dd::from_f64(2.0));
-        assert_eq!(DdInterval::from_f64_pair(-1.0, 4.0).unwrap().sqrt().inf(), Dd::ZERO);
-        assert!(DdInterval::from_f64_pair(-2.0, -1.0).unwrap().sqrt().is_empty());
+        assert_eq!(
+            DdInterval::from_f64_pair(-1.0, 4.0).unwrap().sqrt().sup(),
+            Dd::from_f64(2.0)
+        );
+        assert_eq!(
+            DdInterval::from_f64_pair(-1.0, 4.0).unwrap().sqrt().inf(),
+            Dd::ZERO
+        );
+        assert!(DdInterval::from_f64_pair(-2.0, -1.0)
+            .unwrap()
+            .sqrt()
+            .is_empty());
         assert!(a.hull(b).contains_f64(-5.0) && a.intersection(b).contains_f64(3.0));
         assert!(iv(1.0).intersection(iv(2.0)).is_empty());
         assert!(iv(1.0).interior(a) && !a.interior(a) && iv(1.0).subset(a) && iv(7.0).disjoint(a));
@@ -1546,9 +1750,25 @@ mod tests {
         ];
         for &x in &specials {
             for &y in &specials {
-                for r in [x + y, x - y, x * y, x / y, x.sqr(), x.sqrt(), x.powi(3), x.powi(-2), x.abs(), x.mul_add(y, x)] {
+                for r in [
+                    x + y,
+                    x - y,
+                    x * y,
+                    x / y,
+                    x.sqr(),
+                    x.sqrt(),
+                    x.powi(3),
+                    x.powi(-2),
+                    x.abs(),
+                    x.mul_add(y, x),
+                ] {
                     assert!(no_nan(r), "{x:?} {y:?} -> {r:?}");
-                    assert!(r.is_empty() || (r.lo <= r.hi && r.lo.hi < f64::INFINITY && r.hi.hi > f64::NEG_INFINITY));
+                    assert!(
+                        r.is_empty()
+                            || (r.lo <= r.hi
+                                && r.lo.hi < f64::INFINITY
+                                && r.hi.hi > f64::NEG_INFINITY)
+                    );
                 }
             }
         }
@@ -1568,15 +1788,34 @@ mod tests {
         }
         assert!(DdInterval::from_decimal("1.5").unwrap() == iv(1.5));
         assert!(DdInterval::from_decimal("-.5e1").unwrap() == iv(-5.0));
-        assert!(DdInterval::from_decimal("+12345678901234567890123456789012").unwrap().is_point());
+        assert!(
+            DdInterval::from_decimal("+12345678901234567890123456789012")
+                .unwrap()
+                .is_point()
+        );
         assert!(DdInterval::from_decimal("1e400").unwrap().sup() == Dd::INFINITY);
         assert!(DdInterval::from_decimal("1e400").unwrap().inf() == Dd::MAX);
-        assert!(DdInterval::from_decimal("-1e-400").unwrap().contains(Dd::ZERO));
-        assert!(DdInterval::from_decimal("1e-999999999999").unwrap().sup().hi() == pow2(-1074));
+        assert!(DdInterval::from_decimal("-1e-400")
+            .unwrap()
+            .contains(Dd::ZERO));
+        assert!(
+            DdInterval::from_decimal("1e-999999999999")
+                .unwrap()
+                .sup()
+                .hi()
+                == pow2(-1074)
+        );
         let x = DdInterval::from_decimal("0.1").unwrap();
         assert!(x.wid_up() <= 2.0 * 1.0e-1 * 1.3e-32);
         // 2^-1074 exactly, written out.
         let tiny = DdInterval::from_decimal("4.940656458412465441765687928682213723650598026143247644255856825006755072702087518652998363616359923797965646954457177309266567103559397963987747960107818781263007131903114045278458171678489821036887186360569987307230500063874091535649843873124733972731696151400317153853980741262385655911710266585566867681870395603106249319452715914924553293054565444011274801297099995419319894090804165633245247571478690147267801593552386115501348035264934720193790268107107491703332226844753335720832431936092382893458368060106011506169809753078342277318329247904982524730776375927247874656084778203734469699533647017972677717585125660551199131504891101451037862738167250955837389733598993664809941164205702637090279242767544565229087538682506419718265533447265625e-324").unwrap();
         assert!(tiny.is_point() && tiny.inf().hi() == pow2(-1074));
+        // Long inputs: bounded by their first 800 digits, and cheap.
+        let long = format!("0.{}", "3".repeat(100_000));
+        let third = DdInterval::from_decimal(&long).unwrap();
+        assert!(third.inf_f64() > 0.3333 && third.sup_f64() < 0.33334 && third.wid_up() < 1e-31);
+        let big = format!("{}e-100000", "7".repeat(100_000));
+        let sevens = DdInterval::from_decimal(&big).unwrap();
+        assert!(sevens.inf_f64() > 0.7777 && sevens.sup_f64() < 0.7778 && sevens.wid_up() < 1e-31);
     }
 }

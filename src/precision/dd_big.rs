@@ -114,7 +114,9 @@ impl Big {
         let mut r = Vec::with_capacity(n + 1);
         let mut carry = 0u64;
         for i in 0..n {
-            let t = *self.limbs.get(i).unwrap_or(&0) as u64 + *o.limbs.get(i).unwrap_or(&0) as u64 + carry;
+            let t = *self.limbs.get(i).unwrap_or(&0) as u64
+                + *o.limbs.get(i).unwrap_or(&0) as u64
+                + carry;
             r.push(t as u32);
             carry = t >> 32;
         }
@@ -191,7 +193,11 @@ impl Big {
         let mut r = Vec::with_capacity(src.len());
         for i in 0..src.len() {
             let lo = src[i] >> bits;
-            let hi = if bits == 0 { 0 } else { src.get(i + 1).map_or(0, |&h| h << (32 - bits)) };
+            let hi = if bits == 0 {
+                0
+            } else {
+                src.get(i + 1).map_or(0, |&h| h << (32 - bits))
+            };
             r.push(lo | hi);
         }
         let mut b = Big { limbs: r };
@@ -282,7 +288,10 @@ mod tests {
     fn arithmetic_on_known_values() {
         let a = Big::from_u64(u64::MAX);
         let sq = a.mul(&a); // (2^64 - 1)^2 = 2^128 - 2^65 + 1
-        let expect = Big::from_u64(1).shl(128).sub(&Big::from_u64(1).shl(65)).add(&Big::from_u64(1));
+        let expect = Big::from_u64(1)
+            .shl(128)
+            .sub(&Big::from_u64(1).shl(65))
+            .add(&Big::from_u64(1));
         assert_eq!(sq, expect);
         assert_eq!(Big::pow5(27).to_decimal(), "7450580596923828125");
         let (q, inexact) = Big::pow5(40).div_floor(&Big::pow5(27));

@@ -10,7 +10,7 @@ use proptest::test_runner::RngSeed;
 const TABLE: &str = include_str!("../data/dd_reference.txt");
 
 /// `2^-104`: the unit of the width bounds.
-const W: f64 = 4.930380657631324e-32;
+const W: f64 = f64::from_bits(919 << 52);
 
 fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
@@ -108,7 +108,10 @@ fn eval(op: &str, a: Dd, b: Dd) -> DdInterval {
 fn mpmath_table_contained_and_tight() {
     let mut n = 0;
     let mut worst: Vec<(String, f64)> = Vec::new();
-    for line in TABLE.lines().filter(|l| !l.starts_with('#') && !l.trim().is_empty()) {
+    for line in TABLE
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+    {
         let f: Vec<&str> = line.split_whitespace().collect();
         assert_eq!(f.len(), 17, "{line}");
         let a = Dd::new(hex(f[1]), hex(f[2]));
@@ -118,13 +121,26 @@ fn mpmath_table_contained_and_tight() {
         let tol: f64 = f[16].parse().expect("tol");
         let r = eval(f[0], a, b);
         assert!(!r.is_empty(), "{line}: empty");
-        assert!(le(r.inf(), &l), "{line}: lower end {} above the reference", r.inf_decimal(40));
-        assert!(ge(r.sup(), &u), "{line}: upper end {} below the reference", r.sup_decimal(40));
+        assert!(
+            le(r.inf(), &l),
+            "{line}: lower end {} above the reference",
+            r.inf_decimal(40)
+        );
+        assert!(
+            ge(r.sup(), &u),
+            "{line}: upper end {} below the reference",
+            r.sup_decimal(40)
+        );
         // How far the ends lie outside the reference range (its width for a point argument).
-        let width = ((l[0] - r.inf().hi()) + (l[1] - r.inf().lo()) + l[2]) + ((r.sup().hi() - u[0]) + (r.sup().lo() - u[1]) - u[2]);
+        let width = ((l[0] - r.inf().hi()) + (l[1] - r.inf().lo()) + l[2])
+            + ((r.sup().hi() - u[0]) + (r.sup().lo() - u[1]) - u[2]);
         let scale = l[0].abs().max(u[0].abs());
-        let allowed = tol * W * scale + 256.0 * 4.9406564584124654e-324;
-        assert!(width <= allowed, "{line}: excess width {width:e} > {allowed:e} ({} ulps)", width / (W * scale));
+        let allowed = tol * W * scale + 256.0 * f64::from_bits(1);
+        assert!(
+            width <= allowed,
+            "{line}: excess width {width:e} > {allowed:e} ({} ulps)",
+            width / (W * scale)
+        );
         worst.push((f[0].to_string(), width / (W * scale)));
         n += 1;
     }
@@ -137,7 +153,13 @@ fn arithmetic_widths_are_a_few_ulps() {
     let x = DdInterval::from_decimal("0.7").unwrap().mid();
     let y = DdInterval::from_decimal("-1.3").unwrap().mid();
     let (px, py) = (DdInterval::point(x), DdInterval::point(y));
-    for (name, r) in [("add", px + py), ("sub", px - py), ("mul", px * py), ("div", px / py), ("sqrt", px.sqrt())] {
+    for (name, r) in [
+        ("add", px + py),
+        ("sub", px - py),
+        ("mul", px * py),
+        ("div", px / py),
+        ("sqrt", px.sqrt()),
+    ] {
         let rel = r.wid_up() / (W * r.mag_up());
         assert!(rel <= 4.0, "{name}: {rel} units of 2^-104");
     }
@@ -183,14 +205,19 @@ enum Expr {
 }
 
 fn expr() -> impl Strategy<Value = Expr> {
-    let leaf = (-4096i32..4096, 0i32..64, 0i32..=64).prop_map(|(lo, w, t)| Expr::Leaf(lo, lo + w, lo + w * t / 64));
+    let leaf = (-4096i32..4096, 0i32..64, 0i32..=64)
+        .prop_map(|(lo, w, t)| Expr::Leaf(lo, lo + w, lo + w * t / 64));
     leaf.prop_recursive(3, 12, 3, |inner| {
         prop_oneof![
             (inner.clone(), inner.clone()).prop_map(|(a, b)| Expr::Add(Box::new(a), Box::new(b))),
             (inner.clone(), inner.clone()).prop_map(|(a, b)| Expr::Sub(Box::new(a), Box::new(b))),
             (inner.clone(), inner.clone()).prop_map(|(a, b)| Expr::Mul(Box::new(a), Box::new(b))),
             inner.clone().prop_map(|a| Expr::Sqr(Box::new(a))),
-            (inner.clone(), inner.clone(), inner).prop_map(|(a, b, c)| Expr::MulAdd(Box::new(a), Box::new(b), Box::new(c))),
+            (inner.clone(), inner.clone(), inner).prop_map(|(a, b, c)| Expr::MulAdd(
+                Box::new(a),
+                Box::new(b),
+                Box::new(c)
+            )),
         ]
     })
 }
@@ -201,32 +228,60 @@ fn run(e: &Expr) -> (DdInterval, Option<Dy>) {
         Expr::Leaf(lo, hi, t) => {
             let s = 1.0 / 256.0;
             let iv = DdInterval::from_f64_pair(*lo as f64 * s, *hi as f64 * s).unwrap();
-            (iv, Some(Dy { num: *t as i128, exp: -8 }))
+            (
+                iv,
+                Some(Dy {
+                    num: *t as i128,
+                    exp: -8,
+                }),
+            )
         }
         Expr::Add(a, b) | Expr::Sub(a, b) => {
             let ((x, p), (y, q)) = (run(a), run(b));
             let sub = matches!(e, Expr::Sub(..));
             let exact = p.zip(q).and_then(|(p, q)| {
                 let (pn, qn, ex) = Dy::align(p, q)?;
-                Some(Dy { num: if sub { pn - qn } else { pn + qn }, exp: ex })
+                Some(Dy {
+                    num: if sub { pn - qn } else { pn + qn },
+                    exp: ex,
+                })
             });
             (if sub { x - y } else { x + y }, exact)
         }
         Expr::Mul(a, b) => {
             let ((x, p), (y, q)) = (run(a), run(b));
-            let exact = p.zip(q).and_then(|(p, q)| Some(Dy { num: p.num.checked_mul(q.num)?, exp: p.exp + q.exp }));
+            let exact = p.zip(q).and_then(|(p, q)| {
+                Some(Dy {
+                    num: p.num.checked_mul(q.num)?,
+                    exp: p.exp + q.exp,
+                })
+            });
             (x * y, exact)
         }
         Expr::Sqr(a) => {
             let (x, p) = run(a);
-            (x.sqr(), p.and_then(|p| Some(Dy { num: p.num.checked_mul(p.num)?, exp: 2 * p.exp })))
+            (
+                x.sqr(),
+                p.and_then(|p| {
+                    Some(Dy {
+                        num: p.num.checked_mul(p.num)?,
+                        exp: 2 * p.exp,
+                    })
+                }),
+            )
         }
         Expr::MulAdd(a, b, c) => {
             let ((x, p), (y, q), (z, r)) = (run(a), run(b), run(c));
             let exact = p.zip(q).zip(r).and_then(|((p, q), r)| {
-                let m = Dy { num: p.num.checked_mul(q.num)?, exp: p.exp + q.exp };
+                let m = Dy {
+                    num: p.num.checked_mul(q.num)?,
+                    exp: p.exp + q.exp,
+                };
                 let (mn, rn, ex) = Dy::align(m, r)?;
-                Some(Dy { num: mn + rn, exp: ex })
+                Some(Dy {
+                    num: mn + rn,
+                    exp: ex,
+                })
             });
             (x.mul_add(y, z), exact)
         }
@@ -304,13 +359,27 @@ fn printing_round_trip() {
             // gap, at least 10^-17 relative, exceeds the enclosures' widths.
             assert!(lo.inf() <= x.inf() && hi.sup() >= x.sup(), "{x} {digits}");
             if digits <= 17 {
-                assert!(lo.sup() <= x.inf(), "{x} {digits}: {}", x.inf_decimal(digits));
-                assert!(hi.inf() >= x.sup(), "{x} {digits}: {}", x.sup_decimal(digits));
+                assert!(
+                    lo.sup() <= x.inf(),
+                    "{x} {digits}: {}",
+                    x.inf_decimal(digits)
+                );
+                assert!(
+                    hi.inf() >= x.sup(),
+                    "{x} {digits}: {}",
+                    x.sup_decimal(digits)
+                );
             }
         }
     }
     assert_eq!(DdInterval::from_f64(0.5).to_string(), "[5e-1, 5e-1]");
     assert_eq!(DdInterval::from_f64(-3.0).to_string(), "[-3, -3]");
-    assert_eq!(DdInterval::from_decimal("0.1").unwrap().inf_decimal(3), "9.99e-2");
-    assert_eq!(DdInterval::from_decimal("0.1").unwrap().sup_decimal(3), "1.01e-1");
+    assert_eq!(
+        DdInterval::from_decimal("0.1").unwrap().inf_decimal(3),
+        "9.99e-2"
+    );
+    assert_eq!(
+        DdInterval::from_decimal("0.1").unwrap().sup_decimal(3),
+        "1.01e-1"
+    );
 }
