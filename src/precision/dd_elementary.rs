@@ -288,12 +288,18 @@ impl DdInterval {
 
 /// The reduction of a finite point `x`: `x 2/pi = K + f` for an integer `K` and a real `f`
 /// with `|f| <= 1/2 + 2^-300`; returns `(K mod 4, enclosure of f, enclosure of f pi/2)`.
-fn reduce(x: Dd) -> (u32, DdInterval, DdInterval) {
+/// Without `need_f`, the enclosure of `f` may be the whole line when `|x| < pi/4`.
+fn reduce(x: Dd, need_f: bool) -> (u32, DdInterval, DdInterval) {
     let a = x.abs();
     if a.hi() <= 0.785 {
         // |x| < pi/4: K = 0, r = x exactly.
         let r = DdInterval::point(x);
-        return (0, r / FRAC_PI_2, r);
+        let f = if need_f {
+            r / FRAC_PI_2
+        } else {
+            DdInterval::ENTIRE
+        };
+        return (0, f, r);
     }
     let (_, q, e) = dd_to_big(a);
     // |x| in [2^t, 2^(t+1)).
@@ -414,14 +420,14 @@ impl DdInterval {
             return UNIT;
         }
         let eval = |k: u32, r: DdInterval| if cos { cos_from(k, r) } else { sin_from(k, r) };
-        let (ka, fa, ra) = reduce(self.lo);
+        let (ka, fa, ra) = reduce(self.lo, !self.is_point());
         if self.is_point() {
             return eval(ka, ra).intersection(UNIT);
         }
         if self.wid_up() >= 3.1 {
             return UNIT;
         }
-        let (kb, fb, rb) = reduce(self.hi);
+        let (kb, fb, rb) = reduce(self.hi, true);
         let mut y = eval(ka, ra).hull(eval(kb, rb));
         let set = critical(ka, fa, kb, fb);
         // sin: max at j = 1 mod 4, min at j = 3; cos: max at 0, min at 2.
@@ -456,14 +462,14 @@ impl DdInterval {
                 -(cos_kernel(r) / sin_kernel(r))
             }
         };
-        let (ka, fa, ra) = reduce(self.lo);
+        let (ka, fa, ra) = reduce(self.lo, !self.is_point());
         if self.is_point() {
             return tan_at(ka, ra);
         }
         if self.wid_up() >= 3.1 {
             return DdInterval::ENTIRE;
         }
-        let (kb, fb, rb) = reduce(self.hi);
+        let (kb, fb, rb) = reduce(self.hi, true);
         let set = critical(ka, fa, kb, fb);
         if set & 0b1010 != 0 {
             return DdInterval::ENTIRE;
