@@ -1305,8 +1305,9 @@ fn div_end(x: Dd, y: Dd) -> DdInterval {
 
 impl Div for DdInterval {
     type Output = DdInterval;
-    /// [spec (12.1.7)](crate::spec::precision). A divisor containing 0 gives the whole line
-    /// (empty for the divisor `[0, 0]`).
+    /// [spec (12.1.7)](crate::spec::precision). A divisor with 0 as an end gives a half-line
+    /// when the dividend does not contain 0 (`[1, 2] / [0, 4] = [1/4, +inf]`), the whole line
+    /// otherwise or when 0 is inside the divisor; the divisor `[0, 0]` gives the empty set.
     #[inline]
     fn div(self, o: DdInterval) -> DdInterval {
         if self.is_empty() || o.is_empty() || o.is_exact_zero() {
@@ -1327,6 +1328,38 @@ impl Div for DdInterval {
             let lo = div_end(b, if b.hi >= 0.0 { d } else { c }).lo;
             let hi = div_end(a, if a.hi >= 0.0 { c } else { d }).hi;
             DdInterval { lo, hi }
+        } else if a.hi > 0.0 || b.hi < 0.0 {
+            // The divisor has 0 as an end (a half-line) or inside (the whole line), the
+            // dividend does not contain 0: as IEEE 1788 and inari.
+            let (pos, neg) = (a.hi > 0.0, b.hi < 0.0);
+            if d.hi == 0.0 && c.hi < 0.0 {
+                // y in [c, 0): x / y runs to +inf (x < 0) or -inf (x > 0) as y -> 0.
+                if neg {
+                    DdInterval {
+                        lo: div_end(b, c).lo,
+                        hi: Dd::INFINITY,
+                    }
+                } else {
+                    DdInterval {
+                        lo: Dd::NEG_INFINITY,
+                        hi: div_end(a, c).hi,
+                    }
+                }
+            } else if c.hi == 0.0 && d.hi > 0.0 {
+                if pos {
+                    DdInterval {
+                        lo: div_end(a, d).lo,
+                        hi: Dd::INFINITY,
+                    }
+                } else {
+                    DdInterval {
+                        lo: Dd::NEG_INFINITY,
+                        hi: div_end(b, d).hi,
+                    }
+                }
+            } else {
+                DdInterval::ENTIRE
+            }
         } else {
             DdInterval::ENTIRE
         }
@@ -1723,6 +1756,21 @@ mod tests {
         assert!(q.contains_f64(-1.0) && q.contains_f64(-0.25));
         assert!((iv(1.0) / DdInterval::from_f64_pair(-1.0, 1.0).unwrap()) == DdInterval::ENTIRE);
         assert!((iv(1.0) / iv(0.0)).is_empty());
+        let h = DdInterval::from_f64_pair(1.0, 2.0).unwrap()
+            / DdInterval::from_f64_pair(0.0, 4.0).unwrap();
+        assert!(h.inf() == Dd::from_f64(0.25) && h.sup() == Dd::INFINITY);
+        let h = DdInterval::from_f64_pair(1.0, 2.0).unwrap()
+            / DdInterval::from_f64_pair(-4.0, 0.0).unwrap();
+        assert!(h.inf() == Dd::NEG_INFINITY && h.sup() == Dd::from_f64(-0.25));
+        let h = DdInterval::from_f64_pair(-2.0, -1.0).unwrap()
+            / DdInterval::from_f64_pair(-4.0, 0.0).unwrap();
+        assert!(h.inf() == Dd::from_f64(0.25) && h.sup() == Dd::INFINITY);
+        let h = DdInterval::from_f64_pair(-2.0, -1.0).unwrap()
+            / DdInterval::from_f64_pair(0.0, 4.0).unwrap();
+        assert!(h.inf() == Dd::NEG_INFINITY && h.sup() == Dd::from_f64(-0.25));
+        let h = DdInterval::from_f64_pair(-2.0, 1.0).unwrap()
+            / DdInterval::from_f64_pair(0.0, 4.0).unwrap();
+        assert!(h == DdInterval::ENTIRE);
         assert_eq!(
             DdInterval::from_f64_pair(-1.0, 4.0).unwrap().sqrt().sup(),
             Dd::from_f64(2.0)
