@@ -402,7 +402,7 @@ fn critical(ka: u32, fa: DdInterval, kb: u32, fb: DdInterval) -> u32 {
 
 impl DdInterval {
     /// sin ([spec (12.1.12)–(12.1.13)](crate::spec::precision)); `[-1, 1]` for an unbounded
-    /// argument or one at least 3.1 wide (less than pi).
+    /// argument or one at least 6.2 wide (less than 2 pi).
     pub fn sin(self) -> DdInterval {
         self.sin_cos(false)
     }
@@ -424,8 +424,16 @@ impl DdInterval {
         if self.is_point() {
             return eval(ka, ra).intersection(UNIT);
         }
-        if self.wid_up() >= 3.1 {
+        let w = self.wid_up();
+        if w >= 6.2 {
             return UNIT;
+        }
+        if w >= 3.1 {
+            // Two halves, each narrower than 3.1; the range is the hull of their ranges.
+            let m = self.mid();
+            let left = DdInterval { lo: self.lo, hi: m };
+            let right = DdInterval { lo: m, hi: self.hi };
+            return left.sin_cos(cos).hull(right.sin_cos(cos));
         }
         let (kb, fb, rb) = reduce(self.hi, true);
         let mut y = eval(ka, ra).hull(eval(kb, rb));
@@ -763,6 +771,15 @@ mod tests {
         assert!(pair(1.0, 2.0).tan() == DdInterval::ENTIRE);
         assert!(pair(-1.0, 1.0).tan().is_finite());
         assert!(pair(0.0, 100.0).sin() == UNIT);
+        // 4.5 wide: split in two halves; sin on [0.5, 5] reaches both extremes (pi/2, 3pi/2
+        // inside), and so does cos on [-0.5, 4] (0 and pi inside).
+        assert!(pair(0.5, 5.0).sin() == UNIT);
+        let c = pair(-0.5, 4.0).cos();
+        assert!(c.inf() == -Dd::ONE && c.sup() == Dd::ONE);
+        let s = pair(-1.4, 1.6).sin(); // 3.0 wide, no split: max 1 at pi/2, min sin(-1.4)
+        assert!(s.sup() == Dd::ONE && s.inf_f64() > -0.99);
+        let s = pair(-1.5, 1.6).sin(); // 3.1 wide: split, the same range
+        assert!(s.sup() == Dd::ONE && s.inf_f64() > -0.9975 && s.inf_f64() < -0.9974);
         let e = pair(-1.0, 1.0).exp();
         assert!(e.contains(iv(1.0).exp().sup()) && e.contains(iv(-1.0).exp().inf()));
         assert!(DdInterval::ENTIRE.atan().subset(FRAC_PI_2.hull(-FRAC_PI_2)));
