@@ -338,6 +338,37 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, rng_seed: RngSeed::Fixed(13), ..ProptestConfig::default() })]
+
+    /// The enclosure of a function over an interval meets (so, being an enclosure of a range
+    /// that contains f(t), is consistent with) its enclosure at any point t of the interval; a
+    /// wrong monotone piece or a missed extremum of sin/cos/tan would make them disjoint.
+    #[test]
+    fn interval_functions_meet_their_point_values(
+        a in -20.0f64..20.0, w in 0.0f64..7.0, frac in 0.0f64..=1.0, scale in prop_oneof![Just(1.0), Just(1e6), Just(1e-3)],
+    ) {
+        let (lo, hi) = (a * scale, (a + w) * scale);
+        let t = (lo + (hi - lo) * frac).clamp(lo, hi);
+        let x = DdInterval::from_f64_pair(lo, hi).unwrap();
+        let p = DdInterval::from_f64(t);
+        let fs: [(&str, fn(DdInterval) -> DdInterval); 12] = [
+            ("sin", DdInterval::sin), ("cos", DdInterval::cos), ("tan", DdInterval::tan),
+            ("exp", DdInterval::exp), ("ln", DdInterval::ln), ("sqrt", DdInterval::sqrt),
+            ("atan", DdInterval::atan), ("sinh", DdInterval::sinh), ("cosh", DdInterval::cosh),
+            ("tanh", DdInterval::tanh), ("asinh", DdInterval::asinh), ("sqr", DdInterval::sqr),
+        ];
+        for (name, f) in fs {
+            let (fx, fp) = (f(x), f(p));
+            if fp.is_empty() {
+                continue; // t outside the domain
+            }
+            prop_assert!(!fx.disjoint(fp), "{name} on {x}: {fx}, at {t}: {fp}");
+            prop_assert!(fp.is_finite() || name == "exp" || name == "sinh" || name == "cosh" || name == "tan");
+        }
+    }
+}
+
 /// Printing rounds outward and reads back: from_decimal(inf_decimal(x)) lies at or below x,
 /// from_decimal(sup_decimal(x)) at or above, for many digit counts.
 #[test]
