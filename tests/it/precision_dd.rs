@@ -338,6 +338,9 @@ proptest! {
     }
 }
 
+/// A function of the interval type.
+type Fun = fn(DdInterval) -> DdInterval;
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 300, rng_seed: RngSeed::Fixed(13), ..ProptestConfig::default() })]
 
@@ -352,7 +355,7 @@ proptest! {
         let t = (lo + (hi - lo) * frac).clamp(lo, hi);
         let x = DdInterval::from_f64_pair(lo, hi).unwrap();
         let p = DdInterval::from_f64(t);
-        let fs: [(&str, fn(DdInterval) -> DdInterval); 12] = [
+        let fs: [(&str, Fun); 12] = [
             ("sin", DdInterval::sin), ("cos", DdInterval::cos), ("tan", DdInterval::tan),
             ("exp", DdInterval::exp), ("ln", DdInterval::ln), ("sqrt", DdInterval::sqrt),
             ("atan", DdInterval::atan), ("sinh", DdInterval::sinh), ("cosh", DdInterval::cosh),
