@@ -21,15 +21,21 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 /// `u = 2^-53`, the unit roundoff of binary64.
 const U: f64 = 1.0 / 9007199254740992.0;
 /// `2^-1074`, the smallest positive subnormal: a bound of the underflow error of one product.
-const ETA: f64 = 4.9406564584124654e-324;
+const ETA: f64 = f64::from_bits(1);
 /// `2^1023`: a lower bound of every overflowing result ([spec (12.1.3)](crate::spec::precision)).
-const TWO_1023: f64 = 8.98846567431158e307;
+const TWO_1023: f64 = f64::from_bits(2046 << 52);
 
 /// An upper bound of `x` when `x` is the rounded-to-nearest value of a real `y >= 0`: the next
-/// double up is `>= y` ([spec (12.1.2)](crate::spec::precision)).
+/// double up is `>= y` ([spec (12.1.2)](crate::spec::precision)). Only for `x >= +0` (the bounds
+/// here are sums and products of absolute values): then the next double up is the next bit
+/// pattern; `+inf` and NaN give NaN, which every later finiteness check refuses.
 #[inline(always)]
 fn up(x: f64) -> f64 {
-    x.next_up()
+    debug_assert!(
+        x.is_nan() || x.to_bits() >> 63 == 0,
+        "up() of a negative number"
+    );
+    f64::from_bits(x.to_bits().wrapping_add(1))
 }
 
 /// TwoSum (Knuth): `s + t == a + b` exactly, `s = fl(a + b)`, for finite `a, b` with a finite sum.
@@ -387,8 +393,8 @@ fn enclose(h: f64, l: f64, e: f64) -> DdInterval {
     if !h.is_finite() {
         return overflow(h);
     }
-    let ld = (l - e).next_down();
-    let lu = (l + e).next_up();
+    let ld = -next_up_fast(e - l);
+    let lu = next_up_fast(l + e);
     if !(ld.is_finite() && lu.is_finite()) {
         return DdInterval::ENTIRE;
     }
@@ -396,6 +402,17 @@ fn enclose(h: f64, l: f64, e: f64) -> DdInterval {
         lo: end_down(h, ld),
         hi: end_up(h, lu),
     }
+}
+
+/// The next double above `x` for finite `x` (branch-free: `-0.0` is first mapped to `+0.0`,
+/// then the bit pattern moves one step away from or toward zero); `+inf` and NaN give NaN,
+/// which the callers refuse.
+#[inline(always)]
+fn next_up_fast(x: f64) -> f64 {
+    let y = x + 0.0;
+    let b = y.to_bits();
+    let step = if y >= 0.0 { 1u64 } else { u64::MAX };
+    f64::from_bits(b.wrapping_add(step))
 }
 
 /// The enclosure of a real known to be at least `2^1023` in magnitude with the sign of `h`.
@@ -416,35 +433,51 @@ fn overflow(h: f64) -> DdInterval {
     }
 }
 
-/// The enclosure of `x + y` for finite `x, y` ([spec (12.1.5)](crate::spec::precision)).
+/// `(h, l, e)` with `|x + y - (h + l)| <= e` for finite `x, y`; `e = 0` when `h + l` is exact
+/// and `(h, l)` normalised; `h` infinite when the leading sum overflows
+/// ([spec (12.1.5)](crate::spec::precision)).
 #[inline(always)]
-fn add_pt(x: Dd, y: Dd) -> DdInterval {
+fn add_core(x: Dd, y: Dd) -> (f64, f64, f64) {
     let (s, t) = two_sum(x.hi, y.hi);
+    if !s.is_finite() {
+        // fl(x_h + y_h) overflowed: |x + y| >= (1 - u) f64::MAX > 2^1023 (12.1.3).
+        return (s, 0.0, 0.0);
+    }
     let (u, v) = two_sum(x.lo, y.lo);
     let (w, we) = two_sum(t, u);
     let (zh, zl) = two_sum(s, w);
     // x + y == zh + zl + we + v exactly.
-    if we == 0.0 && v == 0.0 && zh.is_finite() {
-        let d = Dd {
-            hi: zh + 0.0,
-            lo: zl + 0.0,
-        };
-        return DdInterval { lo: d, hi: d };
+    if we == 0.0 && v == 0.0 {
+        return (zh + 0.0, zl + 0.0, 0.0);
     }
     let r = we + v;
     let l = zl + r;
     let e = up(U * up(r.abs() + l.abs()));
-    enclose(zh, l, e)
+    (zh, l, e)
 }
 
-/// The enclosure of `x * y` for finite `x, y` ([spec (12.1.6)](crate::spec::precision)).
+/// The enclosure of `x + y` for finite `x, y` ([spec (12.1.5)](crate::spec::precision)).
 #[inline(always)]
-fn mul_pt(x: Dd, y: Dd) -> DdInterval {
+fn add_pt(x: Dd, y: Dd) -> DdInterval {
+    let (h, l, e) = add_core(x, y);
+    if e == 0.0 && h.is_finite() {
+        let d = Dd { hi: h, lo: l };
+        return DdInterval { lo: d, hi: d };
+    }
+    enclose(h, l, e)
+}
+
+/// `(h, l, e)` with `|x y - (h + l)| <= e` for finite `x, y`; `e = 0` when exact
+/// ([spec (12.1.6)](crate::spec::precision)).
+#[inline(always)]
+fn mul_core(x: Dd, y: Dd) -> (f64, f64, f64) {
+    if x.hi == 0.0 || y.hi == 0.0 {
+        return (0.0, 0.0, 0.0);
+    }
     let (ch, cl1) = two_prod(x.hi, y.hi);
     if x.lo == 0.0 && y.lo == 0.0 && ch.is_finite() && ch.abs() >= EXACT_PRODUCT {
         // A product of two doubles, no underflow: ch + cl1 is exact (TwoProd).
-        let d = Dd::new(ch, cl1);
-        return DdInterval { lo: d, hi: d };
+        return (ch + 0.0, cl1 + 0.0, 0.0);
     }
     let tl0 = x.lo * y.lo;
     let tl1 = x.hi.mul_add(y.lo, tl0);
@@ -452,12 +485,151 @@ fn mul_pt(x: Dd, y: Dd) -> DdInterval {
     let cl3 = cl1 + cl2;
     let s = up(up(up(tl0.abs() + tl1.abs()) + cl2.abs()) + cl3.abs());
     let e = up(up(U * s) + 4.0 * ETA);
-    enclose(ch, cl3, e)
+    (ch, cl3, e)
+}
+
+/// The enclosure of `x * y` for finite `x, y` ([spec (12.1.6)](crate::spec::precision)).
+#[inline(always)]
+fn mul_pt(x: Dd, y: Dd) -> DdInterval {
+    let (h, l, e) = mul_core(x, y);
+    if e == 0.0 && h.is_finite() {
+        let d = Dd { hi: h, lo: l };
+        return DdInterval { lo: d, hi: d };
+    }
+    enclose(h, l, e)
+}
+
+/// An upper bound of `a + b` for `a, b >= 0` (exact when one is 0).
+#[inline(always)]
+fn add_up(a: f64, b: f64) -> f64 {
+    if a == 0.0 {
+        b
+    } else if b == 0.0 {
+        a
+    } else {
+        up(a + b)
+    }
+}
+
+/// An upper bound of `a b` for `a, b >= 0` (exactly 0 when one is 0).
+#[inline(always)]
+fn mul_up(a: f64, b: f64) -> f64 {
+    if a == 0.0 || b == 0.0 {
+        0.0
+    } else {
+        up(a * b)
+    }
+}
+
+/// A ball `c +- r`: a double-double centre and an f64 radius, standing for every real within
+/// `r` of `c` ([spec (12.1.19)](crate::spec::precision)). The elementary functions evaluate
+/// their series in balls: one error-free product or sum per operation instead of one per end.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Ball {
+    c: Dd,
+    r: f64,
+}
+
+impl Ball {
+    /// A ball containing the interval (finite, non-empty; otherwise the radius is infinite).
+    pub(super) fn from_interval(x: DdInterval) -> Ball {
+        if x.is_empty() || !x.is_finite() {
+            return Ball {
+                c: Dd::ZERO,
+                r: f64::INFINITY,
+            };
+        }
+        if x.is_point() {
+            return Ball { c: x.lo, r: 0.0 };
+        }
+        let c = x.mid();
+        let r = add_pt(x.hi, -c)
+            .hi
+            .to_f64_up()
+            .max(add_pt(c, -x.lo).hi.to_f64_up());
+        Ball { c, r }
+    }
+
+    /// The interval of the ball, rounded outward (12.1.3).
+    pub(super) fn to_interval(self) -> DdInterval {
+        if !(self.r.is_finite() && self.c.hi.is_finite()) {
+            return DdInterval::ENTIRE;
+        }
+        if self.r == 0.0 {
+            return DdInterval {
+                lo: self.c,
+                hi: self.c,
+            };
+        }
+        enclose(self.c.hi, self.c.lo, self.r)
+    }
+
+    /// The centre `h + l` renormalised exactly, the radius enlarged by `e`.
+    #[inline(always)]
+    fn make(h: f64, l: f64, r: f64) -> Ball {
+        let (a, b) = two_sum(h, l);
+        if a.is_finite() && r.is_finite() {
+            Ball {
+                c: Dd {
+                    hi: a + 0.0,
+                    lo: b + 0.0,
+                },
+                r,
+            }
+        } else {
+            Ball {
+                c: Dd::ZERO,
+                r: f64::INFINITY,
+            }
+        }
+    }
+
+    /// An upper bound of `|c|`.
+    #[inline(always)]
+    fn mag_c(self) -> f64 {
+        add_up(self.c.hi.abs(), self.c.lo.abs())
+    }
+
+    #[inline(always)]
+    pub(super) fn add(self, o: Ball) -> Ball {
+        let (h, l, e) = add_core(self.c, o.c);
+        Ball::make(h, l, add_up(add_up(self.r, o.r), e))
+    }
+
+    /// `|ab - c_a c_b| <= |c_a| r_b + |c_b| r_a + r_a r_b`, plus the rounding of `c_a c_b`.
+    #[inline(always)]
+    pub(super) fn mul(self, o: Ball) -> Ball {
+        let (h, l, e) = mul_core(self.c, o.c);
+        let r = if self.r == 0.0 && o.r == 0.0 {
+            e
+        } else {
+            let cross = add_up(mul_up(self.mag_c(), o.r), mul_up(o.mag_c(), self.r));
+            add_up(add_up(cross, mul_up(self.r, o.r)), e)
+        };
+        Ball::make(h, l, r)
+    }
+
+    /// The ball enlarged by `rho >= 0`.
+    #[inline(always)]
+    pub(super) fn widen(self, rho: f64) -> Ball {
+        Ball {
+            c: self.c,
+            r: add_up(self.r, rho),
+        }
+    }
+
+    #[inline(always)]
+    pub(super) fn neg(self) -> Ball {
+        Ball {
+            c: -self.c,
+            r: self.r,
+        }
+    }
 }
 
 /// `2^-969`: a product of two doubles at least this large has an exact FMA error term (its
 /// error is a multiple of `2^-1073`).
-const EXACT_PRODUCT: f64 = 2.0041683600089728e-292;
+const EXACT_PRODUCT: f64 = f64::from_bits(54 << 52);
 
 /// `[a, b] / [c, d]` in f64 with outward rounding (`c, d` of one strict sign, all finite).
 #[inline]
@@ -498,7 +670,7 @@ fn div_pt(x: Dd, y: Dd) -> DdInterval {
 }
 
 /// Below this magnitude an operand of a division or square root is first scaled up: `2^-900`.
-const SMALL: f64 = 1.1882295093162296e-271;
+const SMALL: f64 = f64::from_bits(123 << 52);
 
 /// The exponent `k` of a finite non-zero double: `2^k <= |x| < 2^(k+1)`.
 #[inline]
@@ -860,7 +1032,7 @@ impl DdInterval {
         if n == 0 {
             return DdInterval::ONE;
         }
-        if n % 2 == 0 {
+        if n.is_multiple_of(2) {
             return pow_nonneg(self.abs(), n);
         }
         let end = |p: Dd| -> DdInterval {
@@ -908,15 +1080,13 @@ impl DdInterval {
         DdInterval { lo, hi }
     }
 
-    /// `2^k * self` for `|k| <= 2200`, outward rounded (exact unless it leaves the normal range).
+    /// `2^k * self`, outward rounded (exact unless it leaves the normal range).
     pub fn scale_pow2(self, k: i32) -> DdInterval {
         if self.is_empty() {
             return self;
         }
-        let k1 = k / 2;
-        let k2 = k - k1;
-        let down = |x: f64| mul2(mul2(x, k1, true), k2, true);
-        let upf = |x: f64| mul2(mul2(x, k1, false), k2, false);
+        let down = |x: f64| mul2(x, k, true);
+        let upf = |x: f64| mul2(x, k, false);
         let lo = if self.lo.is_finite() {
             end_down(down(self.lo.hi), down(self.lo.lo))
         } else {
@@ -931,15 +1101,29 @@ impl DdInterval {
     }
 }
 
-/// `x * 2^k` (`|k| <= 1100`) rounded down (`down`) or up: exact when the product is normal or
+/// `x * 2^k` rounded down (`down`) or up: exact when the product is normal or
 /// zero from zero; otherwise one outward step, since the product is rounded to nearest
 /// ([spec (12.1.2)](crate::spec::precision)).
 #[inline]
 fn mul2(x: f64, k: i32, down: bool) -> f64 {
-    if x == 0.0 {
-        return 0.0;
+    let mut y = x;
+    let mut k = k;
+    while k != 0 && y != 0.0 && y.is_finite() {
+        // Each step is a directed bound and multiplying by 2^step > 0 is monotone.
+        let step = k.clamp(-1000, 1000);
+        y = mul2_step(y, step, down);
+        k -= step;
     }
-    let y = x * pow2(k.clamp(-1074, 1023));
+    y
+}
+
+/// One step of [`mul2`], `|k| <= 1000`.
+#[inline]
+fn mul2_step(x: f64, k: i32, down: bool) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let y = x * pow2(k);
     if y.is_finite() && y.abs() >= f64::MIN_POSITIVE {
         y
     } else if y.is_finite() {
@@ -1121,8 +1305,9 @@ fn div_end(x: Dd, y: Dd) -> DdInterval {
 
 impl Div for DdInterval {
     type Output = DdInterval;
-    /// [spec (12.1.7)](crate::spec::precision). A divisor containing 0 gives the whole line
-    /// (empty for the divisor `[0, 0]`).
+    /// [spec (12.1.7)](crate::spec::precision). A divisor with 0 as an end gives a half-line
+    /// when the dividend does not contain 0 (`[1, 2] / [0, 4] = [1/4, +inf]`), the whole line
+    /// otherwise or when 0 is inside the divisor; the divisor `[0, 0]` gives the empty set.
     #[inline]
     fn div(self, o: DdInterval) -> DdInterval {
         if self.is_empty() || o.is_empty() || o.is_exact_zero() {
@@ -1143,6 +1328,38 @@ impl Div for DdInterval {
             let lo = div_end(b, if b.hi >= 0.0 { d } else { c }).lo;
             let hi = div_end(a, if a.hi >= 0.0 { c } else { d }).hi;
             DdInterval { lo, hi }
+        } else if a.hi > 0.0 || b.hi < 0.0 {
+            // The divisor has 0 as an end (a half-line) or inside (the whole line), the
+            // dividend does not contain 0: as IEEE 1788 and inari.
+            let (pos, neg) = (a.hi > 0.0, b.hi < 0.0);
+            if d.hi == 0.0 && c.hi < 0.0 {
+                // y in [c, 0): x / y runs to +inf (x < 0) or -inf (x > 0) as y -> 0.
+                if neg {
+                    DdInterval {
+                        lo: div_end(b, c).lo,
+                        hi: Dd::INFINITY,
+                    }
+                } else {
+                    DdInterval {
+                        lo: Dd::NEG_INFINITY,
+                        hi: div_end(a, c).hi,
+                    }
+                }
+            } else if c.hi == 0.0 && d.hi > 0.0 {
+                if pos {
+                    DdInterval {
+                        lo: div_end(a, d).lo,
+                        hi: Dd::INFINITY,
+                    }
+                } else {
+                    DdInterval {
+                        lo: Dd::NEG_INFINITY,
+                        hi: div_end(b, d).hi,
+                    }
+                }
+            } else {
+                DdInterval::ENTIRE
+            }
         } else {
             DdInterval::ENTIRE
         }
@@ -1266,6 +1483,9 @@ fn pow2_wide(k: i32) -> f64 {
     }
 }
 
+/// The significant digits of a decimal read exactly; the rest only bound the value.
+const MAX_DECIMAL_DIGITS: usize = 800;
+
 /// `10^k` splits as `5^k 2^k`: the exact value of a decimal `±D * 10^k`, bounded outward.
 fn decimal_to_interval(neg: bool, d: &Big, k: i64) -> DdInterval {
     if d.is_zero() {
@@ -1348,12 +1568,27 @@ impl DdInterval {
                 }
             }
         };
+        k = k.saturating_sub(fp.len() as i64);
+        let digits: Vec<u8> = ip
+            .bytes()
+            .chain(fp.bytes())
+            .skip_while(|&c| c == b'0')
+            .collect();
+        // Beyond 800 significant digits (every double-double has fewer) the value lies in
+        // [D, D + 1] 10^k' with D the
+        // first 800 digits: bounded by the two ends, so that a long input stays cheap.
+        let (kept, dropped) = digits.split_at(digits.len().min(MAX_DECIMAL_DIGITS));
         let mut d = Big::zero();
-        for c in ip.bytes().chain(fp.bytes()).skip_while(|&c| c == b'0') {
+        for &c in kept {
             d.mul_small_add(10, (c - b'0') as u32);
         }
-        k -= fp.len() as i64;
-        Some(decimal_to_interval(neg, &d, k))
+        let k = k.saturating_add(dropped.len() as i64);
+        if dropped.iter().all(|&c| c == b'0') {
+            return Some(decimal_to_interval(neg, &d, k));
+        }
+        let mut d1 = d.clone();
+        d1.mul_small_add(1, 1);
+        Some(decimal_to_interval(neg, &d, k).hull(decimal_to_interval(neg, &d1, k)))
     }
 
     /// The lower end as a decimal with `digits` significant digits, rounded down.
@@ -1394,7 +1629,7 @@ pub fn dd_to_decimal(x: Dd, digits: usize, up_dir: bool) -> String {
     let n = s.len();
     let (mut kept, dropped_nonzero) = if n > digits {
         (
-            s[..digits].as_bytes().to_vec(),
+            s.as_bytes()[..digits].to_vec(),
             s[digits..].bytes().any(|c| c != b'0'),
         )
     } else {
@@ -1492,7 +1727,7 @@ mod tests {
         assert!((DdInterval::from_decimal("0.1").unwrap() * iv(10.0)).contains_f64(1.0));
         assert!(!DdInterval::from_decimal("0.1").unwrap().contains_f64(0.1)); // 0.1 is not a double
         let third = iv(1.0) / iv(3.0);
-        assert!(third.wid_up() < 3.0 * 4.93e-32 / 3.0 * 2.0);
+        assert!(third.wid_up() < 2.0 * 4.93e-32);
         // (1 + 2^-30)^2 = (1 + 2^-29) + 2^-60 exactly: contained, and far from 1 + 2^-29.
         let x = DdInterval::from_f64(1.0 + pow2(-30));
         let s = x.sqr();
@@ -1521,6 +1756,21 @@ mod tests {
         assert!(q.contains_f64(-1.0) && q.contains_f64(-0.25));
         assert!((iv(1.0) / DdInterval::from_f64_pair(-1.0, 1.0).unwrap()) == DdInterval::ENTIRE);
         assert!((iv(1.0) / iv(0.0)).is_empty());
+        let h = DdInterval::from_f64_pair(1.0, 2.0).unwrap()
+            / DdInterval::from_f64_pair(0.0, 4.0).unwrap();
+        assert!(h.inf() == Dd::from_f64(0.25) && h.sup() == Dd::INFINITY);
+        let h = DdInterval::from_f64_pair(1.0, 2.0).unwrap()
+            / DdInterval::from_f64_pair(-4.0, 0.0).unwrap();
+        assert!(h.inf() == Dd::NEG_INFINITY && h.sup() == Dd::from_f64(-0.25));
+        let h = DdInterval::from_f64_pair(-2.0, -1.0).unwrap()
+            / DdInterval::from_f64_pair(-4.0, 0.0).unwrap();
+        assert!(h.inf() == Dd::from_f64(0.25) && h.sup() == Dd::INFINITY);
+        let h = DdInterval::from_f64_pair(-2.0, -1.0).unwrap()
+            / DdInterval::from_f64_pair(0.0, 4.0).unwrap();
+        assert!(h.inf() == Dd::NEG_INFINITY && h.sup() == Dd::from_f64(-0.25));
+        let h = DdInterval::from_f64_pair(-2.0, 1.0).unwrap()
+            / DdInterval::from_f64_pair(0.0, 4.0).unwrap();
+        assert!(h == DdInterval::ENTIRE);
         assert_eq!(
             DdInterval::from_f64_pair(-1.0, 4.0).unwrap().sqrt().sup(),
             Dd::from_f64(2.0)
@@ -1591,6 +1841,25 @@ mod tests {
     }
 
     #[test]
+    fn next_up_fast_is_next_up() {
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            5e-324,
+            -5e-324,
+            f64::MAX / 2.0,
+            -f64::MAX,
+            1e-310,
+            -2.5,
+        ] {
+            assert_eq!(next_up_fast(x), x.next_up(), "{x}");
+        }
+        assert!(next_up_fast(f64::MAX).is_infinite() && next_up_fast(f64::INFINITY).is_nan());
+    }
+
+    #[test]
     fn decimal_parsing() {
         for bad in ["", ".", "1e", "abc", "1.2.3", "--1", "1e+", "0x10", "1 2"] {
             assert!(DdInterval::from_decimal(bad).is_none(), "{bad}");
@@ -1619,5 +1888,12 @@ mod tests {
         // 2^-1074 exactly, written out.
         let tiny = DdInterval::from_decimal("4.940656458412465441765687928682213723650598026143247644255856825006755072702087518652998363616359923797965646954457177309266567103559397963987747960107818781263007131903114045278458171678489821036887186360569987307230500063874091535649843873124733972731696151400317153853980741262385655911710266585566867681870395603106249319452715914924553293054565444011274801297099995419319894090804165633245247571478690147267801593552386115501348035264934720193790268107107491703332226844753335720832431936092382893458368060106011506169809753078342277318329247904982524730776375927247874656084778203734469699533647017972677717585125660551199131504891101451037862738167250955837389733598993664809941164205702637090279242767544565229087538682506419718265533447265625e-324").unwrap();
         assert!(tiny.is_point() && tiny.inf().hi() == pow2(-1074));
+        // Long inputs: bounded by their first 800 digits, and cheap.
+        let long = format!("0.{}", "3".repeat(100_000));
+        let third = DdInterval::from_decimal(&long).unwrap();
+        assert!(third.inf_f64() > 0.3333 && third.sup_f64() < 0.33334 && third.wid_up() < 1e-31);
+        let big = format!("{}e-100000", "7".repeat(100_000));
+        let sevens = DdInterval::from_decimal(&big).unwrap();
+        assert!(sevens.inf_f64() > 0.7777 && sevens.sup_f64() < 0.7778 && sevens.wid_up() < 1e-31);
     }
 }

@@ -13,7 +13,7 @@
 //! For every function `f` here and every interval `x`, `f(x)` contains `f(t)` for every real
 //! `t` in `x` where `f` is defined.
 
-use super::dd::{big_to_interval, dd_to_big, pow2, two_prod, Dd, DdInterval};
+use super::dd::{big_to_interval, dd_to_big, pow2, two_prod, Ball, Dd, DdInterval};
 use super::dd_big::Big;
 use std::sync::OnceLock;
 
@@ -34,7 +34,7 @@ const LN2_LO_UP: f64 = f64::from_bits(0x3c7abc9e3b398040);
 const LN2_C1: f64 = f64::from_bits(0x3fe62e42fefa3800);
 const LN2_C2: f64 = f64::from_bits(0x3d2ef35793c76000);
 const LN2_C3: f64 = f64::from_bits(0x3a8cc01f97b57a08);
-const LN2_C_ERR: f64 = 7.174648137343064e-43; // 2^-140
+const LN2_C_ERR: f64 = f64::from_bits(883 << 52); // 2^-140
 /// `floor(2/pi * 2^1500)`, 47 limbs of 32 bits, least significant first (Payne and Hanek
 /// reduction, [spec (12.1.12)](crate::spec::precision)).
 const TWO_OVER_PI_BITS: u64 = 1500;
@@ -59,25 +59,28 @@ const PI: DdInterval = constant(PI_HI, PI_LO_DOWN, PI_LO_UP);
 const FRAC_PI_2: DdInterval = constant(FRAC_PI_2_HI, FRAC_PI_2_LO_DOWN, FRAC_PI_2_LO_UP);
 const LN2: DdInterval = constant(LN2_HI, LN2_LO_DOWN, LN2_LO_UP);
 
-/// `1/n!` for `n <= 40`, enclosed ([spec (12.1.11)](crate::spec::precision)).
-fn inv_fact() -> &'static [DdInterval; 41] {
-    static T: OnceLock<[DdInterval; 41]> = OnceLock::new();
+/// `1/n!` for `n <= 40`, enclosed by interval division `[1/n!] = [1/(n-1)!] / n`, as balls
+/// ([spec (12.1.10)](crate::spec::precision)).
+fn inv_fact() -> &'static [Ball; 41] {
+    static T: OnceLock<[Ball; 41]> = OnceLock::new();
     T.get_or_init(|| {
-        let mut t = [DdInterval::ONE; 41];
-        for n in 1..41 {
-            t[n] = t[n - 1] / DdInterval::from_f64(n as f64);
+        let mut iv = DdInterval::ONE;
+        let mut t = [Ball::from_interval(iv); 41];
+        for (n, c) in t.iter_mut().enumerate().skip(1) {
+            iv = iv / DdInterval::from_f64(n as f64);
+            *c = Ball::from_interval(iv);
         }
         t
     })
 }
 
-/// `1/(2n+1)` for `n <= 30`, enclosed.
-fn inv_odd() -> &'static [DdInterval; 31] {
-    static T: OnceLock<[DdInterval; 31]> = OnceLock::new();
+/// `1/(2n+1)` for `n <= 30`, enclosed, as balls.
+fn inv_odd() -> &'static [Ball; 31] {
+    static T: OnceLock<[Ball; 31]> = OnceLock::new();
     T.get_or_init(|| {
-        let mut t = [DdInterval::ONE; 31];
+        let mut t = [Ball::from_interval(DdInterval::ONE); 31];
         for (n, c) in t.iter_mut().enumerate() {
-            *c = DdInterval::ONE / DdInterval::from_f64((2 * n + 1) as f64);
+            *c = Ball::from_interval(DdInterval::ONE / DdInterval::from_f64((2 * n + 1) as f64));
         }
         t
     })
@@ -108,19 +111,18 @@ fn pow_up(m: f64, n: u32) -> f64 {
     r
 }
 
-/// `sum_n sign^n c[step n + off] s^n` for `n = 0..=nmax` by Horner's scheme in interval
-/// arithmetic.
-fn horner(s: DdInterval, nmax: usize, coef: impl Fn(usize) -> DdInterval) -> DdInterval {
+/// `sum_{n <= nmax} coef(n) s^n` by Horner's scheme in ball arithmetic (12.1.19).
+fn horner(s: Ball, nmax: usize, coef: impl Fn(usize) -> Ball) -> Ball {
     let mut acc = coef(nmax);
     for n in (0..nmax).rev() {
-        acc = acc * s + coef(n);
+        acc = acc.mul(s).add(coef(n));
     }
     acc
 }
 
-fn alt(n: usize, c: DdInterval) -> DdInterval {
+fn alt(n: usize, c: Ball) -> Ball {
     if n % 2 == 1 {
-        -c
+        c.neg()
     } else {
         c
     }
@@ -136,7 +138,7 @@ const EXP_DEG: usize = 24;
 /// Lagrange remainder `e^|r| |r|^25 / 25!` (`<= 1.5 |r|^25 * 6.45e-26`).
 fn exp_kernel(r: DdInterval) -> DdInterval {
     let t = inv_fact();
-    let p = horner(r, EXP_DEG, |n| t[n]);
+    let p = horner(Ball::from_interval(r), EXP_DEG, |n| t[n]);
     let m = r.mag_up();
     // e^m 1/25! <= 1.0e-25 for m <= 0.36; otherwise e^m <= 3^ceil(m).
     let c = if m <= 0.36 {
@@ -145,13 +147,13 @@ fn exp_kernel(r: DdInterval) -> DdInterval {
         (pow_up(3.0, m.ceil().min(1000.0) as u32) * 6.5e-26).next_up()
     };
     let rho = rem_bound(m, EXP_DEG as u32 + 1, c);
-    p + sym(rho)
+    p.widen(rho).to_interval()
 }
 
 /// `2^s exp(x)` for a point `x` (`|s| <= 2`).
 fn exp_scaled_pt(x: Dd, s: i32) -> DdInterval {
     let xh = x.hi();
-    let shifted = xh + s as f64 * 0.6931471805599453;
+    let shifted = xh + s as f64 * std::f64::consts::LN_2;
     if shifted > 709.8 {
         // 2^s e^x > e^709.8 > f64::MAX.
         return DdInterval {
@@ -215,13 +217,13 @@ const LN_DEG: usize = 21;
 /// remainder `|s|^(2N+2) / ((2N+3)(1 - s^2))` relative to `2 s`.
 fn ln1p_kernel(y: DdInterval) -> DdInterval {
     let s = y / (y + DdInterval::from_f64(2.0));
-    let s2 = s.sqr();
+    let sb = Ball::from_interval(s);
     let t = inv_odd();
-    let p = horner(s2, LN_DEG, |n| t[n]);
+    let p = horner(Ball::from_interval(s.sqr()), LN_DEG, |n| t[n]);
     let m = s.mag_up();
     // 1 - s^2 rounded down; not positive only for arguments far outside the intended range.
     let den = (1.0 - (m * m).next_up()).next_down();
-    if !(den > 0.0) {
+    if den.is_nan() || den <= 0.0 {
         return DdInterval::ENTIRE;
     }
     let rho = (rem_bound(
@@ -230,7 +232,7 @@ fn ln1p_kernel(y: DdInterval) -> DdInterval {
         1.0 / (2 * LN_DEG + 3) as f64 * (1.0 + 1e-15),
     ) / den)
         .next_up();
-    (s * (p + sym(rho))).scale_pow2(1)
+    sb.mul(p.widen(rho)).to_interval().scale_pow2(1)
 }
 
 /// `ln x` for a finite point `x > 0`: `x = 2^k m` with `m` in `[1/sqrt2, sqrt2]`,
@@ -286,12 +288,18 @@ impl DdInterval {
 
 /// The reduction of a finite point `x`: `x 2/pi = K + f` for an integer `K` and a real `f`
 /// with `|f| <= 1/2 + 2^-300`; returns `(K mod 4, enclosure of f, enclosure of f pi/2)`.
-fn reduce(x: Dd) -> (u32, DdInterval, DdInterval) {
+/// Without `need_f`, the enclosure of `f` may be the whole line when `|x| < pi/4`.
+fn reduce(x: Dd, need_f: bool) -> (u32, DdInterval, DdInterval) {
     let a = x.abs();
     if a.hi() <= 0.785 {
         // |x| < pi/4: K = 0, r = x exactly.
         let r = DdInterval::point(x);
-        return (0, r / FRAC_PI_2, r);
+        let f = if need_f {
+            r / FRAC_PI_2
+        } else {
+            DdInterval::ENTIRE
+        };
+        return (0, f, r);
     }
     let (_, q, e) = dd_to_big(a);
     // |x| in [2^t, 2^(t+1)).
@@ -339,17 +347,19 @@ const COS_DEG: usize = 14;
 /// derivatives of sin are bounded by 1).
 fn sin_kernel(r: DdInterval) -> DdInterval {
     let t = inv_fact();
-    let p = horner(r.sqr(), SIN_DEG, |n| alt(n, t[2 * n + 1]));
+    let rb = Ball::from_interval(r);
+    let p = horner(rb.mul(rb), SIN_DEG, |n| alt(n, t[2 * n + 1]));
     let rho = rem_bound(r.mag_up(), 2 * SIN_DEG as u32 + 2, 1.2e-31); // 1/29! < 1.2e-31
-    r * (p + sym(rho))
+    rb.mul(p.widen(rho)).to_interval()
 }
 
 /// `cos r = sum (-1)^n r^2n/(2n)! + rho`, `|rho| <= |r|^30/30!`.
 fn cos_kernel(r: DdInterval) -> DdInterval {
     let t = inv_fact();
-    let p = horner(r.sqr(), COS_DEG, |n| alt(n, t[2 * n]));
+    let rb = Ball::from_interval(r);
+    let p = horner(rb.mul(rb), COS_DEG, |n| alt(n, t[2 * n]));
     let rho = rem_bound(r.mag_up(), 2 * COS_DEG as u32 + 2, 3.8e-33); // 1/30! < 3.8e-33
-    p + sym(rho)
+    p.widen(rho).to_interval()
 }
 
 /// `sin x` from `x = K pi/2 + r` with `K mod 4 = k`.
@@ -392,7 +402,7 @@ fn critical(ka: u32, fa: DdInterval, kb: u32, fb: DdInterval) -> u32 {
 
 impl DdInterval {
     /// sin ([spec (12.1.12)–(12.1.13)](crate::spec::precision)); `[-1, 1]` for an unbounded
-    /// argument or one at least 3.1 wide (less than pi).
+    /// argument or one at least 6.2 wide (less than 2 pi).
     pub fn sin(self) -> DdInterval {
         self.sin_cos(false)
     }
@@ -410,14 +420,22 @@ impl DdInterval {
             return UNIT;
         }
         let eval = |k: u32, r: DdInterval| if cos { cos_from(k, r) } else { sin_from(k, r) };
-        let (ka, fa, ra) = reduce(self.lo);
+        let (ka, fa, ra) = reduce(self.lo, !self.is_point());
         if self.is_point() {
             return eval(ka, ra).intersection(UNIT);
         }
-        if self.wid_up() >= 3.1 {
+        let w = self.wid_up();
+        if w >= 6.2 {
             return UNIT;
         }
-        let (kb, fb, rb) = reduce(self.hi);
+        if w >= 3.1 {
+            // Two halves, each narrower than 3.1; the range is the hull of their ranges.
+            let m = self.mid();
+            let left = DdInterval { lo: self.lo, hi: m };
+            let right = DdInterval { lo: m, hi: self.hi };
+            return left.sin_cos(cos).hull(right.sin_cos(cos));
+        }
+        let (kb, fb, rb) = reduce(self.hi, true);
         let mut y = eval(ka, ra).hull(eval(kb, rb));
         let set = critical(ka, fa, kb, fb);
         // sin: max at j = 1 mod 4, min at j = 3; cos: max at 0, min at 2.
@@ -446,20 +464,20 @@ impl DdInterval {
             return DdInterval::ENTIRE;
         }
         let tan_at = |k: u32, r: DdInterval| {
-            if k % 2 == 0 {
+            if k.is_multiple_of(2) {
                 sin_kernel(r) / cos_kernel(r)
             } else {
                 -(cos_kernel(r) / sin_kernel(r))
             }
         };
-        let (ka, fa, ra) = reduce(self.lo);
+        let (ka, fa, ra) = reduce(self.lo, !self.is_point());
         if self.is_point() {
             return tan_at(ka, ra);
         }
         if self.wid_up() >= 3.1 {
             return DdInterval::ENTIRE;
         }
-        let (kb, fb, rb) = reduce(self.hi);
+        let (kb, fb, rb) = reduce(self.hi, true);
         let set = critical(ka, fa, kb, fb);
         if set & 0b1010 != 0 {
             return DdInterval::ENTIRE;
@@ -489,25 +507,26 @@ impl DdInterval {
 // ---------------------------------------------------------------------------------------------
 // atan ([spec (12.1.14)](crate::spec::precision)).
 
-/// Degree in `z^2` of the atan series on `|z| <= tan(pi/32) < 0.0985`: `z^32/33 < 2^-112`.
-const ATAN_DEG: usize = 15;
+/// Degree in `z^2` of the atan series on `|z| <= tan(pi/16) < 0.1990`: `z^48/49 < 2^-117`.
+const ATAN_DEG: usize = 23;
 
-/// `atan y` for an interval `y` in `[0, 1]`: three half-angle steps
+/// `atan y` for an interval `y` in `[0, 1]`: two half-angle steps
 /// `atan y = 2 atan(y / (1 + sqrt(1 + y^2)))`, then `z (sum (-1)^n z^2n/(2n+1) + rho)`,
 /// `|rho| <= |z|^(2N+2)/(2N+3)` (alternating series with decreasing terms).
 fn atan_kernel(y: DdInterval) -> DdInterval {
     let mut z = y;
-    for _ in 0..3 {
+    for _ in 0..2 {
         z = z / (DdInterval::ONE + (DdInterval::ONE + z.sqr()).sqrt());
     }
     let t = inv_odd();
-    let p = horner(z.sqr(), ATAN_DEG, |n| alt(n, t[n]));
+    let zb = Ball::from_interval(z);
+    let p = horner(zb.mul(zb), ATAN_DEG, |n| alt(n, t[n]));
     let rho = rem_bound(
         z.mag_up(),
         2 * ATAN_DEG as u32 + 2,
         1.0 / (2 * ATAN_DEG + 3) as f64 * (1.0 + 1e-15),
     );
-    (z * (p + sym(rho))).scale_pow2(3)
+    zb.mul(p.widen(rho)).to_interval().scale_pow2(2)
 }
 
 /// `atan x` for a finite point.
@@ -560,9 +579,10 @@ fn sinh_pt(x: Dd) -> DdInterval {
     let xi = DdInterval::point(x);
     if x.abs().hi() <= 0.5 {
         let t = inv_fact();
-        let p = horner(xi.sqr(), SINH_DEG, |n| t[2 * n + 1]);
+        let xb = Ball::from_interval(xi);
+        let p = horner(xb.mul(xb), SINH_DEG, |n| t[2 * n + 1]);
         let rho = rem_bound(x.abs().to_f64_up(), 2 * SINH_DEG as u32 + 2, 1.1e-28); // 1.13/27! < 1.1e-28
-        return xi * (p + sym(rho));
+        return xb.mul(p.widen(rho)).to_interval();
     }
     xi.exp_scaled(-1) - (-xi).exp_scaled(-1)
 }
@@ -715,7 +735,7 @@ mod tests {
     }
 
     /// `2^-100`: every point value below is far tighter.
-    const T: f64 = 7.888609052210118e-31;
+    const T: f64 = f64::from_bits(923 << 52);
 
     #[test]
     fn closed_forms() {
@@ -738,7 +758,8 @@ mod tests {
         assert!(x.sinh().asinh().contains_f64(0.75));
         let (s1, c1) = (iv(1e22).sin(), iv(1e22).cos());
         assert!((s1.sqr() + c1.sqr()).contains_f64(1.0));
-        assert!(s1.contains_f64(-0.8522008497671888) || s1.inf_f64() < -0.85220084976718880);
+        // sin(1e22) = -0.852200849767188801772705893753...: the table checks it against mpmath.
+        assert!(s1.sup_f64() < -0.8522 && s1.inf_f64() > -0.8523 && s1.wid_up() < 1e-30);
     }
 
     #[test]
@@ -750,6 +771,15 @@ mod tests {
         assert!(pair(1.0, 2.0).tan() == DdInterval::ENTIRE);
         assert!(pair(-1.0, 1.0).tan().is_finite());
         assert!(pair(0.0, 100.0).sin() == UNIT);
+        // 4.5 wide: split in two halves; sin on [0.5, 5] reaches both extremes (pi/2, 3pi/2
+        // inside), and so does cos on [-0.5, 4] (0 and pi inside).
+        assert!(pair(0.5, 5.0).sin() == UNIT);
+        let c = pair(-0.5, 4.0).cos();
+        assert!(c.inf() == -Dd::ONE && c.sup() == Dd::ONE);
+        let s = pair(-1.4, 1.6).sin(); // 3.0 wide, no split: max 1 at pi/2, min sin(-1.4)
+        assert!(s.sup() == Dd::ONE && s.inf_f64() > -0.99);
+        let s = pair(-1.5, 1.6).sin(); // 3.1 wide: split, the same range
+        assert!(s.sup() == Dd::ONE && s.inf_f64() > -0.9975 && s.inf_f64() < -0.9974);
         let e = pair(-1.0, 1.0).exp();
         assert!(e.contains(iv(1.0).exp().sup()) && e.contains(iv(-1.0).exp().inf()));
         assert!(DdInterval::ENTIRE.atan().subset(FRAC_PI_2.hull(-FRAC_PI_2)));
