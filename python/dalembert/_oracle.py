@@ -37,7 +37,7 @@ from typing import (
     Any, Deque, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Union,
 )
 
-from ._intervals import intervals, to_array
+from ._intervals import Interval, to_array
 
 __all__ = [
     "Oracle", "Answer", "Pending", "OracleError", "InputError", "Uncertified",
@@ -52,8 +52,8 @@ Scene = Union[str, Mapping[str, Any]]
 
 class Answer(Mapping[str, Any]):
     """An `ok` answer: a read-only mapping whose keys are also attributes (`a.q2` is
-    `a["q2"]`). The intervals of a key are built when the key is first read (an answer
-    whose keys are not all read costs only what is read)."""
+    `a["q2"]`). The numbers and intervals of a key are made when the key is first read (an
+    answer whose keys are not all read costs only what is read)."""
 
     __slots__ = ("_raw", "_shape", "_done")
 
@@ -68,9 +68,12 @@ class Answer(Mapping[str, Any]):
             return done[key]
         v = self._raw[key]
         s = self._shape.get(key)
-        if s is not None:
-            v = Answer(v, s) if isinstance(s, dict) and isinstance(v, dict) else (
-                v if isinstance(s, dict) else _intervals(v, s))
+        if s is None:
+            v = _numbers(v)
+        elif isinstance(s, dict):
+            v = Answer(v, s) if isinstance(v, dict) else _numbers(v)
+        else:
+            v = _intervals(v, s)
         done[key] = v
         return v
 
@@ -143,16 +146,53 @@ _SHAPES: Dict[str, _Shape] = {
 }
 
 
+# Answers are parsed with every JSON number that has a fraction or an exponent kept as its
+# text (bytes, `parse_float=str.encode`) and turned into a float only when its key is read:
+# float(text) is the float `json` itself would give (both are Python's correctly rounded
+# reading of the decimal), and the numbers of keys never read are never converted.
+_DECODE = json.JSONDecoder(parse_float=str.encode).decode
+
+
+def _numbers(value: Any) -> Any:
+    """`value` as `json.loads` gives it: each number kept as text made a float."""
+    t = type(value)
+    if t is bytes:
+        return float(value)
+    if t is list:
+        return [_numbers(v) for v in value]
+    if t is dict:
+        return {k: _numbers(v) for k, v in value.items()}
+    return value
+
+
+def _pairs(value: List[Any]) -> List[Interval]:
+    """`Interval`s from the [lo, hi] pairs of an answer (numbers as text or as numbers);
+    ValueError or TypeError when one is not an interval."""
+    new, out = tuple.__new__, []
+    for p in value:
+        if not isinstance(p, list) or len(p) != 2:
+            raise ValueError(p)
+        lo, hi = p
+        if type(lo) is bytes:
+            lo = float(lo)
+        if type(hi) is bytes:
+            hi = float(hi)
+        if not lo <= hi:
+            raise ValueError(p)
+        out.append(new(Interval, (lo, hi)))
+    return out
+
+
 def _intervals(value: Any, depth: int) -> Any:
     if value is None:
         return None
     try:
         if depth == 1 and None not in value:
-            return intervals(value)
+            return _pairs(value)
         if depth == 0:
-            return intervals([value])[0]
+            return _pairs([value])[0]
     except (ValueError, TypeError):
-        raise ProtocolError(f"expected intervals [lo, hi], got {value!r}") from None
+        raise ProtocolError(f"expected intervals [lo, hi], got {_numbers(value)!r}") from None
     return [_intervals(v, depth - 1) for v in value]
 
 
@@ -473,15 +513,16 @@ class Oracle:
     @staticmethod
     def _result(line: bytes, p: Pending) -> Union[Answer, BaseException]:
         try:
-            answer = json.loads(line)
-        except ValueError:
+            answer = _DECODE(line.decode())
+        except ValueError:  # UnicodeDecodeError and JSONDecodeError among them
             return ProtocolError(f"an answer that is not JSON: {line!r}")
-        if not isinstance(answer, dict) or answer.get("id", ...) != p.id:
-            return ProtocolError(f"answer {answer!r} is not the answer to id {p.id!r}")
+        if not isinstance(answer, dict) or _numbers(answer.get("id", ...)) != p.id:
+            return ProtocolError(
+                f"answer {_numbers(answer)!r} is not the answer to id {p.id!r}")
         if "error" in answer:
-            return _error(answer["error"], p.id)
+            return _error(_numbers(answer["error"]), p.id)
         if "ok" not in answer:
-            return ProtocolError(f"an answer without ok or error: {answer!r}")
+            return ProtocolError(f"an answer without ok or error: {_numbers(answer)!r}")
         return _answer(p.cmd or "", answer["ok"])
 
     def close(self) -> int:
