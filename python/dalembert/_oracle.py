@@ -55,12 +55,14 @@ class Answer(Mapping[str, Any]):
     `a["q2"]`). The numbers and intervals of a key are made when the key is first read (an
     answer whose keys are not all read costs only what is read)."""
 
-    __slots__ = ("_raw", "_shape", "_done")
+    __slots__ = ("_raw", "_shape", "_done", "_lazy")
 
-    def __init__(self, raw: Dict[str, Any], shape: Optional[_Shape] = None) -> None:
+    def __init__(self, raw: Dict[str, Any], shape: Optional[_Shape] = None,
+                 lazy: bool = False) -> None:
         self._raw = raw
         self._shape = shape or {}
         self._done: Dict[str, Any] = {}
+        self._lazy = lazy  # numbers kept as text (bytes) in raw
 
     def __getitem__(self, key: str) -> Any:
         done = self._done
@@ -69,9 +71,10 @@ class Answer(Mapping[str, Any]):
         v = self._raw[key]
         s = self._shape.get(key)
         if s is None:
-            v = _numbers(v)
+            v = _numbers(v) if self._lazy else v
         elif isinstance(s, dict):
-            v = Answer(v, s) if isinstance(v, dict) else _numbers(v)
+            v = Answer(v, s, self._lazy) if isinstance(v, dict) else (
+                _numbers(v) if self._lazy else v)
         else:
             v = _intervals(v, s)
         done[key] = v
@@ -151,6 +154,10 @@ _SHAPES: Dict[str, _Shape] = {
 # float(text) is the float `json` itself would give (both are Python's correctly rounded
 # reading of the decimal), and the numbers of keys never read are never converted.
 _DECODE = json.JSONDecoder(parse_float=str.encode).decode
+# Answers that are mostly plain floats (integrate's rows) are parsed at once, as json.loads
+# does, and handed over as they are.
+_EAGER = {"integrate"}
+_DECODE_EAGER = json.JSONDecoder().decode
 
 
 def _numbers(value: Any) -> Any:
@@ -196,11 +203,11 @@ def _intervals(value: Any, depth: int) -> Any:
     return [_intervals(v, depth - 1) for v in value]
 
 
-def _answer(cmd: str, ok: Dict[str, Any]) -> Answer:
+def _answer(cmd: str, ok: Dict[str, Any], lazy: bool = False) -> Answer:
     if cmd == "flow" and "at" in ok:
         # dense output: one answer per stop, with keys t, q, u, v
-        ok = {**ok, "at": [_answer("flow", stop) for stop in ok["at"]]}
-    return Answer(ok, _SHAPES.get(cmd, {}))
+        ok = {**ok, "at": [_answer("flow", stop, lazy) for stop in ok["at"]]}
+    return Answer(ok, _SHAPES.get(cmd, {}), lazy)
 
 
 def _error(err: Dict[str, Any], id: Any) -> OracleError:
@@ -512,8 +519,9 @@ class Oracle:
 
     @staticmethod
     def _result(line: bytes, p: Pending) -> Union[Answer, BaseException]:
+        lazy = p.cmd not in _EAGER
         try:
-            answer = _DECODE(line.decode())
+            answer = (_DECODE if lazy else _DECODE_EAGER)(line.decode())
         except ValueError:  # UnicodeDecodeError and JSONDecodeError among them
             return ProtocolError(f"an answer that is not JSON: {line!r}")
         if not isinstance(answer, dict) or _numbers(answer.get("id", ...)) != p.id:
@@ -523,7 +531,7 @@ class Oracle:
             return _error(_numbers(answer["error"]), p.id)
         if "ok" not in answer:
             return ProtocolError(f"an answer without ok or error: {_numbers(answer)!r}")
-        return _answer(p.cmd or "", answer["ok"])
+        return _answer(p.cmd or "", answer["ok"], lazy)
 
     def close(self) -> int:
         """Answer what is in flight, end the input, wait for the process; its exit status
