@@ -14,13 +14,16 @@ Every Python variant reads every answer's q2 (so the answers are parsed and thei
 intervals built). --pin runs everything (this script and the batch process) on one CPU.
 Beside the wall times, the CPU seconds of the batch process and of this script: on one
 core the API adds at most its own CPU time to batch's, and that ratio is far less sensitive
-to other load on the machine than wall times are.
+to other load on the machine than wall times are. "waits" is how many times this script
+waited for the pipes (its voluntary context switches): one per answer when the answers come
+one write each, a few dozen when they come in large writes.
 """
 
 import argparse
 import json
 import os
 import random
+import resource
 import subprocess
 import sys
 import time
@@ -43,15 +46,18 @@ def pairs(n, seed=1):
 
 def best(f, reps):
     """Best of `reps`: (wall seconds, CPU seconds of this process, CPU seconds of the batch
-    process), the run with the least wall time."""
+    process, voluntary context switches of this process), the run with the least wall
+    time."""
     runs = []
     for _ in range(reps):
         t0, c0 = time.perf_counter(), os.times()
+        w0 = resource.getrusage(resource.RUSAGE_SELF).ru_nvcsw
         f()
         t1, c1 = time.perf_counter(), os.times()
+        w1 = resource.getrusage(resource.RUSAGE_SELF).ru_nvcsw
         runs.append((t1 - t0, (c1.user + c1.system) - (c0.user + c0.system),
                      (c1.children_user + c1.children_system)
-                     - (c0.children_user + c0.children_system)))
+                     - (c0.children_user + c0.children_system), w1 - w0))
     return min(runs)
 
 
@@ -89,16 +95,16 @@ def main():
             for q0, q1, h in ps:
                 o.step(q0, q1, h, scene="particle").q2[0].lo
 
-    base, _, base_cpu = best(batch, a.reps)
+    base, _, base_cpu, _ = best(batch, a.reps)
     print(f"binary {exe}; {a.n} particle step queries; best of {a.reps}"
           f"{'; pinned to one CPU' if a.pin else ''}")
     print(f"{'':8} {'wall':>9} {'queries/s':>10} {'vs batch':>9} {'CPU: batch':>11} {'Python':>7}"
-          f" {'Python/batch CPU':>17}")
+          f" {'Python/batch CPU':>17} {'waits':>6}")
     print(f"{'batch':8} {base:7.3f} s {a.n / base:10.0f} {'':9} {base_cpu:9.3f} s")
     for name, f in (("list", as_list), ("submit", submit), ("sync", sync)):
-        t, cpu, child = best(f, a.reps)
+        t, cpu, child, waits = best(f, a.reps)
         print(f"{name:8} {t:7.3f} s {a.n / t:10.0f} {100 * (t / base - 1):+8.1f}% "
-              f"{child:9.3f} s {cpu:5.3f} s {100 * cpu / base_cpu:+16.1f}%")
+              f"{child:9.3f} s {cpu:5.3f} s {100 * cpu / base_cpu:+16.1f}% {waits:6d}")
 
 
 if __name__ == "__main__":

@@ -41,7 +41,7 @@ class Interval(tuple):  # type: ignore[type-arg]
     def hi(self) -> float:
         return tuple.__getitem__(self, 1)  # type: ignore[no-any-return]
 
-    def __contains__(self, x: Any) -> bool:  # type: ignore[override]
+    def __contains__(self, x: Any) -> bool:
         """Exact comparison: x may be an int, float, Fraction or Decimal."""
         return bool(self[0] <= x <= self[1])
 
@@ -49,7 +49,7 @@ class Interval(tuple):  # type: ignore[type-arg]
         return x in self
 
     def excludes_zero(self) -> bool:
-        return self[0] > 0 or self[1] < 0
+        return self.lo > 0 or self.hi < 0
 
     def width_up(self) -> float:
         """An upper bound on hi - lo (the float difference rounded up by one ulp)."""
@@ -57,12 +57,12 @@ class Interval(tuple):  # type: ignore[type-arg]
 
     def mag(self) -> float:
         """max(|lo|, |hi|): exact (abs and max of floats round nothing)."""
-        return max(abs(self[0]), abs(self[1]))
+        return max(abs(self.lo), abs(self.hi))
 
     @property
     def mid(self) -> float:
         """A float point inside the interval (round to nearest): a point, not a bound."""
-        lo, hi = self
+        lo, hi = self.lo, self.hi
         m = lo / 2 + hi / 2
         return min(max(m, lo), hi)
 

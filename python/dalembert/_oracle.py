@@ -11,11 +11,14 @@ each interval of the command's answer (spec/contract.md) turned into an `Interva
 values (`member`, `passed`, `stats`, `integrate`'s float rows) are as the JSON gives them.
 `Answer.array(key)` gives the intervals of a key as a float64 numpy array of [lo, hi].
 
-Throughput. Every query is written to the process as soon as it is made but flushed only
-when an answer is needed (or the buffer is full), and a reader thread keeps the process's
-output drained, so many queries in flight never block either side: `Oracle.run(list)` and
-`Oracle.submit(...)` (one query at a time, answers collected later with `.result()`) both
-pipeline; the plain methods (`step`, `flow`, ...) wait for their answer.
+Throughput. Every query is buffered as soon as it is made and written to the process only
+when an answer is needed (or the buffer is full); while a write waits for room in the pipe,
+the process's answers are read into memory, so many queries in flight never block either
+side: `Oracle.run(list)` and `Oracle.submit(...)` (one query at a time, answers collected
+later with `.result()`) both pipeline; the plain methods (`step`, `flow`, ...) wait for their
+answer. All of this runs in the calling thread (non-blocking writes and `select.poll`), so
+an answer costs no hand-over between threads; where `select.poll` is missing (Windows) a
+reader thread drains the output instead.
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ from __future__ import annotations
 import json
 import os
 import queue
+import select
 import shutil
 import subprocess
 import sys
@@ -33,7 +37,7 @@ from typing import (
     Any, Deque, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Union,
 )
 
-from ._intervals import intervals, to_array
+from ._intervals import Interval, to_array
 
 __all__ = [
     "Oracle", "Answer", "Pending", "OracleError", "InputError", "Uncertified",
@@ -48,15 +52,17 @@ Scene = Union[str, Mapping[str, Any]]
 
 class Answer(Mapping[str, Any]):
     """An `ok` answer: a read-only mapping whose keys are also attributes (`a.q2` is
-    `a["q2"]`). The intervals of a key are built when the key is first read (an answer
-    whose keys are not all read costs only what is read)."""
+    `a["q2"]`). The numbers and intervals of a key are made when the key is first read (an
+    answer whose keys are not all read costs only what is read)."""
 
-    __slots__ = ("_raw", "_shape", "_done")
+    __slots__ = ("_raw", "_shape", "_done", "_lazy")
 
-    def __init__(self, raw: Dict[str, Any], shape: Optional[_Shape] = None) -> None:
+    def __init__(self, raw: Dict[str, Any], shape: Optional[_Shape] = None,
+                 lazy: bool = False) -> None:
         self._raw = raw
         self._shape = shape or {}
         self._done: Dict[str, Any] = {}
+        self._lazy = lazy  # numbers kept as text (bytes) in raw
 
     def __getitem__(self, key: str) -> Any:
         done = self._done
@@ -64,9 +70,13 @@ class Answer(Mapping[str, Any]):
             return done[key]
         v = self._raw[key]
         s = self._shape.get(key)
-        if s is not None:
-            v = Answer(v, s) if isinstance(s, dict) and isinstance(v, dict) else (
-                v if isinstance(s, dict) else _intervals(v, s))
+        if s is None:
+            v = _numbers(v) if self._lazy else v
+        elif isinstance(s, dict):
+            v = Answer(v, s, self._lazy) if isinstance(v, dict) else (
+                _numbers(v) if self._lazy else v)
+        else:
+            v = _intervals(v, s)
         done[key] = v
         return v
 
@@ -139,24 +149,65 @@ _SHAPES: Dict[str, _Shape] = {
 }
 
 
+# Answers are parsed with every JSON number that has a fraction or an exponent kept as its
+# text (bytes, `parse_float=str.encode`) and turned into a float only when its key is read:
+# float(text) is the float `json` itself would give (both are Python's correctly rounded
+# reading of the decimal), and the numbers of keys never read are never converted.
+_DECODE = json.JSONDecoder(parse_float=str.encode).decode
+# Answers that are mostly plain floats (integrate's rows) are parsed at once, as json.loads
+# does, and handed over as they are.
+_EAGER = {"integrate"}
+_DECODE_EAGER = json.JSONDecoder().decode
+
+
+def _numbers(value: Any) -> Any:
+    """`value` as `json.loads` gives it: each number kept as text made a float."""
+    t = type(value)
+    if t is bytes:
+        return float(value)
+    if t is list:
+        return [_numbers(v) for v in value]
+    if t is dict:
+        return {k: _numbers(v) for k, v in value.items()}
+    return value
+
+
+def _pairs(value: List[Any]) -> List[Interval]:
+    """`Interval`s from the [lo, hi] pairs of an answer (numbers as text or as numbers);
+    ValueError or TypeError when one is not an interval."""
+    new, out = tuple.__new__, []
+    for p in value:
+        if not isinstance(p, list) or len(p) != 2:
+            raise ValueError(p)
+        lo, hi = p
+        if type(lo) is bytes:
+            lo = float(lo)
+        if type(hi) is bytes:
+            hi = float(hi)
+        if not lo <= hi:
+            raise ValueError(p)
+        out.append(new(Interval, (lo, hi)))
+    return out
+
+
 def _intervals(value: Any, depth: int) -> Any:
     if value is None:
         return None
     try:
         if depth == 1 and None not in value:
-            return intervals(value)
+            return _pairs(value)
         if depth == 0:
-            return intervals([value])[0]
+            return _pairs([value])[0]
     except (ValueError, TypeError):
-        raise ProtocolError(f"expected intervals [lo, hi], got {value!r}") from None
+        raise ProtocolError(f"expected intervals [lo, hi], got {_numbers(value)!r}") from None
     return [_intervals(v, depth - 1) for v in value]
 
 
-def _answer(cmd: str, ok: Dict[str, Any]) -> Answer:
+def _answer(cmd: str, ok: Dict[str, Any], lazy: bool = False) -> Answer:
     if cmd == "flow" and "at" in ok:
         # dense output: one answer per stop, with keys t, q, u, v
-        ok = {**ok, "at": [_answer("flow", stop) for stop in ok["at"]]}
-    return Answer(ok, _SHAPES.get(cmd, {}))
+        ok = {**ok, "at": [_answer("flow", stop, lazy) for stop in ok["at"]]}
+    return Answer(ok, _SHAPES.get(cmd, {}), lazy)
 
 
 def _error(err: Dict[str, Any], id: Any) -> OracleError:
@@ -224,7 +275,11 @@ class Pending:
 
 
 _FLUSH_BYTES = 1 << 16
+_READ_BYTES = 1 << 16
 _ENCODE = json.JSONEncoder(allow_nan=False, separators=(",", ":")).encode
+# Whether the calling thread does all the pipe I/O itself (non-blocking writes, poll); a
+# module-level switch so that the tests also run the reader-thread way used without poll.
+_POLL = hasattr(select, "poll") and hasattr(os, "set_blocking")
 
 
 class Oracle:
@@ -250,13 +305,24 @@ class Oracle:
         self.scene, self.params = scene, params
         self._p = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                    bufsize=0)
-        self._out: "queue.SimpleQueue[Optional[bytes]]" = queue.SimpleQueue()
-        self._reader = threading.Thread(target=self._read_all, daemon=True)
-        self._reader.start()
+        assert self._p.stdin is not None and self._p.stdout is not None
+        self._in_fd, self._out_fd = self._p.stdin.fileno(), self._p.stdout.fileno()
         self._lines: Deque[bytes] = deque()
         self._rest = b""
+        self._eof = False
         self._buf: List[bytes] = []
         self._buf_bytes = 0
+        self._poll: Optional[Any] = None
+        self._out: "queue.SimpleQueue[bytes]" = queue.SimpleQueue()
+        self._reader: Optional[threading.Thread] = None
+        if _POLL:
+            os.set_blocking(self._in_fd, False)
+            self._poll = select.poll()
+            self._poll.register(self._in_fd, select.POLLOUT)
+            self._poll.register(self._out_fd, select.POLLIN)
+        else:
+            self._reader = threading.Thread(target=self._read_all, daemon=True)
+            self._reader.start()
         self._inflight: Deque[Pending] = deque()
         self._ended = False
         self._next = 0
@@ -382,41 +448,63 @@ class Oracle:
             return
         data = b"".join(self._buf)
         self._buf, self._buf_bytes = [], 0
+        view = memoryview(data)
         try:
-            assert self._p.stdin is not None
-            view = memoryview(data)
-            while view:  # an unbuffered pipe may take part of the data at a time
-                n = self._p.stdin.write(view)
-                view = view[n or 0:]
-        except (BrokenPipeError, ValueError, OSError) as e:
+            while view:
+                if self._poll is None:  # blocking: the reader thread drains the output
+                    n = os.write(self._in_fd, view)
+                else:
+                    try:
+                        n = os.write(self._in_fd, view)
+                    except BlockingIOError:
+                        # The pipe is full: the process may be waiting for its own output
+                        # to be read, so read that while waiting for room.
+                        self._make_room()
+                        continue
+                view = view[n:]
+        except OSError as e:  # BrokenPipeError among them: the process is gone
             raise ProtocolError(f"the batch process is gone: {e}") from None
 
+    def _make_room(self) -> None:
+        """Wait until the input pipe has room, reading the output that arrives meanwhile."""
+        assert self._poll is not None
+        for fd, _ in self._poll.poll():
+            if fd == self._out_fd:
+                self._take(os.read(self._out_fd, _READ_BYTES))
+
     def _read_all(self) -> None:
-        # whole chunks, not lines: one hand-over between the threads per chunk
-        assert self._p.stdout is not None
-        fd = self._p.stdout.fileno()
+        # (without poll) whole chunks, not lines: one hand-over between the threads per chunk
         while True:
-            chunk = os.read(fd, 1 << 16)
+            chunk = os.read(self._out_fd, _READ_BYTES)
+            self._out.put(chunk)
             if not chunk:
                 break
-            self._out.put(chunk)
-        self._out.put(None)
+
+    def _take(self, chunk: bytes) -> None:
+        """Split a chunk of the output into answer lines (b"": the output ended)."""
+        if not chunk:
+            self._eof = True
+            if self._poll is not None:
+                self._poll.unregister(self._out_fd)
+            if self._rest:
+                self._lines.append(self._rest)
+                self._rest = b""
+            return
+        parts = (self._rest + chunk if self._rest else chunk).split(b"\n")
+        self._rest = parts.pop()
+        self._lines.extend(parts)
 
     def _next_line(self) -> Optional[bytes]:
         """The next answer line, None once the process's output has ended."""
-        while True:
-            if self._lines:
-                return self._lines.popleft()
-            chunk = self._out.get()
-            if chunk is None:
-                self._out.put(None)  # stays ended for every later call
-                if self._rest:
-                    rest, self._rest = self._rest, b""
-                    return rest
+        lines = self._lines
+        while not lines:
+            if self._eof:
                 return None
-            parts = (self._rest + chunk).split(b"\n")
-            self._rest = parts.pop()
-            self._lines.extend(parts)
+            if self._reader is None:
+                self._take(os.read(self._out_fd, _READ_BYTES))
+            else:
+                self._take(self._out.get())
+        return lines.popleft()
 
     def _wait(self, target: Pending) -> None:
         self._flush()
@@ -431,17 +519,19 @@ class Oracle:
 
     @staticmethod
     def _result(line: bytes, p: Pending) -> Union[Answer, BaseException]:
+        lazy = p.cmd not in _EAGER
         try:
-            answer = json.loads(line)
-        except ValueError:
+            answer = (_DECODE if lazy else _DECODE_EAGER)(line.decode())
+        except ValueError:  # UnicodeDecodeError and JSONDecodeError among them
             return ProtocolError(f"an answer that is not JSON: {line!r}")
-        if not isinstance(answer, dict) or answer.get("id", ...) != p.id:
-            return ProtocolError(f"answer {answer!r} is not the answer to id {p.id!r}")
+        if not isinstance(answer, dict) or _numbers(answer.get("id", ...)) != p.id:
+            return ProtocolError(
+                f"answer {_numbers(answer)!r} is not the answer to id {p.id!r}")
         if "error" in answer:
-            return _error(answer["error"], p.id)
+            return _error(_numbers(answer["error"]), p.id)
         if "ok" not in answer:
-            return ProtocolError(f"an answer without ok or error: {answer!r}")
-        return _answer(p.cmd or "", answer["ok"])
+            return ProtocolError(f"an answer without ok or error: {_numbers(answer)!r}")
+        return _answer(p.cmd or "", answer["ok"], lazy)
 
     def close(self) -> int:
         """Answer what is in flight, end the input, wait for the process; its exit status
@@ -457,8 +547,13 @@ class Oracle:
                     self._p.stdin.close()
                 except BrokenPipeError:
                     pass
+            # The answers still to come are read now (kept for `.result()`), so that the
+            # process never waits on a full output pipe while this waits for it to end.
+            while self._reader is None and not self._eof:
+                self._take(os.read(self._out_fd, _READ_BYTES))
         status = self._p.wait()
-        self._reader.join()
+        if self._reader is not None:
+            self._reader.join()
         if self._p.stdout:
             self._p.stdout.close()
         return status

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, List, Optional, Tuple
+from typing import Any, List, Mapping, Optional, Tuple
 
 from hypothesis import strategies as st
 
@@ -51,7 +51,8 @@ class Pair:
     defect: List[Interval]
 
 
-def dimensions(oracle: Oracle, scene: Scene, params: Optional[dict] = None) -> Tuple[int, int]:
+def dimensions(oracle: Oracle, scene: Scene, params: Optional[Mapping[str, float]] = None
+               ) -> Tuple[int, int]:
     """(n, m): the scene's number of coordinates and of quasi-velocities (n - k), read from
     `dalembert scenes --json` (its `n` and `k`) for a built-in scene, from the dict of a
     posed one (its `coordinates` and `constraints`)."""
@@ -78,7 +79,7 @@ def _admissible(oracle: Oracle, scene: Scene, params: Any, q: List[float], m: in
 
 
 def configurations(oracle: Oracle, scene: Scene, bound: float,
-                   params: Optional[dict] = None) -> st.SearchStrategy[List[float]]:
+                   params: Optional[Mapping[str, float]] = None) -> st.SearchStrategy[List[float]]:
     """Configurations in [-bound, bound]^n at which the scene passes the checks of spec eq.
     (3.17) (others are rejected). Shrinks toward the origin."""
     n, m = dimensions(oracle, scene, params)
@@ -135,7 +136,7 @@ def _pair(oracle: Oracle, scene: Scene, params: Any, m: int, q0: List[float],
 
 
 def _pairs(oracle: Oracle, scene: Scene, q_bound: float, u_bound: float,
-           h: Tuple[float, float], distance: float, params: Optional[dict]
+           h: Tuple[float, float], distance: float, params: Optional[Mapping[str, float]]
            ) -> st.SearchStrategy[Pair]:
     n, m = dimensions(oracle, scene, params)
     inputs = st.tuples(
@@ -149,7 +150,7 @@ def _pairs(oracle: Oracle, scene: Scene, q_bound: float, u_bound: float,
 
 
 def pairs_on_manifold(oracle: Oracle, scene: Scene, q_bound: float, u_bound: float,
-                      h: Tuple[float, float], params: Optional[dict] = None
+                      h: Tuple[float, float], params: Optional[Mapping[str, float]] = None
                       ) -> st.SearchStrategy[Pair]:
     """Pairs (q0, q1) on M_h^{e,nh} up to rounding: q1 is the midpoint of the certified
     exact exponential map from (q0, u0) at h (q0 in [-q_bound, q_bound]^n, u0 in
@@ -159,8 +160,8 @@ def pairs_on_manifold(oracle: Oracle, scene: Scene, q_bound: float, u_bound: flo
 
 
 def pairs_near(oracle: Oracle, scene: Scene, q_bound: float, u_bound: float,
-               h: Tuple[float, float], distance: float, params: Optional[dict] = None
-               ) -> st.SearchStrategy[Pair]:
+               h: Tuple[float, float], distance: float,
+               params: Optional[Mapping[str, float]] = None) -> st.SearchStrategy[Pair]:
     """As `pairs_on_manifold`, with q1 then moved by `distance` along a unit vector
     orthogonal to D(q1) (the constraint normal's direction when there is one constraint):
     pairs at a chosen distance from M_h^{e,nh}. The defect is certified for the moved pair."""
@@ -173,7 +174,8 @@ def extreme_steps() -> st.SearchStrategy[float]:
 
 
 def large_configurations(oracle: Oracle, scene: Scene, max_exponent: int,
-                         params: Optional[dict] = None) -> st.SearchStrategy[List[float]]:
+                         params: Optional[Mapping[str, float]] = None
+                         ) -> st.SearchStrategy[List[float]]:
     """Configurations with large coordinates: each component +-10^e, e in
     0..=max_exponent, at which the scene passes its checks."""
     n, m = dimensions(oracle, scene, params)

@@ -2,13 +2,13 @@
 //! lines out, in order. Input is read as bytes, line by line, each line at most
 //! `protocol::MAX_LINE_BYTES` kept: a line that is not UTF-8, not JSON or too long gets an
 //! error answer and the stream goes on. Each worker keeps its own `Session` (compiled
-//! scenes); answers are printed as soon as all earlier lines are answered, and flushed, so a
-//! client may talk line by line.
+//! scenes); answers are printed as soon as all earlier lines are answered, and flushed at
+//! the latest when the next line has not arrived yet, so a client may talk line by line.
 
 use crate::protocol::{self, Line, LineReader, Session, MAX_LINE_BYTES};
 use crate::Error;
 use std::collections::BTreeMap;
-use std::io::Write;
+use std::io::{BufReader, BufWriter, Write};
 use std::sync::{mpsc, Arc, Mutex};
 
 pub fn run(jobs: &str, deadline: Option<&str>, work: Option<&str>) -> Result<(), Error> {
@@ -33,12 +33,18 @@ pub fn run(jobs: &str, deadline: Option<&str>, work: Option<&str>) -> Result<(),
         s
     };
     let stdin = std::io::stdin();
-    let mut lines = LineReader::new(stdin.lock(), MAX_LINE_BYTES);
     let read = |e: std::io::Error| Error::input(format!("reading stdin: {e}"));
     let stdout = std::io::stdout();
     if jobs == 1 {
         let mut session = session();
-        let mut out = stdout.lock();
+        // Answers are flushed when no whole line is left in the input buffer (before reading
+        // could wait): a client waiting for an answer has it, and one that sends many lines at
+        // once gets their answers in a few large writes instead of one write each.
+        let mut lines = LineReader::new(
+            BufReader::with_capacity(1 << 16, stdin.lock()),
+            MAX_LINE_BYTES,
+        );
+        let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
         let mut no = 0;
         while let Some(line) = lines.next_line().map_err(read)? {
             no += 1;
@@ -47,9 +53,13 @@ pub fn run(jobs: &str, deadline: Option<&str>, work: Option<&str>) -> Result<(),
                     return Ok(());
                 }
             }
+            if !lines.get_ref().buffer().contains(&b'\n') && !flush(&mut out)? {
+                return Ok(());
+            }
         }
-        return Ok(());
+        return flush(&mut out).map(|_| ());
     }
+    let mut lines = LineReader::new(stdin.lock(), MAX_LINE_BYTES);
     let (work_tx, work_rx) = mpsc::channel::<(usize, Line)>();
     let work_rx = Arc::new(Mutex::new(work_rx));
     let (done_tx, done_rx) = mpsc::channel::<(usize, Option<String>)>();
@@ -82,7 +92,7 @@ pub fn run(jobs: &str, deadline: Option<&str>, work: Option<&str>) -> Result<(),
             pending.insert(i, answer);
             while let Some(a) = pending.remove(&next) {
                 if let Some(a) = a {
-                    if !write_line(&mut out, &a)? {
+                    if !(write_line(&mut out, &a)? && flush(&mut out)?) {
                         return Ok(());
                     }
                 }
@@ -122,10 +132,19 @@ pub fn run(jobs: &str, deadline: Option<&str>, work: Option<&str>) -> Result<(),
     printed.and(failed.map_or(Ok(()), Err))
 }
 
-/// Write one answer line and flush it. `Ok(false)` when the reader has closed the pipe
+/// Write one answer line. `Ok(false)` when the reader has closed the pipe
 /// (`dalembert batch < q | head -1`): nobody is left to answer, so the stream ends quietly.
 fn write_line(out: &mut impl Write, text: &str) -> Result<bool, Error> {
-    match writeln!(out, "{text}").and_then(|_| out.flush()) {
+    written(writeln!(out, "{text}"))
+}
+
+/// Flush the answers written; `Ok(false)` on a closed pipe, as in `write_line`.
+fn flush(out: &mut impl Write) -> Result<bool, Error> {
+    written(out.flush())
+}
+
+fn written(result: std::io::Result<()>) -> Result<bool, Error> {
+    match result {
         Ok(()) => Ok(true),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(false),
         Err(e) => Err(Error::uncertified(format!("writing stdout: {e}"))),

@@ -36,6 +36,11 @@ impl<R: std::io::BufRead> LineReader<R> {
         LineReader { inner, limit }
     }
 
+    /// The reader underneath (to see what it holds already read).
+    pub fn get_ref(&self) -> &R {
+        &self.inner
+    }
+
     /// The next line, `None` at the end of the input.
     pub fn next_line(&mut self) -> std::io::Result<Option<Line>> {
         let mut buf = Vec::new();

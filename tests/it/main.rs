@@ -12,6 +12,7 @@ mod my_solver;
 #[path = "../../examples/fuzz_newton/replay.rs"]
 mod replay;
 
+mod batch_talk;
 mod cli_exact;
 mod cli_flow;
 mod cli_input;
