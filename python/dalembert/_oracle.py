@@ -23,6 +23,7 @@ reader thread drains the output instead.
 
 from __future__ import annotations
 
+import gc
 import json
 import os
 import queue
@@ -427,8 +428,17 @@ class Oracle:
     def run(self, queries: Iterable[Mapping[str, Any]]) -> List[Union[Answer, OracleError]]:
         """Many queries at once (pipelined). Returns one item per query, in order: its
         `Answer` or the `OracleError` (not raised)."""
-        pending = [self.submit(q) for q in queries]
-        return [p.outcome() for p in pending]
+        # The answers kept alive here hold no reference cycles: the cyclic garbage collector
+        # would only rescan them, again and again as they accumulate (about a sixth of this
+        # method's time on 3,000 answers), so it is paused for the duration.
+        was_enabled = gc.isenabled()
+        gc.disable()
+        try:
+            pending = [self.submit(q) for q in queries]
+            return [p.outcome() for p in pending]
+        finally:
+            if was_enabled:
+                gc.enable()
 
     def _send(self, line: bytes, id: Any, cmd: Optional[str]) -> Pending:
         if self._ended:
