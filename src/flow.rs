@@ -95,7 +95,7 @@ pub fn flow_at(
         .collect())
 }
 
-/// [`flow_at`] computed in the interval type `I` (e.g. [`crate::precision::DdInterval`],
+/// [`flow_at`] computed in the interval type `I` (e.g. [`crate::precision::dd::DdInterval`],
 /// about 106 bits): the same method, steps and proofs ([spec/12-precision.md](crate::spec::precision)), with
 /// the rounding level, the Taylor order and the tolerances of `I`'s precision.
 ///

@@ -364,6 +364,50 @@ fn retraction_invariant(scene: usize, q0: &[f64], q1: &[f64], h: f64) -> Tally {
     .unwrap_or_else(Tally::input)
 }
 
+/// Invariant: the exact step at 106 bits and at 53 bits on the same pair (read as
+/// [`retraction`] reads it) never panic; when both are answered, every component of the two
+/// (q1, q2, the momenta, the defect) meets (both contain the exact value: spec (12.0.2)) and
+/// the 106-bit one is no wider than the 53-bit one, up to `2^-100` of the component's size (a
+/// point answer at 53 bits may be a tiny interval at 106, whose ends print outward).
+pub fn precision_step(data: &[u8]) -> Tally {
+    let mut u = Unstructured::new(data);
+    let Ok(scene) = u.int_in_range(0..=1 + EPS.len()) else {
+        return Tally::input();
+    };
+    let Some(Ok((q0, q1, h))) = with_model(scene, |model, _, _| pair(&mut u, model)) else {
+        return Tally::input();
+    };
+    with_model(scene, |model, _, _| {
+        use crate::precision::dd::DdInterval;
+        let pts = |v: &[f64]| crate::interval::wrap(v.iter().map(|x| point(*x)).collect());
+        let wide = exact::step_in::<DdInterval>(model, &q0, &q1, h, &budget());
+        let narrow = exact::step(model, &pts(&q0), &pts(&q1), h, &budget());
+        match (wide, narrow) {
+            (Err(Error::Internal(m)), _) | (_, Err(Error::Internal(m))) => {
+                panic!("internal fault: {m}")
+            }
+            (Ok(w), Ok(n)) => {
+                let w_all = w.q1.iter().chain(&w.q2).chain(&w.p_minus).chain(&w.p_plus);
+                let n_all = n.q1.iter().chain(&n.q2).chain(&n.p_minus).chain(&n.p_plus);
+                let w_all = w_all.chain(&w.retraction.s);
+                let n_all = n_all.chain(&n.retraction.s);
+                for (k, (a, b)) in w_all.zip(n_all).enumerate() {
+                    let b = DdInterval::from_f64_pair(b.inf(), b.sup()).expect("an interval");
+                    assert!(!a.disjoint(b), "component {k}: {a} and {b} are disjoint");
+                    let slack = f64::powi(2.0, -100) * b.mag_up().max(1.0);
+                    assert!(
+                        a.wid_up() <= b.wid_up() + slack,
+                        "component {k}: {a} is wider than {b}"
+                    );
+                }
+                Tally::answered()
+            }
+            (Err(e), _) | (_, Err(e)) => Tally::one(&e),
+        }
+    })
+    .unwrap_or_else(Tally::input)
+}
+
 /// Invariant: on the newer scenes (two constraints, a mass matrix depending on q, a
 /// one-form in L), the invariants of [`newton_step`] and, when asked, of [`retraction`].
 pub fn scenes_step(data: &[u8]) -> Tally {

@@ -6,6 +6,7 @@ use super::{scene_spec, SceneArgs};
 use crate::protocol::{self, order, Query, Session};
 use crate::Error;
 
+#[allow(clippy::too_many_arguments)]
 pub fn run(
     scene: &SceneArgs,
     scheme: &str,

@@ -68,3 +68,11 @@ fn scenes_step_corpus() {
 fn scene_file_corpus() {
     replay("scene_file", dalembert::fuzzing::scene_file);
 }
+
+#[test]
+fn precision_step_corpus() {
+    let t = replay("precision_step", dalembert::fuzzing::precision_step);
+    // the corpus is the retraction's: a good share of its pairs are answered at both
+    // precisions, so the comparison is not vacuous
+    assert!(t.answered >= 10, "{t}");
+}

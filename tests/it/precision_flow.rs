@@ -194,7 +194,8 @@ fn batch_reads_precision_where_it_applies_and_refuses_it_elsewhere() {
         format!(r#"{{"id":3,"cmd":"lagrangian",{pair},"precision":106}}"#),
         format!(r#"{{"id":4,"cmd":"step",{pair},"precision":53}}"#),
         format!(r#"{{"id":5,"cmd":"step",{pair},"precision":52}}"#),
-        format!(r#"{{"id":6,"cmd":"check","scene":"particle","h":0.5,"q":[[0,0,0],[0.4,0.4,0]],"precision":106}}"#),
+        r#"{"id":6,"cmd":"check","scene":"particle","h":0.5,"q":[[0,0,0],[0.4,0.4,0]],"precision":106}"#
+            .to_string(),
     ]
     .join("\n");
     let a = crate::common::batch_answers(&input);
