@@ -8,8 +8,10 @@ use crate::precision::dd::{Dd, DdInterval};
 use inari::Interval;
 use std::fmt::Debug;
 
-/// An interval type for the validated integrator: a [`Coef`] (the Taylor recurrences)
-/// with the set operations, the bounds and the points the method needs.
+/// An interval type for the validated integrator: a coefficient type of the Taylor
+/// recurrences (the tape's `Coef`) with the set operations, the bounds and the points the
+/// method needs. Implemented by the crate's interval types (inari's `Interval`,
+/// [`crate::precision::dd::DdInterval`]); the choice of type is the choice of precision.
 ///
 /// Every method that returns an interval returns one containing the real result for every
 /// choice of reals in its arguments ([spec eq. (1.1)](crate::spec::scalars)); the `f64` bounds are rounded
