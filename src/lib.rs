@@ -82,7 +82,6 @@ mod interval;
 pub mod model;
 pub mod newton;
 pub mod oracle;
-mod precise;
 pub mod precision;
 mod progress;
 #[cfg(feature = "cli")]

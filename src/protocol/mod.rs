@@ -9,6 +9,7 @@
 mod answer;
 pub mod order;
 mod parse;
+mod precise;
 mod rows;
 
 pub use answer::{
@@ -406,7 +407,7 @@ impl Session {
                         ))
                     }
                 };
-                crate::precise::answer(*precision, &model, query, &opts)
+                precise::answer(*precision, &model, query, &opts)
             }
             Query::Retract(p) => {
                 let model = self.model(&p.scene)?;

@@ -3,12 +3,12 @@
 //! [`crate::exact::retract_in`], ...) compute in it, and the ends are printed as decimals
 //! rounded outward ([`crate::OutwardDecimal`]).
 
+use super::{Answer, At, Query};
 use crate::enclosure::{FlowOptions, Ival};
 use crate::exact::{discrete_lagrangian_in, retract_in, step_in};
 use crate::flow::{flow_at_in, flow_c1_in, FlowEnclosure};
 use crate::model::Model;
 use crate::precision::dd::DdInterval;
-use crate::protocol::{Answer, At, Query};
 use crate::{DecimalInterval, Error, OutwardDecimal};
 
 /// The answer to `query` (flow, retract, step or lagrangian) at `bits > 53` significand bits:
@@ -92,8 +92,7 @@ where
             ..
         } => {
             let mut s = crate::schemes::Scheme::new(model, *scheme);
-            let a =
-                crate::protocol::order::answer(model, &mut s, q, u, *h, *rungs, opts, Some(bits))?;
+            let a = super::order::answer(model, &mut s, q, u, *h, *rungs, opts, Some(bits))?;
             Ok(Answer::OrderWide {
                 precision: bits,
                 order: a,
