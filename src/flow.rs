@@ -84,15 +84,17 @@ pub fn flow_at(
     opts: &FlowOptions,
 ) -> Result<Vec<FlowEnclosure>, Error> {
     let at = flow_at_in::<inari::Interval>(model, q, u, times, opts)?;
-    Ok(at
-        .into_iter()
-        .map(|e| FlowEnclosure {
-            q: wrap(e.q),
-            u: wrap(e.u),
-            v: wrap(e.v),
-            stats: e.stats,
-        })
-        .collect())
+    Ok(at.into_iter().map(answer).collect())
+}
+
+/// The enclosure in the answers' intervals.
+fn answer(e: FlowEnclosure<inari::Interval>) -> FlowEnclosure {
+    FlowEnclosure {
+        q: wrap(e.q),
+        u: wrap(e.u),
+        v: wrap(e.v),
+        stats: e.stats,
+    }
 }
 
 /// [`flow_at`] computed in the interval type `I` (e.g. [`crate::precision::dd::DdInterval`],
@@ -340,13 +342,7 @@ pub fn flow_c1(
     opts: &FlowOptions,
 ) -> Result<(FlowEnclosure, Vec<Vec<Interval>>), Error> {
     let (e, jac) = flow_c1_in::<inari::Interval>(model, q, u, t, opts)?;
-    let e = FlowEnclosure {
-        q: wrap(e.q),
-        u: wrap(e.u),
-        v: wrap(e.v),
-        stats: e.stats,
-    };
-    Ok((e, wrap_rows(jac)))
+    Ok((answer(e), wrap_rows(jac)))
 }
 
 /// [`flow_c1`] computed in the interval type `I` (as [`flow_at_in`]).

@@ -8,6 +8,10 @@
 //! value encloses the exact function value by construction; the guard bits only make it
 //! tight. The result is then rounded outward to the requested precision. Interval arguments
 //! go through monotonicity and periodicity (12.2.5).
+//!
+//! The intervals built from two ends known to be ordered (`[max, +inf]`, `[-1, 1]`, ...) fall
+//! back to the whole line should the constructor ever refuse them: never reached, and the whole
+//! line would still be an enclosure, so no path here panics.
 
 use super::mp::{MpInterval, MIN_PREC};
 use super::mp_float::{Mp, Round};
@@ -146,10 +150,12 @@ fn exp_kernel(x: &MpInterval, w: u32) -> MpInterval {
     }
     // beyond 2^44 in magnitude exp leaves the exponent range (|exp| >= 2^(1.44 2^44))
     if x.inf().top() > 44 && x.inf().is_positive() {
-        return MpInterval::new(&Mp::max_value(w), &Mp::infinity(false), w).unwrap();
+        return MpInterval::new(&Mp::max_value(w), &Mp::infinity(false), w)
+            .unwrap_or_else(|| MpInterval::entire(w));
     }
     if x.sup().top() > 44 && x.sup().is_negative() {
-        return MpInterval::new(&Mp::zero(), &Mp::min_positive(), w).unwrap();
+        return MpInterval::new(&Mp::zero(), &Mp::min_positive(), w)
+            .unwrap_or_else(|| MpInterval::entire(w));
     }
     if x.inf().top() > 44 || x.sup().top() > 44 {
         let lo = exp_kernel(&MpInterval::point(x.inf(), w), w);
@@ -193,7 +199,8 @@ fn exp_kernel(x: &MpInterval, w: u32) -> MpInterval {
 fn ln_kernel(x: &MpInterval, w: u32) -> MpInterval {
     if x.sup().is_infinite() {
         let lo = ln_kernel(&MpInterval::point(x.inf(), w), w);
-        return MpInterval::new(lo.inf(), &Mp::infinity(false), w).unwrap();
+        return MpInterval::new(lo.inf(), &Mp::infinity(false), w)
+            .unwrap_or_else(|| MpInterval::entire(w));
     }
     let one = Mp::from_i64(1);
     if *x.inf() == one && *x.sup() == one {
@@ -202,7 +209,7 @@ fn ln_kernel(x: &MpInterval, w: u32) -> MpInterval {
     // x = y 2^e with y near [3/4, 3/2]
     let m = x.mid();
     let mut e = m.top() - 1;
-    if m.ldexp(-e, Round::Near) > Mp::from_f64(1.5).unwrap() {
+    if m.ldexp(-e, Round::Near) > Mp::from_i64(3).ldexp(-1, Round::Near) {
         e += 1;
     }
     let w2 = w + 16;
@@ -274,7 +281,9 @@ fn sin_cos_kernel(
             let wr = (w as i64 + top + extra).min(u32::MAX as i64 / 2) as u32;
             let half_pi = pi_w(wr).ldexp(-1);
             let q = x.with_prec(wr).div_ref(&half_pi);
-            let k = q.mid().add(&Mp::from_f64(0.5).unwrap(), wr, Round::Near);
+            let k = q
+                .mid()
+                .add(&Mp::from_i64(1).ldexp(-1, Round::Near), wr, Round::Near);
             let k = k.map(|v| v.floor()).unwrap_or_else(Mp::zero);
             let r = x
                 .with_prec(wr)
@@ -291,7 +300,7 @@ fn sin_cos_kernel(
     // sin x is +-sin r for even q, +-cos r for odd q; cos x the other way round
     let need_sin_r = (want_sin && q % 2 == 0) || (want_cos && q % 2 == 1);
     let need_cos_r = (want_sin && q % 2 == 1) || (want_cos && q % 2 == 0);
-    let unit = MpInterval::from_f64_pair(-1.0, 1.0, w).unwrap();
+    let unit = MpInterval::from_f64_pair(-1.0, 1.0, w).unwrap_or_else(|| MpInterval::entire(w));
     let r2 = r.sqr();
     let tiny = pow2(-(w2 as i64) - 8);
     // sin r = sum (-1)^n r^(2n+1)/(2n+1)!, |remainder| <= |r|^(2N+3)/(2N+3)! (Lagrange)
@@ -387,10 +396,10 @@ fn cosh_kernel(x: &MpInterval, w: u32) -> MpInterval {
     };
     let e = exp_kernel(&x.with_prec(w2), w2);
     let one = c(1.0, w);
-    e.add_ref(&e.recip())
-        .ldexp(-1)
-        .with_prec(w)
-        .intersection(&MpInterval::new(one.inf(), &Mp::infinity(false), w).unwrap())
+    e.add_ref(&e.recip()).ldexp(-1).with_prec(w).intersection(
+        &MpInterval::new(one.inf(), &Mp::infinity(false), w)
+            .unwrap_or_else(|| MpInterval::entire(w)),
+    )
 }
 
 /// tanh over a narrow interval with finite ends of one sign (12.2.4).
@@ -410,8 +419,9 @@ fn tanh_kernel(x: &MpInterval, w: u32) -> MpInterval {
         let two = c(2.0, w2);
         c(1.0, w2).sub_ref(&two.div_ref(&e.add_ref(&c(1.0, w2))))
     };
-    r.with_prec(w)
-        .intersection(&MpInterval::from_f64_pair(-1.0, 1.0, w).unwrap())
+    r.with_prec(w).intersection(
+        &MpInterval::from_f64_pair(-1.0, 1.0, w).unwrap_or_else(|| MpInterval::entire(w)),
+    )
 }
 
 /// asinh over a narrow interval with finite ends of one sign (12.2.4).
@@ -600,7 +610,8 @@ impl MpInterval {
                     .sup()
                     .clone()
             };
-            return MpInterval::new(&Mp::infinity(true), &hi, p).unwrap();
+            return MpInterval::new(&Mp::infinity(true), &hi, p)
+                .unwrap_or_else(|| MpInterval::entire(p));
         }
         let y = increasing(self, ln_kernel, Mp::infinity(true), Mp::infinity(false));
         let one = Mp::from_i64(1);
@@ -659,7 +670,8 @@ impl MpInterval {
         let w = p + GUARD;
         let at = |v: &Mp| -> MpInterval {
             if v.is_infinite() {
-                MpInterval::new(&Mp::max_value(p), &Mp::infinity(false), w).unwrap()
+                MpInterval::new(&Mp::max_value(p), &Mp::infinity(false), w)
+                    .unwrap_or_else(|| MpInterval::entire(w))
             } else {
                 cosh_kernel(&MpInterval::point(v, w), w)
             }
@@ -688,7 +700,7 @@ impl MpInterval {
 
     fn sin_cos_range(&self, sin: bool) -> MpInterval {
         let p = self.prec();
-        let unit = MpInterval::from_f64_pair(-1.0, 1.0, p).unwrap();
+        let unit = MpInterval::from_f64_pair(-1.0, 1.0, p).unwrap_or_else(|| MpInterval::entire(p));
         if self.is_empty() {
             return self.clone();
         }

@@ -394,19 +394,7 @@ impl Session {
                 })
             }
             Query::Precise { precision, query } => {
-                let model = match &**query {
-                    Query::Flow { scene, .. } => self.model(scene)?,
-                    Query::Retract(p) | Query::Step(p) | Query::Lagrangian(p) => {
-                        self.model(&p.scene)?
-                    }
-                    Query::Order { scene, .. } => self.model(scene)?,
-                    _ => {
-                        return Err(Error::input_key(
-                            "precision",
-                            "`precision` is read by flow, retract, step and lagrangian only",
-                        ))
-                    }
-                };
+                let model = self.model(precise::scene(query)?)?;
                 precise::answer(*precision, &model, query, &opts)
             }
             Query::Retract(p) => {

@@ -3,7 +3,7 @@
 //! [`crate::exact::retract_in`], ...) compute in it, and the ends are printed as decimals
 //! rounded outward ([`crate::OutwardDecimal`]).
 
-use super::{Answer, At, Query};
+use super::{Answer, At, Query, SceneSpec};
 use crate::enclosure::{FlowOptions, Ival};
 use crate::exact::{discrete_lagrangian_in, retract_in, step_in};
 use crate::flow::{flow_at_in, flow_c1_in, FlowEnclosure};
@@ -11,7 +11,23 @@ use crate::model::Model;
 use crate::precision::dd::DdInterval;
 use crate::{DecimalInterval, Error, OutwardDecimal};
 
-/// The answer to `query` (flow, retract, step or lagrangian) at `bits > 53` significand bits:
+/// The scene of a query that reads `precision`; an input error for the others.
+pub(super) fn scene(query: &Query) -> Result<&SceneSpec, Error> {
+    match query {
+        Query::Flow { scene, .. } | Query::Order { scene, .. } => Ok(scene),
+        Query::Retract(p) | Query::Step(p) | Query::Lagrangian(p) => Ok(&p.scene),
+        _ => Err(not_read()),
+    }
+}
+
+fn not_read() -> Error {
+    Error::input_key(
+        "precision",
+        "`precision` is read by flow, retract, step, lagrangian and order only",
+    )
+}
+
+/// The answer to `query` (flow, retract, step, lagrangian or order) at `bits > 53` significand bits:
 /// double-double intervals up to 106 bits.
 pub(crate) fn answer(
     bits: u32,
@@ -98,10 +114,7 @@ where
                 order: a,
             })
         }
-        _ => Err(Error::input_key(
-            "precision",
-            "`precision` is read by flow, retract, step, lagrangian and order only",
-        )),
+        _ => Err(not_read()),
     }
 }
 

@@ -145,6 +145,22 @@ pub fn local_order<St: Stepper + ?Sized>(
     hs: &[f64],
     opts: &FlowOptions,
 ) -> Result<Ladder, Error> {
+    local_errors(model, stepper, q0, u0, hs, opts, |h, q1, q2| {
+        Ok(check_step(model, h, q0, q1, q2, opts)?.distance)
+    })
+}
+
+/// The ladder of one-step errors: for each `h`, the stepper's `q2` from the pair `(q0, q1)`
+/// of [`start`], and `error_of(h, q1, q2)` its certified error.
+fn local_errors<St: Stepper + ?Sized>(
+    model: &Model,
+    stepper: &mut St,
+    q0: &[f64],
+    u0: &[f64],
+    hs: &[f64],
+    opts: &FlowOptions,
+    mut error_of: impl FnMut(f64, &[f64], &[f64]) -> Result<Interval, Error>,
+) -> Result<Ladder, Error> {
     check_ladder(hs)?;
     let mut error = Vec::with_capacity(hs.len());
     let mut q2 = vec![f64::NAN; q0.len()];
@@ -154,7 +170,7 @@ pub fn local_order<St: Stepper + ?Sized>(
         stepper
             .step(q0, &q1, h, &mut q2)
             .map_err(|e| stepper_failed(Some(1), format!("the stepper failed at h = {h}: {e}")))?;
-        error.push(check_step(model, h, q0, &q1, &q2, opts)?.distance);
+        error.push(error_of(h, &q1, &q2)?);
     }
     Ok(ladder(hs, error))
 }
@@ -176,37 +192,28 @@ pub fn local_order_in<I: crate::Ival, St: Stepper + ?Sized>(
     hs: &[f64],
     opts: &FlowOptions,
 ) -> Result<Ladder, Error> {
-    check_ladder(hs)?;
-    let mut error = Vec::with_capacity(hs.len());
-    let mut q2 = vec![f64::NAN; q0.len()];
-    for &h in hs {
-        let q1 = start(model, q0, u0, h, opts)?;
-        q2.fill(f64::NAN);
-        stepper
-            .step(q0, &q1, h, &mut q2)
-            .map_err(|e| stepper_failed(Some(1), format!("the stepper failed at h = {h}: {e}")))?;
+    local_errors(model, stepper, q0, u0, hs, opts, |h, q1, q2| {
         if let Some(x) = q2.iter().find(|x| !x.is_finite()) {
             return Err(stepper_failed(
                 Some(1),
                 format!("the stepper's q2 has the non-finite component {x} at h = {h}"),
             ));
         }
-        let exact = crate::exact::step_in::<I>(model, q0, &q1, h, opts)?;
+        let exact = crate::exact::step_in::<I>(model, q0, q1, h, opts)?;
         let d: Vec<I> = exact
             .q2
             .iter()
-            .zip(&q2)
+            .zip(q2)
             .map(|(e, x)| I::cst(*x) - I::from_public(e.clone()))
             .collect();
         // |q2 - q^e_2|_inf lies between the largest lower bound and the largest upper bound
         // of the components' magnitudes
         let lo = d.iter().fold(0.0f64, |a, x| a.max(x.mig()));
         let hi = d.iter().fold(0.0f64, |a, x| a.max(x.mag()));
-        error.push(Interval::try_new(lo, hi).ok_or_else(|| {
+        Interval::try_new(lo, hi).ok_or_else(|| {
             Error::refused(crate::Reason::Unbounded, "the local error is not finite")
-        })?);
-    }
-    Ok(ladder(hs, error))
+        })
+    })
 }
 
 /// The certified global error of a stepper over `[0, t_end]` on a ladder of step sizes

@@ -19,9 +19,13 @@ four doubles `lo_hi lo_lo up_hi up_lo` in Python's hex form bracketing it exactl
 flow_reference.py: the value -+ 1e-80 max(1, |value|), or the value itself when it is a
 double-double number).
 """
-import math
+import os
+import sys
 
 import mpmath as mp
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from flow_reference import bounds  # noqa: E402  (the same exact double-double bounds)
 
 mp.mp.dps = 100
 
@@ -43,14 +47,6 @@ def retraction(q0, q1, h):
     return [xd0, yd0, s] + q2 + [lag]
 
 
-def dd_bound(v, up):
-    hi = float(v)
-    lo = float(v - mp.mpf(hi))
-    while (mp.mpf(hi) + mp.mpf(lo) > v) if not up else (mp.mpf(hi) + mp.mpf(lo) < v):
-        lo = math.nextafter(lo, math.inf if up else -math.inf)
-    return hi, lo
-
-
 CASES = [
     ((0.0, 0.0, 0.0), (0.4, 0.4, 0.0), 0.5),
     ((0.1, -0.3, 0.2), (0.35, -0.1, 0.18), 0.25),
@@ -60,17 +56,9 @@ CASES = [
 
 
 def main():
-    eps = mp.mpf(10) ** -80
     nums = lambda xs: ",".join(repr(float(x)) for x in xs)
     for q0, q1, h in CASES:
-        ends = []
-        for v in retraction(q0, q1, h):
-            hi = float(v)
-            exact = mp.mpf(hi) + mp.mpf(float(v - mp.mpf(hi))) == v
-            r = 0 if exact else eps * max(1, abs(v))
-            for x in dd_bound(v - r, False) + dd_bound(v + r, True):
-                ends.append(x.hex())
-        print(nums(q0), nums(q1), repr(float(h)), *ends)
+        print(nums(q0), nums(q1), repr(float(h)), *bounds(retraction(q0, q1, h)))
 
 
 if __name__ == "__main__":

@@ -78,21 +78,26 @@ def dd_bound(v, up):
     return hi, lo
 
 
-def main():
+def bounds(vals):
+    """The four hex doubles `lo_hi lo_lo up_hi up_lo` of each value (see the module text)."""
     eps = mp.mpf(10) ** -80
+    ends = []
+    for v in vals:
+        # A sum or product of a few doubles (phi = phi0 + w t, w, yd0) is exact in mpmath's
+        # 332 bits; when it is a double-double number it is given as the point itself.
+        hi = float(v)
+        exact = mp.mpf(hi) + mp.mpf(float(v - mp.mpf(hi))) == v
+        r = 0 if exact else eps * max(1, abs(v))
+        for x in dd_bound(v - r, False) + dd_bound(v + r, True):
+            ends.append(x.hex())
+    return ends
+
+
+def main():
+    nums = lambda xs: ",".join(repr(float(x)) for x in xs)
     for scene, q, u, t in CASES:
         vals = (knife if scene == "knife" else particle)(q, u, t)
-        ends = []
-        for v in vals:
-            # A sum or product of a few doubles (phi = phi0 + w t, w, yd0) is exact in mpmath's
-            # 332 bits; when it is a double-double number it is given as the point itself.
-            hi = float(v)
-            exact = mp.mpf(hi) + mp.mpf(float(v - mp.mpf(hi))) == v
-            r = 0 if exact else eps * max(1, abs(v))
-            for x in dd_bound(v - r, False) + dd_bound(v + r, True):
-                ends.append(x.hex())
-        nums = lambda xs: ",".join(repr(float(x)) for x in xs)
-        print(scene, nums(q), nums(u), repr(float(t)), *ends)
+        print(scene, nums(q), nums(u), repr(float(t)), *bounds(vals))
 
 
 if __name__ == "__main__":
