@@ -5,6 +5,7 @@
 
 use crate::tape::{finite, Coef};
 use crate::precision::dd::{Dd, DdInterval};
+use crate::precision::wide::{self, Wide, WideInterval};
 use inari::Interval;
 use std::fmt::Debug;
 
@@ -290,5 +291,91 @@ impl Ival for DdInterval {
     }
     fn is_empty(&self) -> bool {
         DdInterval::is_empty(*self)
+    }
+}
+
+/// Intervals of more than 106 bits ([spec (12.3)](crate::spec::precision)), at the precision in
+/// force on the thread ([`wide::with_bits`]): a rounding level of `2^(1 - bits)` and the order
+/// `3 bits / 8` ([`wide::order_at`]).
+impl Ival for WideInterval {
+    type Pt = Wide;
+    type Public = WideInterval;
+    fn public(self) -> WideInterval {
+        self
+    }
+    fn from_public(p: WideInterval) -> Self {
+        p
+    }
+    fn readable(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        Debug::fmt(self, f)
+    }
+    fn eps() -> f64 {
+        // exact: 2^-511 at most 512 bits is a normal double
+        2f64.powi(1 - wide::bits() as i32)
+    }
+    fn order() -> usize {
+        wide::order_at(wide::bits())
+    }
+    fn short_order() -> usize {
+        wide::order_at(wide::bits()) * 5 / 4
+    }
+    fn jac_orders() -> &'static [usize] {
+        wide::jac_orders()
+    }
+    fn low_orders() -> &'static [usize] {
+        wide::low_orders()
+    }
+    fn pt(x: Wide) -> Self {
+        WideInterval::point(x)
+    }
+    fn mid_pt(&self) -> Wide {
+        WideInterval::mid(self)
+    }
+    fn pt_of(x: f64) -> Wide {
+        Wide::from_f64(x).unwrap_or(Wide::ZERO)
+    }
+    fn pt_f64(x: Wide) -> f64 {
+        x.to_f64()
+    }
+    fn iv(lo: f64, hi: f64) -> Self {
+        match (Wide::from_f64(lo), Wide::from_f64(hi)) {
+            (Some(l), Some(h)) if lo <= hi && lo < f64::INFINITY && hi > f64::NEG_INFINITY => {
+                WideInterval::point(l).hull(&WideInterval::point(h))
+            }
+            _ => WideInterval::entire(),
+        }
+    }
+    fn inf(&self) -> f64 {
+        self.inf_f64()
+    }
+    fn sup(&self) -> f64 {
+        self.sup_f64()
+    }
+    fn wid(&self) -> f64 {
+        self.wid_up()
+    }
+    fn mag(&self) -> f64 {
+        self.mag_up()
+    }
+    fn mig(&self) -> f64 {
+        self.mig_down()
+    }
+    fn contains(&self, x: f64) -> bool {
+        self.contains_f64(x)
+    }
+    fn subset(&self, other: Self) -> bool {
+        WideInterval::subset(self, &other)
+    }
+    fn interior(&self, other: Self) -> bool {
+        WideInterval::interior(self, &other)
+    }
+    fn intersection(&self, other: Self) -> Self {
+        WideInterval::intersection(self, &other)
+    }
+    fn convex_hull(&self, other: Self) -> Self {
+        self.hull(&other)
+    }
+    fn is_empty(&self) -> bool {
+        WideInterval::is_empty(self)
     }
 }

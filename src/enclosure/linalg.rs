@@ -150,9 +150,14 @@ pub fn all_finite<I: Ival>(a: &IMat<I>) -> bool {
     a.flat.iter().all(|x| x.is_finite())
 }
 
+/// The most powers of `E` that [`enclose_inverse`] keeps.
+const MAX_POWERS: usize = 64;
+
 /// An interval matrix containing `B^{-1}` for the float matrix `b`, given any float
 /// approximate inverse `x` ([spec eq. (5.9)](crate::spec::enclosure)): with `E = I - X B` and `d >= ||E||_inf < 1`,
-/// `B^{-1} = (I - E)^{-1} X in (I + E + [-eps, eps]) X`, `eps = d^2 / (1 - d)`.
+/// `B^{-1} = (I - E)^{-1} X in (I + E + [-eps, eps]) X`, `eps = d^2 / (1 - d)`; above 106 bits
+/// `(I + E + ... + E^k + [-eps, eps]) X`, `eps = d^(k+1) / (1 - d)`, with `k` the least that
+/// brings `d^(k+1)` to the rounding level ([spec (12.0.7)](crate::spec::precision)).
 /// `None` when `d >= 1/2` (the approximate inverse is too poor to prove anything useful).
 pub fn enclose_inverse<I: Ival>(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IMat<I>> {
     let n = b.nrows();
@@ -165,13 +170,29 @@ pub fn enclose_inverse<I: Ival>(b: &DMatrix<f64>, x: &DMatrix<f64>) -> Option<IM
     if d.is_nan() || d >= 0.5 {
         return None;
     }
+    // (5.9') the number of powers of E kept: one (I + E) up to 106 bits; above, as many as
+    // bring d^(k+1) below the rounding level (a choice: every k gives an enclosure)
+    let mut k = 1;
+    if I::eps() < f64::EPSILON * f64::EPSILON {
+        while k < MAX_POWERS && d.powi(k as i32 + 1) > I::eps() {
+            k += 1;
+        }
+    }
     let di = I::cst(d);
-    let eps = (di * di / (I::one() - di)).sup();
+    let mut dk = di * di;
+    for _ in 1..k {
+        dk = dk * di;
+    }
+    let eps = (dk / (I::one() - di)).sup();
     if eps.is_nan() {
         return None;
     }
     let tail = I::iv(-eps, eps);
-    let mut s = e;
+    // S = E + E^2 + ... + E^k by Horner's rule, S <- E + E S
+    let mut s = e.clone();
+    for _ in 1..k {
+        s = add(&e, &mul(&e, &s));
+    }
     for i in 0..n {
         for (j, x) in s[i].iter_mut().enumerate() {
             *x = *x + tail + unit::<I>(i, j);

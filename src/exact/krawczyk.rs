@@ -21,7 +21,7 @@ use nalgebra::DMatrix;
 /// passes of [spec (6.3')](crate::spec::exact_discrete) (each keeps the zero). After 8 inflations without that inclusion:
 /// `Error::Uncertified`.
 pub fn krawczyk<I: Ival>(
-    guess: &[f64],
+    guess: &[I::Pt],
     c: &DMatrix<f64>,
     rad: &[f64],
     scale: f64,
@@ -38,7 +38,8 @@ pub fn krawczyk<I: Ival>(
     // width of the enclosure of DG (a particle pair with y1 = y0, u2 = s = 0, is certified
     // only so). Each try is a Krawczyk test on its own: which boxes are tried changes no
     // answer's soundness.
-    let coupled = coupled_floor(guess, c);
+    let guess_f64: Vec<f64> = guess.iter().map(|x| I::pt_f64(*x)).collect();
+    let coupled = coupled_floor(&guess_f64, c);
     let scaled: Vec<f64> = coupled
         .iter()
         .map(|f| f.max(2.0 * f64::EPSILON * scale.abs()))
@@ -83,17 +84,17 @@ fn contraction_floor<I: Ival>(m: &IMat<I>, rad: &[f64]) -> f64 {
 
 /// Epsilon-inflation from the radii `rad` with the floor `floor`: at most 8 boxes.
 fn inflate<I: Ival>(
-    guess: &[f64],
+    guess: &[I::Pt],
     c: &DMatrix<f64>,
     rad: &[f64],
     floor: &[f64],
     gd: &impl Fn(&[I]) -> Result<(Vec<I>, Vec<Vec<I>>), Error>,
 ) -> Result<Vec<I>, Failed> {
     let n = guess.len();
-    let zt: Vec<I> = guess.iter().map(|x| I::cst(*x)).collect();
+    let zt: Vec<I> = guess.iter().map(|x| I::pt(*x)).collect();
     let ci = linalg::imat(c);
     let mut rad: Vec<f64> = (0..n)
-        .map(|i| rad[i].abs() + 8.0 * f64::EPSILON * guess[i].abs() + floor[i])
+        .map(|i| rad[i].abs() + 8.0 * f64::EPSILON * I::pt_f64(guess[i]).abs() + floor[i])
         .collect();
     for _ in 0..8 {
         let x: Vec<I> = (0..n).map(|i| zt[i] + I::iv(-rad[i], rad[i])).collect();

@@ -214,6 +214,7 @@ fn retract_box<I: Ival>(
     let c = jac
         .try_inverse()
         .ok_or_else(|| Error::uncertified("singular Jacobian of the shooting map"))?;
+    let z_pt = refine_centre(model, q0, q1, &nq1, h, opts, &c, &guess);
     // The state set at time h from the last Krawczyk box (it contains the answer's).
     let last_set = std::cell::RefCell::new(None);
     let x0_of = |u: &[I]| q0.iter().chain(u).copied().collect::<Vec<_>>();
@@ -223,9 +224,9 @@ fn retract_box<I: Ival>(
     let centre: Vec<I::Pt> = q0
         .iter()
         .map(|x| x.mid_pt())
-        .chain(guess[..m].iter().map(|x| I::pt_of(*x)))
+        .chain(z_pt[..m].iter().copied())
         .collect();
-    let at_guess: Vec<I> = guess.iter().map(|x| I::cst(*x)).collect();
+    let at_guess: Vec<I> = z_pt.iter().map(|x| I::pt(*x)).collect();
     let marked = x0_of(&at_guess[..m]);
     let ns_guess = linalg::mul_vec(&nq1, &at_guess[m..]);
     // The validated flows of all Krawczyk boxes share KRAWCZYK_WORK * max_taylor_steps steps, so
@@ -284,7 +285,7 @@ fn retract_box<I: Ival>(
     let rad = (&c * residual).abs() * 2.0 + c.abs() * ulps;
     let rad: Vec<f64> = rad.iter().copied().collect();
     let scale = guess[..m].iter().fold(0.0f64, |a, x| a.max(x.abs()));
-    let z = krawczyk(&guess, &c, &rad, scale, gd)?;
+    let z = krawczyk(&z_pt, &c, &rad, scale, gd)?;
     let (u0, s) = (z[..m].to_vec(), z[m..].to_vec());
     let v0 = velocity(model, &x0_of(&u0))?;
     let mut set = last_set.into_inner().ok_or_else(|| {
@@ -324,6 +325,59 @@ fn retract_box<I: Ival>(
         q1: public(q_at_h),
         set,
     })
+}
+
+/// Most Newton steps of [`refine_centre`].
+const CENTRE_STEPS: usize = 8;
+
+/// The centre `z~` of the Krawczyk box at `I`'s precision ([spec (12.0.7)](crate::spec::precision)): the float
+/// guess itself up to 106 bits; above, the float guess moved by Newton steps
+/// `z <- mid(z - C [G](z))` with `[G](z) = q(h; Q0, u) - Q1 - N(Q1) s` from a validated flow
+/// of the point `(Q0, u)` at `I`'s precision. A float guess is about `2^-52 |z|` from the
+/// zero, and `K(X)` keeps `|I - C DG|` times that distance, about `2^-104 |z|`: enough at
+/// 106 bits, not beyond. Each step shrinks the distance by about `|I - C DG|` (C is a float
+/// inverse); they stop once the correction is below `eps / 2^-52` of `max |z|`, after
+/// [`CENTRE_STEPS`], or at a flow that fails (then the last centre serves). A choice only:
+/// the Krawczyk test decides, whatever the centre.
+#[allow(clippy::too_many_arguments)]
+fn refine_centre<I: Ival>(
+    model: &Model,
+    q0: &[I],
+    q1: &[I],
+    nq1: &IMat<I>,
+    h: f64,
+    opts: &FlowOptions,
+    c: &DMatrix<f64>,
+    guess: &[f64],
+) -> Vec<I::Pt> {
+    let mut z: Vec<I::Pt> = guess.iter().map(|x| I::pt_of(*x)).collect();
+    if I::eps() >= f64::EPSILON * f64::EPSILON {
+        return z;
+    }
+    let (n, m) = (model.n, model.n - model.k);
+    let ci = linalg::imat::<I>(c);
+    let scale = guess.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let goal = I::eps() / f64::EPSILON * scale;
+    for _ in 0..CENTRE_STEPS {
+        let zi: Vec<I> = z.iter().map(|p| I::pt(*p)).collect();
+        let x0: Vec<I> = q0.iter().chain(&zi[..m]).copied().collect();
+        let Ok((set, _)) = flow_set(&model.dynamics, LohnerSet::from_box(&x0), h, opts) else {
+            break;
+        };
+        let qh = set.hull();
+        let ns = linalg::mul_vec(nq1, &zi[m..]);
+        let g: Vec<I> = (0..n).map(|i| qh[i] - q1[i] - ns[i]).collect();
+        let corr = linalg::mul_vec(&ci, &g);
+        if !corr.iter().all(|x| x.is_finite()) {
+            break;
+        }
+        let size = corr.iter().fold(0.0f64, |a, x| a.max(x.mag()));
+        z = (0..n).map(|i| (zi[i] - corr[i]).mid_pt()).collect();
+        if size <= goal {
+            break;
+        }
+    }
+    z
 }
 
 /// Two enclosures of one object must intersect ([spec 0.4](crate::spec::overview#04-self-checks-vnode-lp-and-capd-style)); their intersection encloses it.

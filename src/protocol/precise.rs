@@ -9,6 +9,7 @@ use crate::exact::{discrete_lagrangian_in, retract_in, step_in};
 use crate::flow::{flow_at_in, flow_c1_in, FlowEnclosure};
 use crate::model::Model;
 use crate::precision::dd::DdInterval;
+use crate::precision::wide::{self, WideInterval};
 use crate::{DecimalInterval, Error, OutwardDecimal};
 
 /// The scene of a query that reads `precision`; an input error for the others.
@@ -28,7 +29,7 @@ fn not_read() -> Error {
 }
 
 /// The answer to `query` (flow, retract, step, lagrangian or order) at `bits > 53` significand bits:
-/// double-double intervals up to 106 bits.
+/// double-double intervals up to 106 bits, [`WideInterval`]s at exactly `bits` up to 512.
 pub(crate) fn answer(
     bits: u32,
     model: &Model,
@@ -37,9 +38,15 @@ pub(crate) fn answer(
 ) -> Result<Answer, Error> {
     match bits {
         54..=106 => answer_in::<DdInterval>(106, model, query, opts),
+        wide::MIN_BITS..=wide::MAX_BITS => wide::with_bits(bits, || {
+            answer_in::<WideInterval>(bits, model, query, opts)
+        }),
         _ => Err(Error::input_key(
             "precision",
-            format!("precision: {bits} bits is above the 106 this build computes with"),
+            format!(
+                "precision: {bits} bits is above the {} this build computes with",
+                wide::MAX_BITS
+            ),
         )),
     }
 }

@@ -5,6 +5,7 @@
 use super::program::Op;
 use crate::scalar::Scalar;
 use crate::precision::dd::DdInterval;
+use crate::precision::wide::WideInterval;
 use inari::Interval;
 use std::cell::RefCell;
 use std::thread::LocalKey;
@@ -285,6 +286,7 @@ thread_local! {
     static SCRATCH_INTERVAL: RefCell<Vec<Interval>> = const { RefCell::new(Vec::new()) };
     static SCRATCH_F64: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
     static SCRATCH_DD: RefCell<Vec<DdInterval>> = const { RefCell::new(Vec::new()) };
+    static SCRATCH_WIDE: RefCell<Vec<WideInterval>> = const { RefCell::new(Vec::new()) };
     static SCRATCH_NZ: RefCell<Vec<(usize, usize)>> = const { RefCell::new(Vec::new()) };
 }
 
@@ -370,6 +372,34 @@ impl Coef for DdInterval {
         } else {
             acc + s
         }
+    }
+    fn quot(self, b: Self) -> Self {
+        self / b
+    }
+}
+
+/// Intervals of more than 106 bits ([spec (12.3)](crate::spec::precision)).
+impl Coef for WideInterval {
+    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>> {
+        &SCRATCH_WIDE
+    }
+    fn is_exact_zero(&self) -> bool {
+        WideInterval::is_exact_zero(self)
+    }
+    fn safe_divisor(&self) -> bool {
+        !self.is_empty() && !self.contains_f64(0.0)
+    }
+    fn safe_sqrt_arg(&self) -> bool {
+        !self.is_empty() && self.inf_f64() > 0.0
+    }
+    fn is_finite_coef(&self) -> bool {
+        self.is_finite()
+    }
+    fn mul_acc(self, a: Self, b: Self) -> Self {
+        WideInterval::mul_acc(&self, &a, &b)
+    }
+    fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self {
+        WideInterval::conv(&acc, neg, x, y)
     }
     fn quot(self, b: Self) -> Self {
         self / b

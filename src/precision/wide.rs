@@ -1,0 +1,491 @@
+//! `WideInterval`: intervals of more than 106 bits that the validated integrator can compute
+//! with ([spec (12.3)](crate::spec::precision)).
+//!
+//! The method copies intervals freely (its scalars are `Copy`), while [`MpInterval`] keeps its
+//! ends on the heap. A [`Wide`] holds the same number as an [`Mp`] — `(-1)^neg man 2^exp`,
+//! `man` odd or zero — with the significand in a fixed array of [`LIMBS`] 64-bit words, so it
+//! is `Copy`; it carries at most [`MAX_BITS`] significant bits. Every operation converts its
+//! operands to [`MpInterval`] exactly, computes there (one proved outward rounding per end,
+//! [spec (12.2)](crate::spec::precision)) and converts the result back exactly: the two types
+//! enclose the same sets, and every proof of 12.2 is a proof here.
+//!
+//! The precision is chosen at run time, per thread: [`with_bits`] runs a computation with
+//! results rounded to that many bits ([`bits`], 256 unless set). Results carry no precision
+//! of their own: a result's ends have at most the number of bits in force when it was made.
+
+use super::mp::MpInterval;
+use super::mp_float::{Mp, Round};
+use num_bigint::BigUint;
+use std::cell::{Cell, RefCell};
+use std::fmt;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// The 64-bit words of a [`Wide`] significand.
+pub const LIMBS: usize = 8;
+/// The most significant bits a [`Wide`] holds, and the largest precision of [`with_bits`].
+pub const MAX_BITS: u32 = 64 * LIMBS as u32;
+/// The smallest precision of [`with_bits`] (below it the double-double type serves).
+pub const MIN_BITS: u32 = 107;
+/// The precision in force on a thread where [`with_bits`] was not called.
+pub const DEFAULT_BITS: u32 = 256;
+
+thread_local! {
+    static BITS: Cell<u32> = const { Cell::new(DEFAULT_BITS) };
+    static PI: RefCell<Option<(u32, WideInterval)>> = const { RefCell::new(None) };
+}
+
+/// The precision of the [`WideInterval`] results computed on this thread.
+pub fn bits() -> u32 {
+    BITS.with(|b| b.get())
+}
+
+/// Runs `f` with [`WideInterval`] results rounded to `bits` significant bits (clamped to
+/// `MIN_BITS..=MAX_BITS`) on this thread, then restores the previous precision.
+pub fn with_bits<R>(bits: u32, f: impl FnOnce() -> R) -> R {
+    struct Restore(u32);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            BITS.with(|b| b.set(self.0));
+        }
+    }
+    let _restore = Restore(BITS.with(|b| b.replace(bits.clamp(MIN_BITS, MAX_BITS))));
+    f()
+}
+
+/// A binary floating-point number of at most [`MAX_BITS`] significant bits, or an infinity
+/// (the ends of a [`WideInterval`], and its points).
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Wide {
+    neg: bool,
+    inf: bool,
+    exp: i64,
+    man: [u64; LIMBS],
+}
+
+impl Wide {
+    /// Zero.
+    pub const ZERO: Wide = Wide {
+        neg: false,
+        inf: false,
+        exp: 0,
+        man: [0; LIMBS],
+    };
+
+    /// The number `x` exactly, when it has at most [`MAX_BITS`] significant bits.
+    pub fn from_mp(x: &Mp) -> Option<Wide> {
+        if x.is_infinite() {
+            return Some(Wide {
+                neg: x.is_negative(),
+                inf: true,
+                ..Wide::ZERO
+            });
+        }
+        let digits = x.mantissa().to_u64_digits();
+        if digits.len() > LIMBS {
+            return None;
+        }
+        let mut man = [0; LIMBS];
+        man[..digits.len()].copy_from_slice(&digits);
+        Some(Wide {
+            neg: x.is_negative(),
+            inf: false,
+            exp: if digits.is_empty() { 0 } else { x.exponent() },
+            man,
+        })
+    }
+
+    /// `x` rounded to [`MAX_BITS`] bits in direction `mode` (exact when it fits).
+    fn from_mp_round(x: &Mp, mode: Round) -> Wide {
+        Wide::from_mp(x)
+            .or_else(|| Wide::from_mp(&x.round(MAX_BITS, mode)))
+            .unwrap_or(Wide::ZERO)
+    }
+
+    /// The same number as an [`Mp`] (exact).
+    pub fn to_mp(&self) -> Mp {
+        if self.inf {
+            return Mp::infinity(self.neg);
+        }
+        let top = self.man.iter().rposition(|&d| d != 0);
+        let Some(top) = top else {
+            return Mp::zero();
+        };
+        let mut words = Vec::with_capacity(2 * (top + 1));
+        for d in &self.man[..=top] {
+            words.push(*d as u32);
+            words.push((*d >> 32) as u32);
+        }
+        // at most MAX_BITS bits: exact at that precision
+        Mp::from_parts(self.neg, BigUint::new(words), self.exp, MAX_BITS, Round::Near)
+    }
+
+    /// The exact value of a finite double (`None` for NaN; infinities give infinities).
+    pub fn from_f64(x: f64) -> Option<Wide> {
+        Mp::from_f64(x).and_then(|m| Wide::from_mp(&m))
+    }
+
+    /// The double nearest to this number.
+    pub fn to_f64(&self) -> f64 {
+        self.to_mp().to_f64(Round::Near)
+    }
+}
+
+impl fmt::Debug for Wide {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(&self.to_mp(), f)
+    }
+}
+
+/// An interval with [`Wide`] ends, rounded outward to the precision in force ([`bits`]);
+/// every operation returns a superset of the exact range ([spec (12.3)](crate::spec::precision)).
+/// The empty interval is `[+inf, -inf]`.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct WideInterval {
+    lo: Wide,
+    hi: Wide,
+}
+
+impl WideInterval {
+    /// The same set as an [`MpInterval`] at the precision in force (exact).
+    pub fn to_mp(&self) -> MpInterval {
+        MpInterval {
+            lo: self.lo.to_mp(),
+            hi: self.hi.to_mp(),
+            prec: bits(),
+        }
+    }
+
+    /// The same set as `x`, or a superset when an end has more than [`MAX_BITS`] bits (that
+    /// end rounded outward).
+    pub fn from_mp(x: &MpInterval) -> WideInterval {
+        WideInterval {
+            lo: Wide::from_mp_round(&x.lo, Round::Down),
+            hi: Wide::from_mp_round(&x.hi, Round::Up),
+        }
+    }
+
+    /// `[x, x]`; the half-line beyond the largest number for an infinite `x`, as
+    /// [`MpInterval::point`].
+    pub fn point(x: Wide) -> WideInterval {
+        if x.inf {
+            return WideInterval::from_mp(&MpInterval::point(&x.to_mp(), bits()));
+        }
+        WideInterval { lo: x, hi: x }
+    }
+
+    /// `[x, x]` for a double (`x` exact; NaN gives the empty interval).
+    pub fn from_f64(x: f64) -> WideInterval {
+        WideInterval::from_mp(&MpInterval::from_f64(x, bits()))
+    }
+
+    /// The whole line.
+    pub fn entire() -> WideInterval {
+        WideInterval::from_mp(&MpInterval::entire(bits()))
+    }
+
+    /// The decimal string `s` (`[-]digits[.digits][e[-]digits]`) as the interval of its
+    /// exact value rounded outward at the precision in force ([spec (12.2.6)](crate::spec::precision)).
+    pub fn from_decimal(s: &str) -> Option<WideInterval> {
+        MpInterval::from_decimal(s, bits()).map(|x| WideInterval::from_mp(&x))
+    }
+
+    /// The lower end.
+    pub fn inf(&self) -> Wide {
+        self.lo
+    }
+
+    /// The upper end.
+    pub fn sup(&self) -> Wide {
+        self.hi
+    }
+
+    /// Whether empty.
+    pub fn is_empty(&self) -> bool {
+        self.lo.inf && !self.lo.neg
+    }
+
+    /// Non-empty with finite ends.
+    pub fn is_finite(&self) -> bool {
+        !self.lo.inf && !self.hi.inf
+    }
+
+    /// Exactly `[0, 0]`.
+    pub fn is_exact_zero(&self) -> bool {
+        *self == WideInterval::point(Wide::ZERO)
+    }
+
+    /// A point of a non-empty interval: its midpoint rounded to nearest at the precision in
+    /// force, within the ends ([`MpInterval::mid`]).
+    pub fn mid(&self) -> Wide {
+        let m = self.to_mp();
+        let c = m.mid().round(bits(), Round::Near).max(m.lo.clone()).min(m.hi);
+        Wide::from_mp_round(&c, Round::Near)
+    }
+
+    /// An f64 at most the lower end (`+inf` when empty).
+    pub fn inf_f64(&self) -> f64 {
+        self.lo.to_mp().to_f64(Round::Down)
+    }
+
+    /// An f64 at least the upper end (`-inf` when empty).
+    pub fn sup_f64(&self) -> f64 {
+        self.hi.to_mp().to_f64(Round::Up)
+    }
+
+    /// An f64 at least the width.
+    pub fn wid_up(&self) -> f64 {
+        self.to_mp().wid_up()
+    }
+
+    /// An f64 at least the largest magnitude.
+    pub fn mag_up(&self) -> f64 {
+        self.to_mp().mag_up()
+    }
+
+    /// An f64 at most the smallest magnitude.
+    pub fn mig_down(&self) -> f64 {
+        self.to_mp().mig_down()
+    }
+
+    /// Whether the double `x` is in the interval.
+    pub fn contains_f64(&self, x: f64) -> bool {
+        self.to_mp().contains_f64(x)
+    }
+
+    /// Whether `self` is inside `other`.
+    pub fn subset(&self, other: &WideInterval) -> bool {
+        self.to_mp().subset(&other.to_mp())
+    }
+
+    /// Whether `self` is inside the interior of `other`.
+    pub fn interior(&self, other: &WideInterval) -> bool {
+        self.to_mp().interior(&other.to_mp())
+    }
+
+    /// The intersection (possibly empty).
+    pub fn intersection(&self, other: &WideInterval) -> WideInterval {
+        self.binary(other, MpInterval::intersection)
+    }
+
+    /// The smallest interval containing both.
+    pub fn hull(&self, other: &WideInterval) -> WideInterval {
+        self.binary(other, MpInterval::hull)
+    }
+
+    /// `self + a b`, outward rounded.
+    pub fn mul_acc(&self, a: &WideInterval, b: &WideInterval) -> WideInterval {
+        WideInterval::from_mp(&a.to_mp().mul_add(&b.to_mp(), &self.to_mp()))
+    }
+
+    /// `acc + sum_j x_j y_{n-1-j}` (`acc - ...` when `neg`), the sum accumulated in
+    /// [`MpInterval`] (each operation outward rounded) and converted once.
+    pub fn conv(acc: &WideInterval, neg: bool, x: &[WideInterval], y: &[WideInterval]) -> WideInterval {
+        let n = x.len();
+        let mut s = MpInterval::from_f64(0.0, bits());
+        for j in 0..n {
+            if x[j].is_exact_zero() || y[n - 1 - j].is_exact_zero() {
+                continue;
+            }
+            s = x[j].to_mp().mul_add(&y[n - 1 - j].to_mp(), &s);
+        }
+        let a = acc.to_mp();
+        WideInterval::from_mp(&if neg { a.sub_ref(&s) } else { a.add_ref(&s) })
+    }
+
+    fn unary(&self, f: impl FnOnce(&MpInterval) -> MpInterval) -> WideInterval {
+        WideInterval::from_mp(&f(&self.to_mp()))
+    }
+
+    fn binary(
+        &self,
+        y: &WideInterval,
+        f: impl FnOnce(&MpInterval, &MpInterval) -> MpInterval,
+    ) -> WideInterval {
+        WideInterval::from_mp(&f(&self.to_mp(), &y.to_mp()))
+    }
+
+    /// An enclosure of pi at the precision in force (computed once per thread and precision).
+    pub fn pi() -> WideInterval {
+        let b = bits();
+        PI.with(|c| {
+            if let Some((cb, v)) = *c.borrow() {
+                if cb == b {
+                    return v;
+                }
+            }
+            let v = WideInterval::from_mp(&MpInterval::pi(b));
+            *c.borrow_mut() = Some((b, v));
+            v
+        })
+    }
+}
+
+impl fmt::Debug for WideInterval {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Display::fmt(&self.to_mp(), f)
+    }
+}
+
+macro_rules! binop {
+    ($tr:ident, $m:ident, $by:ident) => {
+        impl $tr for WideInterval {
+            type Output = WideInterval;
+            fn $m(self, y: WideInterval) -> WideInterval {
+                self.binary(&y, |a, b| a.$by(b))
+            }
+        }
+    };
+}
+binop!(Add, add, add_ref);
+binop!(Sub, sub, sub_ref);
+binop!(Mul, mul, mul_ref);
+binop!(Div, div, div_ref);
+
+impl Neg for WideInterval {
+    type Output = WideInterval;
+    fn neg(self) -> WideInterval {
+        if self.is_empty() {
+            return self;
+        }
+        // exact: the ends swap and change sign
+        let flip = |w: Wide| Wide {
+            neg: if w.inf || w.man.iter().any(|&d| d != 0) {
+                !w.neg
+            } else {
+                false
+            },
+            ..w
+        };
+        WideInterval {
+            lo: flip(self.hi),
+            hi: flip(self.lo),
+        }
+    }
+}
+
+impl crate::scalar::Scalar for WideInterval {
+    fn cst(c: f64) -> Self {
+        WideInterval::from_f64(c)
+    }
+    fn sin(&self) -> Self {
+        self.unary(MpInterval::sin)
+    }
+    fn cos(&self) -> Self {
+        self.unary(MpInterval::cos)
+    }
+    fn sqrt(&self) -> Self {
+        self.unary(MpInterval::sqrt)
+    }
+    fn exp(&self) -> Self {
+        self.unary(MpInterval::exp)
+    }
+    fn ln(&self) -> Self {
+        self.unary(MpInterval::ln)
+    }
+    fn atan(&self) -> Self {
+        self.unary(MpInterval::atan)
+    }
+    fn sinh(&self) -> Self {
+        self.unary(MpInterval::sinh)
+    }
+    fn cosh(&self) -> Self {
+        self.unary(MpInterval::cosh)
+    }
+    fn pi() -> Self {
+        WideInterval::pi()
+    }
+    fn tan(&self) -> Self {
+        self.unary(MpInterval::tan)
+    }
+    fn tanh(&self) -> Self {
+        self.unary(MpInterval::tanh)
+    }
+    fn sqr(&self) -> Self {
+        self.unary(MpInterval::sqr)
+    }
+}
+
+impl crate::OutwardDecimal for WideInterval {
+    fn decimal(&self) -> crate::DecimalInterval {
+        let m = self.to_mp();
+        let digits = m.default_digits();
+        crate::DecimalInterval(m.inf_decimal(digits), m.sup_decimal(digits))
+    }
+}
+
+/// The Taylor order at `bits` bits ([spec (12.0.3)](crate::spec::precision)): `3 bits / 8`
+/// rounded up, the rule that gives 40 at 106 bits.
+pub fn order_at(bits: u32) -> usize {
+    (3 * bits as usize).div_ceil(8)
+}
+
+/// The variational orders tried at [`bits`] (those of double-double intervals, then on up to
+/// the order).
+pub(crate) fn jac_orders() -> &'static [usize] {
+    const ALL: [usize; 17] = [3, 5, 8, 12, 16, 20, 26, 32, 40, 50, 60, 72, 84, 96, 120, 150, 192];
+    let o = order_at(bits());
+    let k = ALL.iter().take_while(|&&x| x < o).count();
+    &ALL[..(k + 1).min(ALL.len())]
+}
+
+/// The lower orders a last step may take at [`bits`] (up to four fifths of the order).
+pub(crate) fn low_orders() -> &'static [usize] {
+    const ALL: [usize; 16] = [8, 12, 16, 20, 24, 28, 32, 40, 48, 56, 64, 80, 96, 112, 128, 152];
+    let o = order_at(bits()) * 4 / 5;
+    let k = ALL.iter().take_while(|&&x| x <= o).count();
+    &ALL[..k.max(1)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scalar::Scalar;
+
+    fn parse(s: &str) -> MpInterval {
+        MpInterval::from_decimal(s, 1024).unwrap()
+    }
+
+    #[test]
+    fn conversions_are_exact_and_the_precision_is_per_call() {
+        let third = with_bits(256, || WideInterval::cst(1.0) / WideInterval::cst(3.0));
+        let m = third.to_mp();
+        // both ends are 256-bit numbers, one unit apart, around 1/3
+        assert!(m.lo.significant_bits() <= 256 && m.hi.significant_bits() <= 256);
+        let exact = parse("0.333333333333333333333333333333333333333333333333333333333333333333333333333333333333333333333333333333333333");
+        assert!(m.lo <= exact.lo && exact.hi <= m.hi);
+        assert!(m.wid_up() < 2f64.powi(-255));
+        let coarse = with_bits(160, || WideInterval::cst(1.0) / WideInterval::cst(3.0));
+        assert!(coarse.to_mp().wid_up() > 2f64.powi(-162) && coarse.to_mp().wid_up() < 2f64.powi(-158));
+        assert_eq!(bits(), DEFAULT_BITS);
+        assert_eq!(Wide::from_mp(&third.lo.to_mp()), Some(third.lo));
+        assert_eq!(-(-third), third);
+        assert_eq!((-WideInterval::cst(0.0)), WideInterval::cst(0.0));
+        assert!(with_bits(1_000_000, bits) == MAX_BITS && with_bits(3, bits) == MIN_BITS);
+    }
+
+    #[test]
+    fn elementary_functions_enclose_their_values_at_256_bits() {
+        // sin(1), e and pi to 80 digits (independent: published constants)
+        let sin1 = parse("0.84147098480789650665250350199390854644868178120483144553637760925497013101547577");
+        let e = parse("2.71828182845904523536028747135266249775724709369995957496696762772407663035354759");
+        let pi = parse("3.14159265358979323846264338327950288419716939937510582097494459230781640628620899");
+        with_bits(256, || {
+            let one = WideInterval::cst(1.0);
+            for (x, want) in [(one.sin(), &sin1), (one.exp(), &e), (WideInterval::pi(), &pi)] {
+                let m = x.to_mp();
+                assert!(!m.disjoint(want), "{x:?}");
+                assert!(m.wid_up() < 1e-75, "{x:?}");
+            }
+        });
+    }
+
+    #[test]
+    fn empty_and_unbounded_sets_stay_so() {
+        let e = WideInterval::from_f64(f64::NAN);
+        assert!(e.is_empty() && (-e).is_empty() && (e + WideInterval::cst(1.0)).is_empty());
+        let all = WideInterval::entire();
+        assert!(all.lo.inf && all.hi.inf && !all.is_empty());
+        let q = WideInterval::cst(1.0) / all;
+        assert!(q.lo.inf);
+    }
+}
