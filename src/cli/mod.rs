@@ -92,9 +92,9 @@ pub(crate) struct PairArgs {
     pub json: bool,
 }
 
-const PRECISION_HELP: &str = "Significand bits to compute with: 53 (default, f64 intervals) \
-     up to 4096; above 53 each end prints as a decimal string rounded outward (retract, step, \
-     lagrangian and flow)";
+const PRECISION_HELP: &str = "Significand bits to compute with: 53 (default, f64 intervals), \
+     54..106 (double-double intervals, 106 bits) or 107..512 (exactly that many); above 53 each \
+     end prints as a decimal string rounded outward (retract, step, lagrangian and flow)";
 
 /// `query` at the precision of `--precision` (none: 53 bits; contract E18).
 pub(super) fn precise(query: Query, precision: Option<&str>) -> Result<Query, Error> {

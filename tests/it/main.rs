@@ -32,6 +32,7 @@ mod oracle_properties;
 mod precision_dd;
 mod precision_flow;
 mod precision_mp;
+mod precision_wide;
 mod public_types;
 mod readme_commands;
 mod readme_own_scheme;
