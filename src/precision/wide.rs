@@ -116,7 +116,13 @@ impl Wide {
             words.push((*d >> 32) as u32);
         }
         // at most MAX_BITS bits: exact at that precision
-        Mp::from_parts(self.neg, BigUint::new(words), self.exp, MAX_BITS, Round::Near)
+        Mp::from_parts(
+            self.neg,
+            BigUint::new(words),
+            self.exp,
+            MAX_BITS,
+            Round::Near,
+        )
     }
 
     /// The exact value of a finite double (`None` for NaN; infinities give infinities).
@@ -218,7 +224,11 @@ impl WideInterval {
     /// force, within the ends ([`MpInterval::mid`]).
     pub fn mid(&self) -> Wide {
         let m = self.to_mp();
-        let c = m.mid().round(bits(), Round::Near).max(m.lo.clone()).min(m.hi);
+        let c = m
+            .mid()
+            .round(bits(), Round::Near)
+            .max(m.lo.clone())
+            .min(m.hi);
         Wide::from_mp_round(&c, Round::Near)
     }
 
@@ -279,7 +289,12 @@ impl WideInterval {
 
     /// `acc + sum_j x_j y_{n-1-j}` (`acc - ...` when `neg`), the sum accumulated in
     /// [`MpInterval`] (each operation outward rounded) and converted once.
-    pub fn conv(acc: &WideInterval, neg: bool, x: &[WideInterval], y: &[WideInterval]) -> WideInterval {
+    pub fn conv(
+        acc: &WideInterval,
+        neg: bool,
+        x: &[WideInterval],
+        y: &[WideInterval],
+    ) -> WideInterval {
         let n = x.len();
         let mut s = MpInterval::from_f64(0.0, bits());
         for j in 0..n {
@@ -422,7 +437,9 @@ pub fn order_at(bits: u32) -> usize {
 /// The variational orders tried at [`bits`] (those of double-double intervals, then on up to
 /// the order).
 pub(crate) fn jac_orders() -> &'static [usize] {
-    const ALL: [usize; 17] = [3, 5, 8, 12, 16, 20, 26, 32, 40, 50, 60, 72, 84, 96, 120, 150, 192];
+    const ALL: [usize; 17] = [
+        3, 5, 8, 12, 16, 20, 26, 32, 40, 50, 60, 72, 84, 96, 120, 150, 192,
+    ];
     let o = order_at(bits());
     let k = ALL.iter().take_while(|&&x| x < o).count();
     &ALL[..(k + 1).min(ALL.len())]
@@ -430,7 +447,9 @@ pub(crate) fn jac_orders() -> &'static [usize] {
 
 /// The lower orders a last step may take at [`bits`] (up to four fifths of the order).
 pub(crate) fn low_orders() -> &'static [usize] {
-    const ALL: [usize; 16] = [8, 12, 16, 20, 24, 28, 32, 40, 48, 56, 64, 80, 96, 112, 128, 152];
+    const ALL: [usize; 16] = [
+        8, 12, 16, 20, 24, 28, 32, 40, 48, 56, 64, 80, 96, 112, 128, 152,
+    ];
     let o = order_at(bits()) * 4 / 5;
     let k = ALL.iter().take_while(|&&x| x <= o).count();
     &ALL[..k.max(1)]
@@ -455,7 +474,9 @@ mod tests {
         assert!(m.lo <= exact.lo && exact.hi <= m.hi);
         assert!(m.wid_up() < 2f64.powi(-255));
         let coarse = with_bits(160, || WideInterval::cst(1.0) / WideInterval::cst(3.0));
-        assert!(coarse.to_mp().wid_up() > 2f64.powi(-162) && coarse.to_mp().wid_up() < 2f64.powi(-158));
+        assert!(
+            coarse.to_mp().wid_up() > 2f64.powi(-162) && coarse.to_mp().wid_up() < 2f64.powi(-158)
+        );
         assert_eq!(bits(), DEFAULT_BITS);
         assert_eq!(Wide::from_mp(&third.lo.to_mp()), Some(third.lo));
         assert_eq!(-(-third), third);
@@ -466,12 +487,22 @@ mod tests {
     #[test]
     fn elementary_functions_enclose_their_values_at_256_bits() {
         // sin(1), e and pi to 80 digits (independent: published constants)
-        let sin1 = parse("0.84147098480789650665250350199390854644868178120483144553637760925497013101547577");
-        let e = parse("2.71828182845904523536028747135266249775724709369995957496696762772407663035354759");
-        let pi = parse("3.14159265358979323846264338327950288419716939937510582097494459230781640628620899");
+        let sin1 = parse(
+            "0.84147098480789650665250350199390854644868178120483144553637760925497013101547577",
+        );
+        let e = parse(
+            "2.71828182845904523536028747135266249775724709369995957496696762772407663035354759",
+        );
+        let pi = parse(
+            "3.14159265358979323846264338327950288419716939937510582097494459230781640628620899",
+        );
         with_bits(256, || {
             let one = WideInterval::cst(1.0);
-            for (x, want) in [(one.sin(), &sin1), (one.exp(), &e), (WideInterval::pi(), &pi)] {
+            for (x, want) in [
+                (one.sin(), &sin1),
+                (one.exp(), &e),
+                (WideInterval::pi(), &pi),
+            ] {
                 let m = x.to_mp();
                 assert!(!m.disjoint(want), "{x:?}");
                 assert!(m.wid_up() < 1e-75, "{x:?}");

@@ -38,9 +38,9 @@ pub(crate) fn answer(
 ) -> Result<Answer, Error> {
     match bits {
         54..=106 => answer_in::<DdInterval>(106, model, query, opts),
-        wide::MIN_BITS..=wide::MAX_BITS => wide::with_bits(bits, || {
-            answer_in::<WideInterval>(bits, model, query, opts)
-        }),
+        wide::MIN_BITS..=wide::MAX_BITS => {
+            wide::with_bits(bits, || answer_in::<WideInterval>(bits, model, query, opts))
+        }
         _ => Err(Error::input_key(
             "precision",
             format!(

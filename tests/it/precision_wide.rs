@@ -33,10 +33,7 @@ fn contains(x: &MpInterval, (a, b): &(Mp, Mp)) -> bool {
 
 /// `lo hi` pairs from field `start` on.
 fn brackets(f: &[&str], start: usize) -> Vec<(Mp, Mp)> {
-    f[start..]
-        .chunks(2)
-        .map(|p| bracket(p[0], p[1]))
-        .collect()
+    f[start..].chunks(2).map(|p| bracket(p[0], p[1])).collect()
 }
 
 /// Checks the flow lines of the table at `bits` bits (those `pick` keeps): containment, and
@@ -109,7 +106,11 @@ fn retractions_steps_and_lagrangians_above_106_bits_contain_the_closed_forms() {
     let m = model("particle", &[]);
     let opts = FlowOptions::default();
     let mut checked = 0;
-    for (i, line) in TABLE.lines().filter(|l| l.starts_with("exact ")).enumerate() {
+    for (i, line) in TABLE
+        .lines()
+        .filter(|l| l.starts_with("exact "))
+        .enumerate()
+    {
         let f: Vec<&str> = line.split_whitespace().collect();
         let (q0, q1, h) = (nums(f[1]), nums(f[2]), f[3].parse::<f64>().unwrap());
         let want = brackets(&f, 4);
@@ -117,8 +118,8 @@ fn retractions_steps_and_lagrangians_above_106_bits_contain_the_closed_forms() {
             let got: Vec<MpInterval> = wide::with_bits(bits, || {
                 let r = retract_in::<WideInterval>(&m, &q0, &q1, h, &opts).unwrap();
                 let s = step_in::<WideInterval>(&m, &q0, &q1, h, &opts).unwrap();
-                let (_, l) = discrete_lagrangian_in::<WideInterval>(&m, &q0, &q1, h, &opts)
-                    .unwrap();
+                let (_, l) =
+                    discrete_lagrangian_in::<WideInterval>(&m, &q0, &q1, h, &opts).unwrap();
                 r.u0.iter()
                     .chain(&r.s)
                     .chain(&s.q2)
@@ -128,7 +129,10 @@ fn retractions_steps_and_lagrangians_above_106_bits_contain_the_closed_forms() {
             });
             assert_eq!(got.len(), want.len());
             for (k, (x, r)) in got.iter().zip(&want).enumerate() {
-                assert!(contains(x, r), "{bits} bits, {line}: quantity {k}: not inside {x}");
+                assert!(
+                    contains(x, r),
+                    "{bits} bits, {line}: quantity {k}: not inside {x}"
+                );
                 let bound = 2f64.powi(16 - bits as i32) * x.mag_up().max(1.0) / h.min(1.0);
                 assert!(
                     x.wid_up() <= bound,
@@ -156,10 +160,24 @@ fn decimal_pair(v: &serde_json::Value) -> MpInterval {
 #[test]
 fn the_command_line_answers_at_256_bits() {
     let out = crate::common::run_args(&[
-        "flow", "--scene", "knife", "--q", "0,0,0", "--u", "0.8,0.8", "--t", "5",
-        "--precision", "256", "--json",
+        "flow",
+        "--scene",
+        "knife",
+        "--q",
+        "0,0,0",
+        "--u",
+        "0.8,0.8",
+        "--t",
+        "5",
+        "--precision",
+        "256",
+        "--json",
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["precision"], 256);
     let line = TABLE
@@ -175,21 +193,41 @@ fn the_command_line_answers_at_256_bits() {
     assert_eq!(got.len(), want.len());
     for (k, (x, r)) in got.iter().zip(&want).enumerate() {
         for end in x.as_array().unwrap() {
-            let digits = end.as_str().unwrap().chars().filter(char::is_ascii_digit).count();
+            let digits = end
+                .as_str()
+                .unwrap()
+                .chars()
+                .filter(char::is_ascii_digit)
+                .count();
             // the mantissa's digits plus at most 3 of the exponent
             assert!(digits <= 80 + 3, "component {k}: {end}");
         }
         let x = decimal_pair(x);
         assert!(contains(&x, r), "component {k}: {x}");
-        assert!(x.wid_up() < 1e-74 * x.mag_up().max(1.0), "component {k}: {x}");
+        assert!(
+            x.wid_up() < 1e-74 * x.mag_up().max(1.0),
+            "component {k}: {x}"
+        );
     }
     let out = crate::common::run_args(&[
-        "flow", "--scene", "knife", "--q", "0,0,0", "--u", "0.8,0.8", "--t", "5",
-        "--precision", "513",
+        "flow",
+        "--scene",
+        "knife",
+        "--q",
+        "0,0,0",
+        "--u",
+        "0.8,0.8",
+        "--t",
+        "5",
+        "--precision",
+        "513",
     ]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("513") && err.contains("512") && err.lines().count() == 1, "{err}");
+    assert!(
+        err.contains("513") && err.contains("512") && err.lines().count() == 1,
+        "{err}"
+    );
 }
 
 /// A step at 256 bits through `batch`, beside one at 160: each answer says its precision and
