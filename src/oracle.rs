@@ -9,8 +9,8 @@
 //! assert!(v.max_distance.sup() < 1e-2); // proved: every q_k is within 1e-2 of the exact flow
 //! ```
 
-use crate::exact::{self, ExactFlow, ExactTrajectory, Iterate};
-use crate::interval::unwrap;
+use crate::enclosure::Ival;
+use crate::exact::{self, ExactFlow, ExactTrajectory, Iterate, IterateIn};
 use crate::scalar::point;
 use crate::tape::finite;
 use crate::{Error, FlowOptions, InputKind, Interval, Model, Reason};
@@ -83,7 +83,12 @@ pub fn distance(a: &[f64], b: &[Interval]) -> Interval {
 
 /// `E_L(q, v)` enclosed over the boxes (the energy of the exact trajectory through `(q, v)`).
 pub(crate) fn energy(model: &Model, q: &[Inari], v: &[Inari]) -> Result<Inari, Error> {
-    let x: Vec<Inari> = q.iter().chain(v).copied().collect();
+    energy_in(model, q, v)
+}
+
+/// [`energy`] in the interval type `I`.
+fn energy_in<I: Ival>(model: &Model, q: &[I], v: &[I]) -> Result<I, Error> {
+    let x: Vec<I> = q.iter().chain(v).copied().collect();
     model
         .energy
         .eval_checked(&x)
@@ -280,14 +285,19 @@ pub struct RowVerdict {
 /// What [`check_rows`] returns once every row is checked.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(serialize = "I::Public: serde::Serialize"))
+)]
 #[cfg_attr(not(feature = "internals"), non_exhaustive)]
-pub struct CheckSummary {
+pub struct CheckSummary<I: Ival = Inari> {
     /// The number of rows `N + 1`.
     pub rows: usize,
     /// `∋ max_k |q_k - q^e_k|_inf`.
     pub max_distance: Interval,
-    /// The retraction of `(q_0, q_1)` the exact discrete flow starts from.
-    pub retraction: crate::exact::Retraction,
+    /// The retraction of `(q_0, q_1)` the exact discrete flow starts from (in the
+    /// computation's intervals).
+    pub retraction: crate::exact::Retraction<I>,
     /// `∋ max_k |s_k|_inf` over the pairs' defects (`None` without pair figures).
     pub max_defect: Option<Interval>,
 }
@@ -325,8 +335,31 @@ pub fn check_rows(
     h: Option<f64>,
     rows: impl IntoIterator<Item = Result<(Option<f64>, Vec<f64>), Error>>,
     opts: &CheckOptions,
-    mut sink: impl FnMut(RowVerdict) -> Result<(), Error>,
+    sink: impl FnMut(RowVerdict) -> Result<(), Error>,
 ) -> Result<CheckSummary, Error> {
+    check_rows_in::<Inari>(model, h, rows, opts, sink)
+}
+
+/// The smallest f64 interval containing `x` (the same interval for inari's).
+fn outward<I: Ival>(x: &I) -> Inari {
+    crate::scalar::iv(x.inf(), x.sup())
+}
+
+/// [`check_rows`] computed in the interval type `I` ([spec (12.0)](crate::spec::precision)): the exact
+/// discrete flow, the retractions and the energies at `I`'s precision; each figure (a
+/// distance, a defect, an energy error, an exact iterate) is then rounded outward to an f64
+/// interval, where a distance below the f64 ends' own rounding stays narrow (f64 intervals
+/// are relative).
+///
+/// # Containment
+/// As [`check_trajectory`], row by row.
+pub fn check_rows_in<I: Ival>(
+    model: &Model,
+    h: Option<f64>,
+    rows: impl IntoIterator<Item = Result<(Option<f64>, Vec<f64>), Error>>,
+    opts: &CheckOptions,
+    mut sink: impl FnMut(RowVerdict) -> Result<(), Error>,
+) -> Result<CheckSummary<I>, Error> {
     let rows = rows.into_iter();
     let n = model.n;
     let mut last_t = f64::NEG_INFINITY;
@@ -389,34 +422,54 @@ pub fn check_rows(
         )),
     };
     let span = |a: Option<f64>, b: Option<f64>| match (h, a, b) {
-        (None, Some(a), Some(b)) => point(b) - point(a),
-        _ => point(h.unwrap_or(0.0)),
+        (None, Some(a), Some(b)) => I::cst(b) - I::cst(a),
+        _ => I::cst(h.unwrap_or(0.0)),
     };
-    let pts = |v: &[f64]| v.iter().map(|x| Interval::point(*x)).collect::<Vec<_>>();
+    let pts = |v: &[f64]| v.iter().map(|x| I::cst(*x)).collect::<Vec<_>>();
     let h0 = step(0, t0, t1)?;
-    let mut flow = ExactFlow::start(model, &pts(&q0), &pts(&q1), h0, &opts.flow)?;
+    let mut flow = ExactFlow::<I>::start_in(model, &q0, &q1, h0, &opts.flow)?;
     let mut max_distance = point(0.0);
     let mut max_defect: Option<Inari> = None;
-    // Row k against the iterate k of the exact discrete flow, `dt` after the iterate k-1.
-    let mut compare =
-        |flow: &mut ExactFlow, q: &[f64], dt: Inari| -> Result<(Inari, Iterate), Error> {
-            let exact = flow.next_iterate_after(dt.into())?;
-            let d = distance(q, &exact.q).into();
-            if !finite(d) {
-                return Err(Error::refused(
-                    Reason::Unbounded,
-                    "distance enclosure not finite",
-                ));
-            }
-            max_distance = max_distance.max(d);
-            Ok((d, exact))
+    // Row k against the iterate k of the exact discrete flow, `dt` after the iterate k-1: the
+    // distance, the iterate rounded outward to f64 and the iterate itself.
+    let mut compare = |flow: &mut ExactFlow<I>,
+                       q: &[f64],
+                       dt: I|
+     -> Result<(Inari, Iterate, IterateIn<I>), Error> {
+        let exact = flow.next_iterate_in(dt)?;
+        let diff: Vec<Interval> = q
+            .iter()
+            .zip(&exact.q)
+            .map(|(x, y)| outward(&(I::cst(*x) - *y)).into())
+            .collect();
+        let d = distance(&vec![0.0; diff.len()], &diff).into();
+        if !finite(d) {
+            return Err(Error::refused(
+                Reason::Unbounded,
+                "distance enclosure not finite",
+            ));
+        }
+        max_distance = max_distance.max(d);
+        let wide = |x: &[I]| {
+            x.iter()
+                .map(|v| outward(v).into())
+                .collect::<Vec<Interval>>()
         };
-    let first = compare(&mut flow, &q0, point(h0))?;
+        let rounded = Iterate {
+            k: exact.k,
+            q: wide(&exact.q),
+            v: wide(&exact.v),
+            p: wide(&exact.p),
+        };
+        Ok((d, rounded, exact))
+    };
+    let first = compare(&mut flow, &q0, I::cst(h0))?;
     let e0 = if opts.pairs {
-        Some(energy(model, &unwrap(&first.1.q), &unwrap(&first.1.v))?)
+        Some(energy_in(model, &first.2.q, &first.2.v)?)
     } else {
         None
     };
+    let first = (first.0, first.1);
     // The row waiting for its successor: its time, floats, distance and exact iterate.
     let mut pending = (t0, q0, first.0, first.1);
     let mut count = 1;
@@ -431,15 +484,18 @@ pub fn check_rows(
                     flow.retraction.clone()
                 } else {
                     let hk = step(exact.k, tk, tn)?;
-                    exact::retract(model, &pts(&qk), &pts(&next), hk, &opts.flow)?
+                    exact::retract_in::<I>(model, &qk, &next, hk, &opts.flow)?
                 };
-                let size =
+                let s: Vec<Inari> =
                     r.s.iter()
-                        .fold(point(0.0), |m, x| m.max(Inari::from(*x).abs()));
+                        .map(|x| outward(&I::from_public(x.clone())))
+                        .collect();
+                let size = s.iter().fold(point(0.0), |m, x| m.max(x.abs()));
                 max_defect = Some(max_defect.map_or(size, |m| m.max(size)));
+                let v0: Vec<I> = r.v0.iter().map(|x| I::from_public(x.clone())).collect();
                 Some(PairVerdict {
-                    energy_error: (energy(model, &unwrap(&pts(&qk)), &unwrap(&r.v0))? - e0).into(),
-                    defect: r.s,
+                    energy_error: outward(&(energy_in(model, &pts(&qk), &v0)? - e0)).into(),
+                    defect: s.into_iter().map(Interval::from).collect(),
                 })
             }
         };
@@ -449,7 +505,7 @@ pub fn check_rows(
             pair,
             exact,
         })?;
-        let (d, exact) = compare(&mut flow, &next, span(tk, tn))?;
+        let (d, exact, _) = compare(&mut flow, &next, span(tk, tn))?;
         pending = (tn, next, d, exact);
         count += 1;
     }

@@ -4,7 +4,9 @@ use super::integrate::io;
 use super::progress::Bar;
 use super::spool::Spool;
 use super::SceneArgs;
-use crate::oracle::{check_rows, CheckOptions, RowVerdict};
+use crate::oracle::{check_rows, check_rows_in, CheckOptions, RowVerdict};
+use crate::precision::dd::DdInterval;
+use crate::precision::wide::{self, WideInterval};
 use crate::protocol::{self, CheckRows, Session, STEP_WORK};
 use crate::scene::Scene;
 use crate::{Error, InputKind};
@@ -26,8 +28,14 @@ pub fn run(
     (deadline, work): (Option<&str>, Option<&str>),
     tols: (Option<&str>, Option<&str>),
     no_pairs: bool,
+    precision: Option<&str>,
     as_json: bool,
 ) -> Result<bool, Error> {
+    let bits = precision.map(protocol::parse_precision).transpose()?;
+    let bits = bits.filter(|b| *b > 53);
+    if let Some(b) = bits.filter(|b| *b > wide::MAX_BITS) {
+        return Err(protocol::precise::above(b));
+    }
     let spec = super::scene_spec(scene)?;
     let model = Session::default().model(&spec)?;
     let h = h.map(|h| protocol::parse_num("--h", h)).transpose()?;
@@ -80,33 +88,46 @@ pub fn run(
             .row(&mut spools, row.k, row.distance, pair)
             .map_err(io)
     };
-    let summary = match h {
-        Some(h) => {
-            let rows = rows.map(|r| r.map(|(_, q)| (None, q)));
-            check_rows(&model, Some(h), rows, &opts, sink)?
-        }
+    let rows: Box<dyn Iterator<Item = Result<Row, Error>>> = match h {
+        Some(_) => Box::new(rows.map(|r| r.map(|(_, q)| (None, q)))),
         None => {
-            let untimed = || {
+            let untimed = move || {
                 Error::input(format!(
                     "--trajectory `{file}`: without --h the rows need their times (a CSV \
                      column `t`, or a JSON key \"t\"); or give --h"
                 ))
             };
-            let rows = rows.map(|r| r.and_then(|(t, q)| Ok((Some(t.ok_or_else(untimed)?), q))));
-            check_rows(&model, None, rows, &opts, sink)?
+            Box::new(rows.map(move |r| r.and_then(|(t, q)| Ok((Some(t.ok_or_else(untimed)?), q)))))
         }
     };
+    // the bits computed with (contract E21): f64 intervals, double-double up to 106, else
+    // exactly `bits`; the figures are f64 intervals at every precision
+    let (max_distance, max_defect, used) = match bits {
+        None => {
+            let s = check_rows(&model, h, rows, &opts, sink)?;
+            (s.max_distance, s.max_defect, None)
+        }
+        Some(54..=106) => {
+            let s = check_rows_in::<DdInterval>(&model, h, rows, &opts, sink)?;
+            (s.max_distance, s.max_defect, Some(106))
+        }
+        Some(b) => wide::with_bits(b, || {
+            let s = check_rows_in::<WideInterval>(&model, h, rows, &opts, sink)?;
+            Ok::<_, Error>((s.max_distance, s.max_defect, Some(b)))
+        })?,
+    };
     bar.clear();
-    let passed = tols.passes(summary.max_distance, summary.max_defect)?;
+    let passed = tols.passes(max_distance, max_defect)?;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     table
         .finish(
             &mut out,
-            summary.max_distance,
-            summary.max_defect,
+            max_distance,
+            max_defect,
             &tols,
             passed,
+            used,
             |i, w| spools[i].copy_to(w),
         )
         .and_then(|()| out.flush())

@@ -107,6 +107,11 @@ pub(super) fn precise(query: Query, precision: Option<&str>) -> Result<Query, Er
     }
 }
 
+const CHECK_PRECISION_HELP: &str = "Significand bits of the exact discrete flow the \
+     candidate is compared with: 53 (default), 54..106 (double-double) or 107..512; the \
+     distances, defects and energy errors print as f64 intervals rounded outward at every \
+     precision";
+
 const DEADLINE_HELP: &str = "Time budget in seconds (> 0): past it, refused with exit 3 \
      `not certified within the budget`. Default: none (the work budget, --work, applies)";
 
@@ -199,6 +204,8 @@ pub(crate) enum Cmd {
         /// Skip the per-pair defects and energies (faster)
         #[arg(long)]
         no_pairs: bool,
+        #[arg(long, allow_hyphen_values = true, help = CHECK_PRECISION_HELP)]
+        precision: Option<String>,
         /// Print one JSON object
         #[arg(long)]
         json: bool,
@@ -368,6 +375,7 @@ pub(crate) fn run(args: Vec<String>) -> i32 {
             tol,
             defect_tol,
             no_pairs,
+            precision,
             json,
         }) => match check::run(
             &scene,
@@ -376,6 +384,7 @@ pub(crate) fn run(args: Vec<String>) -> i32 {
             (deadline.as_deref(), work.as_deref()),
             (tol.as_deref(), defect_tol.as_deref()),
             no_pairs,
+            precision.as_deref(),
             json,
         ) {
             Ok(passed) => return if passed { 0 } else { 1 },

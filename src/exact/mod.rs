@@ -770,19 +770,19 @@ pub struct Iterate {
 /// As [`trajectory`]: the `k`-th call of [`ExactFlow::next_iterate`] (from 0) encloses
 /// `q(kh)`, `qd(kh)` and the momentum there, for the trajectory of the unique solution of
 /// (6.2) in the Krawczyk box.
-pub struct ExactFlow<'m> {
+pub struct ExactFlow<'m, I: Ival = Inari> {
     model: &'m Model,
     h: f64,
     opts: FlowOptions,
-    set: LohnerSet,
+    set: LohnerSet<I>,
     k: usize,
-    q0: Vec<Inari>,
+    q0: Vec<I>,
     /// The retraction of `(Q0, Q1)` the trajectory starts from.
-    pub retraction: Retraction,
+    pub retraction: Retraction<I>,
 }
 
 /// A summary: the scene, the step, the next iterate's index and the retraction.
-impl std::fmt::Debug for ExactFlow<'_> {
+impl<I: Ival> std::fmt::Debug for ExactFlow<'_, I> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("ExactFlow")
             .field("scene", &self.model.name())
@@ -791,6 +791,19 @@ impl std::fmt::Debug for ExactFlow<'_> {
             .field("retraction", &self.retraction)
             .finish_non_exhaustive()
     }
+}
+
+/// An iterate of [`ExactFlow`] in the computation's intervals (as [`Iterate`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct IterateIn<I: Ival> {
+    /// The index `k` of the iterate (0 for `Q0`).
+    pub k: usize,
+    /// Contains `q(kh)` (as [`Iterate::q`]).
+    pub q: Vec<I>,
+    /// Contains `qd(kh)` (as [`Iterate::v`]).
+    pub v: Vec<I>,
+    /// Contains the D*-momentum (as [`Iterate::p`]).
+    pub p: Vec<I>,
 }
 
 impl<'m> ExactFlow<'m> {
@@ -802,17 +815,7 @@ impl<'m> ExactFlow<'m> {
         h: f64,
         opts: &FlowOptions,
     ) -> Result<Self, Error> {
-        let q0 = unwrap(q0);
-        let retraction = retract_box(model, &q0, &unwrap(q1), h, opts)?;
-        Ok(ExactFlow {
-            model,
-            h,
-            opts: opts.clone(),
-            set: retraction.set.clone(),
-            k: 0,
-            q0,
-            retraction,
-        })
+        ExactFlow::start_box(model, unwrap(q0), &unwrap(q1), h, opts)
     }
 
     /// The iterate `k` (0 for `Q0`, 1 for `q(h)`, then one flow of the set by `h` each).
@@ -826,18 +829,62 @@ impl<'m> ExactFlow<'m> {
     /// the spans given enclose `t_2 - t_1, .., t_k - t_{k-1}` and `h = t_1 - t_0`. The
     /// iterates 0 and 1 are `Q0` and `q(h)`: `dt` is not used for them.
     pub fn next_iterate_after(&mut self, dt: Interval) -> Result<Iterate, Error> {
+        let it = self.next_iterate_in(dt.into())?;
+        Ok(Iterate {
+            k: it.k,
+            q: wrap(it.q),
+            v: wrap(it.v),
+            p: wrap(it.p),
+        })
+    }
+}
+
+impl<'m, I: Ival> ExactFlow<'m, I> {
+    /// [`ExactFlow::start`] at the exact f64 points `q0`, `q1`, computed in the interval type
+    /// `I` ([spec (12.0)](crate::spec::precision)).
+    pub fn start_in(
+        model: &'m Model,
+        q0: &[f64],
+        q1: &[f64],
+        h: f64,
+        opts: &FlowOptions,
+    ) -> Result<Self, Error> {
+        ExactFlow::start_box(model, points::<I>(q0), &points::<I>(q1), h, opts)
+    }
+
+    fn start_box(
+        model: &'m Model,
+        q0: Vec<I>,
+        q1: &[I],
+        h: f64,
+        opts: &FlowOptions,
+    ) -> Result<Self, Error> {
+        let retraction = retract_box(model, &q0, q1, h, opts)?;
+        Ok(ExactFlow {
+            model,
+            h,
+            opts: opts.clone(),
+            set: retraction.set.clone(),
+            k: 0,
+            q0,
+            retraction,
+        })
+    }
+
+    /// [`ExactFlow::next_iterate_after`] in the computation's intervals (`dt` encloses the
+    /// span of time).
+    pub fn next_iterate_in(&mut self, dt: I) -> Result<IterateIn<I>, Error> {
         let (model, n, k) = (self.model, self.model.n, self.k);
         let (q, v) = match k {
-            0 => (self.q0.clone(), unwrap(&self.retraction.v0)),
+            0 => (self.q0.clone(), private::<I>(&self.retraction.v0)),
             _ => {
                 if k > 1 {
                     // on an error the set stays as it was: a later call tries again
-                    self.set =
-                        flow_set_span(&model.dynamics, self.set.clone(), dt.into(), &self.opts)?.0;
+                    self.set = flow_set_span(&model.dynamics, self.set.clone(), dt, &self.opts)?.0;
                 }
                 let hull = self.set.hull();
                 let q = if k == 1 {
-                    intersect(&hull[..n], &unwrap(&self.retraction.q1))?
+                    intersect(&hull[..n], &private::<I>(&self.retraction.q1))?
                 } else {
                     hull[..n].to_vec()
                 };
@@ -846,12 +893,7 @@ impl<'m> ExactFlow<'m> {
         };
         let p = momentum_in(model, &q, &v)?;
         self.k += 1;
-        Ok(Iterate {
-            k,
-            q: wrap(q),
-            v: wrap(v),
-            p: wrap(p),
-        })
+        Ok(IterateIn { k, q, v, p })
     }
 }
 

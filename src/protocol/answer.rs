@@ -274,6 +274,7 @@ impl Answer {
                         v.max_defect,
                         tolerances,
                         *passed,
+                        None,
                         |i, w| w.write_all(&parts[i]),
                     )
                 })

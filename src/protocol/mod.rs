@@ -9,7 +9,7 @@
 mod answer;
 pub mod order;
 mod parse;
-mod precise;
+pub(crate) mod precise;
 mod rows;
 
 pub use answer::{

@@ -41,14 +41,19 @@ pub(crate) fn answer(
         wide::MIN_BITS..=wide::MAX_BITS => {
             wide::with_bits(bits, || answer_in::<WideInterval>(bits, model, query, opts))
         }
-        _ => Err(Error::input_key(
-            "precision",
-            format!(
-                "precision: {bits} bits is above the {} this build computes with",
-                wide::MAX_BITS
-            ),
-        )),
+        _ => Err(above(bits)),
     }
+}
+
+/// The input error of a precision above what this build computes with.
+pub(crate) fn above(bits: u32) -> Error {
+    Error::input_key(
+        "precision",
+        format!(
+            "precision: {bits} bits is above the {} this build computes with",
+            wide::MAX_BITS
+        ),
+    )
 }
 
 fn answer_in<I>(

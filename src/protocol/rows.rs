@@ -202,6 +202,7 @@ impl CheckRows {
         max_defect: Option<Interval>,
         tolerances: &Tolerances,
         passed: bool,
+        precision: Option<u32>,
         mut part: impl FnMut(usize, &mut W) -> io::Result<()>,
     ) -> io::Result<()> {
         if self.json {
@@ -218,9 +219,13 @@ impl CheckRows {
             }
             write!(
                 w,
-                ",\"max_distance\":{},\"passed\":{passed}}}",
+                ",\"max_distance\":{},\"passed\":{passed}",
                 interval(max_distance)
             )?;
+            if let Some(bits) = precision {
+                write!(w, ",\"precision\":{bits}")?;
+            }
+            w.write_all(b"}")?;
         } else {
             writeln!(
                 w,
@@ -241,6 +246,9 @@ impl CheckRows {
             }
             if tolerances.tol.is_some() || tolerances.defect_tol.is_some() {
                 write!(w, ": {word}")?;
+            }
+            if let Some(bits) = precision {
+                write!(w, " (computed with {bits} bits)")?;
             }
         }
         writeln!(w)
@@ -360,6 +368,7 @@ mod tests {
                         summary.max_defect,
                         &tolerances,
                         passed,
+                        None,
                         |i, w| w.write_all(&parts[i]),
                     )
                     .unwrap();

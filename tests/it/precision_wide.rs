@@ -252,3 +252,103 @@ fn batch_answers_at_160_and_256_bits() {
         }
     }
 }
+
+/// `check --precision` as a user runs it on an MLA candidate of the knife: at 106 and 256 bits
+/// every certified figure meets the f64 one (both contain the same real number) and is no
+/// wider; the energy error of row 0, exactly 0, is enclosed 1e-70 wide at 256 bits where f64
+/// gives 1e-15; the JSON says the precision used; above 512 bits is an input error.
+#[test]
+fn check_at_precision_meets_the_f64_verdict_and_is_narrower() {
+    let dir = std::env::temp_dir().join(format!("dalembert-check-wide-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("cand.json");
+    let cand = crate::common::run_args(&[
+        "integrate",
+        "--scene",
+        "knife",
+        "--q0",
+        "0.1,0.2,0.3",
+        "--q1",
+        "0.3,0.3,0.5",
+        "--h",
+        "0.25",
+        "--scheme",
+        "mla",
+        "--steps",
+        "4",
+        "--json",
+    ]);
+    assert!(cand.status.success());
+    std::fs::write(&file, &cand.stdout).unwrap();
+    let check = |bits: Option<&str>| -> serde_json::Value {
+        let mut args = vec![
+            "check",
+            "--scene",
+            "knife",
+            "--h",
+            "0.25",
+            "--json",
+            "--trajectory",
+            file.to_str().unwrap(),
+        ];
+        if let Some(b) = bits {
+            args.extend(["--precision", b]);
+        }
+        let out = crate::common::run_args(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let pair = |v: &serde_json::Value| (v[0].as_f64().unwrap(), v[1].as_f64().unwrap());
+    let base = check(None);
+    assert!(base.get("precision").is_none());
+    for bits in [106, 256] {
+        let v = check(Some(&bits.to_string()));
+        assert_eq!(v["precision"], bits);
+        let mut figures = vec![("max_distance", &v["max_distance"], &base["max_distance"])];
+        for k in 0..5 {
+            figures.push(("distance", &v["distance"][k], &base["distance"][k]));
+        }
+        for k in 0..4 {
+            figures.push((
+                "energy_error",
+                &v["energy_error"][k],
+                &base["energy_error"][k],
+            ));
+            figures.push(("defect", &v["defect"][k][0], &base["defect"][k][0]));
+        }
+        for (what, w, b) in figures {
+            let ((wl, wh), (bl, bh)) = (pair(w), pair(b));
+            assert!(
+                wl <= bh && bl <= wh,
+                "{bits} bits: {what} {w} does not meet {b}"
+            );
+            assert!(
+                wh - wl <= bh - bl,
+                "{bits} bits: {what} {w} is wider than {b}"
+            );
+        }
+    }
+    let e0 = |v: &serde_json::Value| {
+        let (lo, hi) = pair(&v["energy_error"][0]);
+        hi - lo
+    };
+    assert!(e0(&base) > 1e-17);
+    assert!(e0(&check(Some("256"))) < 1e-70);
+    let out = crate::common::run_args(&[
+        "check",
+        "--scene",
+        "knife",
+        "--h",
+        "0.25",
+        "--precision",
+        "600",
+        "--trajectory",
+        file.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let _ = std::fs::remove_dir_all(&dir);
+}
