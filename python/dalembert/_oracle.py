@@ -310,6 +310,9 @@ _FLOAT_SLOT = "%.17g"
 _INT_KEYS = frozenset({"steps", "order", "rungs", "work", "precision"})
 _TEMPLATES: Dict[Any, str] = {}
 _is_integer = float.is_integer
+# The kind of a slot for JSON text: an object of its own (True would equal the length 1 of
+# a vector in the template's key).
+_JSON_SLOT = object()
 
 
 def _template(sig: Any) -> str:
@@ -321,7 +324,7 @@ def _template(sig: Any) -> str:
         head = "," + _ENCODE(key).replace("%", "%%") + ":"
         if kind is None:  # a float
             parts.append(head + _FLOAT_SLOT)
-        elif kind is True:  # a slot for JSON text
+        elif kind is _JSON_SLOT:
             parts.append(head + "%s")
         elif type(kind) is int:  # a vector of `kind` floats
             parts.append(head + "[" + ",".join([_FLOAT_SLOT] * kind) + "]")
@@ -349,12 +352,12 @@ def _line(query: Mapping[str, Any], id: int) -> bytes:
                     sig += (k, len(v))
                     args += v
                 except TypeError:
-                    sig += (k, True)
+                    sig += (k, _JSON_SLOT)
                     args.append(_ENCODE(v))
             elif t is str:
                 sig += (k, v)
             else:
-                sig += (k, True)
+                sig += (k, _JSON_SLOT)
                 args.append(_ENCODE(v))
         key = tuple(sig)
         template = _TEMPLATES.get(key)
