@@ -1,22 +1,21 @@
 #!/usr/bin/env python3
 """Throughput of the Python API against `dalembert batch` alone, on the same 3,000 particle
-`step` queries (issue: the API adds at most 20 % to batch's time).
+`step` queries (issue 38: the API adds at most 20 % to batch's time, whether the queries are
+sent as one list or one at a time).
 
-    python3 benches/python_throughput.py [--n 3000] [--reps 5] [--pin] [--binary PATH]
+    python3 benches/python_throughput.py [--n 3000] [--reps 15] [--pin] [--sync] [--binary PATH]
 
-Times (best of --reps, each including the process start):
-  batch      `dalembert batch < file > /dev/null` (--jobs 1)
+Variants, run in turn (batch, list, submit, batch, list, submit, ...) so that a change of
+load on the machine falls on all of them alike; every run includes the process start:
+  batch      `dalembert batch < file > /dev/null` (the queries' JSON made beforehand)
   list       Oracle().run(queries): one list, pipelined
   submit     one query at a time with Oracle.submit(), answers collected with .result()
-  sync       one query at a time with Oracle.step() (waits for each answer: a round trip
-             per query, for comparison)
-Every Python variant reads every answer's q2 (so the answers are parsed and their
-intervals built). --pin runs everything (this script and the batch process) on one CPU.
-Beside the wall times, the CPU seconds of the batch process and of this script: on one
-core the API adds at most its own CPU time to batch's, and that ratio is far less sensitive
-to other load on the machine than wall times are. "waits" is how many times this script
-waited for the pipes (its voluntary context switches): one per answer when the answers come
-one write each, a few dozen when they come in large writes.
+  sync       (--sync) one query at a time with Oracle.step(), a round trip per query
+Every Python variant reads every answer's q2 (so the answers are parsed and their intervals
+built). --pin runs everything (this script and the batch process) on one CPU: then a run's
+wall time is the batch process's CPU time plus this script's, and the API's share is
+"Python CPU / batch CPU": this script's CPU seconds in the run over the CPU seconds of
+`batch` alone. CPU times are getrusage's (user + system); min and median over the reps.
 """
 
 import argparse
@@ -24,6 +23,7 @@ import json
 import os
 import random
 import resource
+import statistics
 import subprocess
 import sys
 import time
@@ -44,28 +44,25 @@ def pairs(n, seed=1):
     return out
 
 
-def best(f, reps):
-    """Best of `reps`: (wall seconds, CPU seconds of this process, CPU seconds of the batch
-    process, voluntary context switches of this process), the run with the least wall
-    time."""
-    runs = []
-    for _ in range(reps):
-        t0, c0 = time.perf_counter(), os.times()
-        w0 = resource.getrusage(resource.RUSAGE_SELF).ru_nvcsw
-        f()
-        t1, c1 = time.perf_counter(), os.times()
-        w1 = resource.getrusage(resource.RUSAGE_SELF).ru_nvcsw
-        runs.append((t1 - t0, (c1.user + c1.system) - (c0.user + c0.system),
-                     (c1.children_user + c1.children_system)
-                     - (c0.children_user + c0.children_system), w1 - w0))
-    return min(runs)
+def cpu(who):
+    r = resource.getrusage(who)
+    return r.ru_utime + r.ru_stime
+
+
+def measure(f):
+    """(wall seconds, CPU seconds of this process, CPU seconds of the batch process)"""
+    t0, s0, c0 = time.perf_counter(), cpu(resource.RUSAGE_SELF), cpu(resource.RUSAGE_CHILDREN)
+    f()
+    t1, s1, c1 = time.perf_counter(), cpu(resource.RUSAGE_SELF), cpu(resource.RUSAGE_CHILDREN)
+    return t1 - t0, s1 - s0, c1 - c0
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=3000)
-    ap.add_argument("--reps", type=int, default=5)
+    ap.add_argument("--reps", type=int, default=15)
     ap.add_argument("--pin", action="store_true")
+    ap.add_argument("--sync", action="store_true", help="also the round-trip variant")
     ap.add_argument("--binary")
     a = ap.parse_args()
     if a.pin:
@@ -95,16 +92,34 @@ def main():
             for q0, q1, h in ps:
                 o.step(q0, q1, h, scene="particle").q2[0].lo
 
-    base, _, base_cpu, _ = best(batch, a.reps)
-    print(f"binary {exe}; {a.n} particle step queries; best of {a.reps}"
-          f"{'; pinned to one CPU' if a.pin else ''}")
-    print(f"{'':8} {'wall':>9} {'queries/s':>10} {'vs batch':>9} {'CPU: batch':>11} {'Python':>7}"
-          f" {'Python/batch CPU':>17} {'waits':>6}")
-    print(f"{'batch':8} {base:7.3f} s {a.n / base:10.0f} {'':9} {base_cpu:9.3f} s")
-    for name, f in (("list", as_list), ("submit", submit), ("sync", sync)):
-        t, cpu, child, waits = best(f, a.reps)
-        print(f"{name:8} {t:7.3f} s {a.n / t:10.0f} {100 * (t / base - 1):+8.1f}% "
-              f"{child:9.3f} s {cpu:5.3f} s {100 * cpu / base_cpu:+16.1f}% {waits:6d}")
+    variants = [("batch", batch), ("list", as_list), ("submit", submit)]
+    if a.sync:
+        variants.append(("sync", sync))
+    as_list()  # warm up: imports, caches, the binary's pages
+    runs = {name: [] for name, _ in variants}
+    for _ in range(a.reps):
+        for name, f in variants:
+            runs[name].append(measure(f))
+
+    def stats(name, i):
+        xs = [r[i] for r in runs[name]]
+        return min(xs), statistics.median(xs)
+
+    print(f"binary {exe}; {a.n} particle step queries; {a.reps} reps of each variant, "
+          f"alternating{'; pinned to one CPU' if a.pin else ''}")
+    print(f"{'':7} {'wall min':>9} {'median':>7} {'CPU: batch min':>15} {'median':>7}"
+          f" {'Python min':>11} {'median':>7}  {'Python/batch CPU min':>20} {'median':>7}"
+          f"  {'wall/batch median':>17}")
+    bw = stats("batch", 0)[1]
+    bc_min, bc_med = stats("batch", 2)
+    for name, _ in variants:
+        (w0, w1), (p0, p1), (c0, c1) = stats(name, 0), stats(name, 1), stats(name, 2)
+        if name == "batch":
+            print(f"{name:7} {w0:7.3f} s {w1:7.3f} {c0:13.3f} s {c1:7.3f}")
+            continue
+        print(f"{name:7} {w0:7.3f} s {w1:7.3f} {c0:13.3f} s {c1:7.3f} {p0:9.3f} s {p1:7.3f}"
+              f"  {100 * p0 / bc_min:19.1f}% {100 * p1 / bc_med:6.1f}%"
+              f"  {100 * (w1 / bw - 1):+16.1f}%")
 
 
 if __name__ == "__main__":
