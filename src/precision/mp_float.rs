@@ -177,6 +177,19 @@ impl Mp {
         )
     }
 
+    /// `(-1)^neg * man * 2^exp` for a `man` already in canonical form (odd, or zero with
+    /// `exp = 0` and `neg = false`) and an `exp` in range: the number itself, no rounding
+    /// (the parts of another `Mp`, e.g. kept in [`super::wide::Wide`]).
+    pub(crate) fn from_canonical(neg: bool, man: BigUint, exp: i64) -> Mp {
+        debug_assert!(is_zero(&man) || man.bit(0));
+        Mp {
+            neg,
+            inf: false,
+            man,
+            exp,
+        }
+    }
+
     /// The exact value of the integer `i`.
     pub fn from_i64(i: i64) -> Mp {
         let man = BigUint::from(i.unsigned_abs());
