@@ -94,7 +94,8 @@ pub(crate) struct PairArgs {
 
 const PRECISION_HELP: &str = "Significand bits to compute with: 53 (default, f64 intervals), \
      54..106 (double-double intervals, 106 bits) or 107..512 (exactly that many); above 53 each \
-     end prints as a decimal string rounded outward (retract, step, lagrangian and flow)";
+     end prints as a decimal string rounded outward (retract, step, lagrangian and flow). \
+     Decimal inputs are read as their nearest f64 at every precision";
 
 /// `query` at the precision of `--precision` (none: 53 bits; contract E18).
 pub(super) fn precise(query: Query, precision: Option<&str>) -> Result<Query, Error> {
