@@ -82,12 +82,8 @@ pub fn distance(a: &[f64], b: &[Interval]) -> Interval {
 }
 
 /// `E_L(q, v)` enclosed over the boxes (the energy of the exact trajectory through `(q, v)`).
-pub(crate) fn energy(model: &Model, q: &[Inari], v: &[Inari]) -> Result<Inari, Error> {
-    energy_in(model, q, v)
-}
-
-/// [`energy`] in the interval type `I`.
-fn energy_in<I: Ival>(model: &Model, q: &[I], v: &[I]) -> Result<I, Error> {
+/// In any interval type `I`.
+pub(crate) fn energy<I: Ival>(model: &Model, q: &[I], v: &[I]) -> Result<I, Error> {
     let x: Vec<I> = q.iter().chain(v).copied().collect();
     model
         .energy
@@ -465,7 +461,7 @@ pub fn check_rows_in<I: Ival>(
     };
     let first = compare(&mut flow, &q0, I::cst(h0))?;
     let e0 = if opts.pairs {
-        Some(energy_in(model, &first.2.q, &first.2.v)?)
+        Some(energy(model, &first.2.q, &first.2.v)?)
     } else {
         None
     };
@@ -494,7 +490,7 @@ pub fn check_rows_in<I: Ival>(
                 max_defect = Some(max_defect.map_or(size, |m| m.max(size)));
                 let v0: Vec<I> = r.v0.iter().map(|x| I::from_public(x.clone())).collect();
                 Some(PairVerdict {
-                    energy_error: outward(&(energy_in(model, &pts(&qk), &v0)? - e0)).into(),
+                    energy_error: outward(&(energy(model, &pts(&qk), &v0)? - e0)).into(),
                     defect: s.into_iter().map(Interval::from).collect(),
                 })
             }

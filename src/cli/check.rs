@@ -21,6 +21,7 @@ use std::io::{BufRead, BufReader, Write};
 /// (through a spool, so that a refusal still leaves stdout empty), in memory independent
 /// of their number; a JSON file is read whole. Without `h`, the file's times give the steps
 /// (non-uniform, contract E12); `tols` are `--tol` and `--defect-tol` (E13).
+#[allow(clippy::too_many_arguments)]
 pub fn run(
     scene: &SceneArgs,
     h: Option<&str>,

@@ -195,6 +195,7 @@ impl CheckRows {
     /// The whole answer into `w` once every row is written: `part(i, w)` appends part `i`.
     /// The text is the table's header, its rows and the summary line (the largest
     /// distance and defect, the tolerances given and the decision).
+    #[allow(clippy::too_many_arguments)]
     pub fn finish<W: Write>(
         &self,
         w: &mut W,
