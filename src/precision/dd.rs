@@ -648,7 +648,7 @@ const GROW: f64 = 1.0 + 1.0 / 1099511627776.0;
 /// The longest sum [`dot_fused`] takes (longer ones take the chain of interval operations).
 const DOT_MAX: u32 = 1024;
 
-/// A centre `c1 + c2` (two doubles, not necessarily normalised), `m = fl(|c1| + |c2|)` and a
+/// A centre `c1 + c2` (two doubles, not necessarily normalised), `m = |fl(c1 + c2)|` and a
 /// radius `r`: every real of `x` lies within `r` of `c1 + c2`, and `|c1 + c2| <= (1 + u) m`
 /// ([spec (12.1.21)](crate::spec::precision)). A point has radius 0; an empty or unbounded
 /// interval has a NaN radius.
@@ -676,7 +676,7 @@ fn centre_radius(x: DdInterval) -> (f64, f64, f64, f64) {
     } else {
         f64::NAN
     };
-    (c1, c2, c1.abs() + c2.abs(), r)
+    (c1, c2, (c1 + c2).abs(), r)
 }
 
 /// The running sums of [`dot_fused`]: the centre `s + l` of the sum so far, `g` (a sum of
@@ -2051,5 +2051,165 @@ mod tests {
         let big = format!("{}e-100000", "7".repeat(100_000));
         let sevens = DdInterval::from_decimal(&big).unwrap();
         assert!(sevens.inf_f64() > 0.7777 && sevens.sup_f64() < 0.7778 && sevens.wid_up() < 1e-31);
+    }
+
+    /// The exact value of a finite double-double times `2^1100` (an integer).
+    fn exact(x: Dd) -> num_bigint::BigInt {
+        use num_bigint::BigInt;
+        let one = |v: f64| -> BigInt {
+            if v == 0.0 {
+                return BigInt::from(0);
+            }
+            let (neg, m, e) = decompose(v);
+            let b = BigInt::from(m) << ((e + 1100) as usize);
+            if neg {
+                -b
+            } else {
+                b
+            }
+        };
+        one(x.hi) + one(x.lo)
+    }
+
+    /// (12.1.21) The fused dot product against exact integer arithmetic: for random and
+    /// adversarial intervals (points, thin and wide intervals, cancellation, huge and tiny
+    /// magnitudes down to the subnormals, zeros), `acc +- sum x_j y_j` contains the exact range
+    /// `acc +- [sum_j min corners, sum_j max corners]` (each term ranges independently over its
+    /// interval product), and is not much wider than it; empty, unbounded and overflowing
+    /// inputs take the chain of interval operations.
+    #[test]
+    fn fused_dot_contains_the_exact_range() {
+        use num_bigint::BigInt;
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            // splitmix64
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^ (z >> 31)
+        };
+        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        // A random double-double of magnitude about 2^k, or 0.
+        let mut dd = |k: i32, unit: &mut dyn FnMut() -> f64| -> Dd {
+            if unit() < 0.05 {
+                return Dd::ZERO;
+            }
+            let sign = if unit() < 0.5 { -1.0 } else { 1.0 };
+            let hi = sign * (1.0 + unit()) * pow2(k.clamp(-1074, 1022));
+            let lo = (unit() - 0.5) * hi * pow2(-53);
+            Dd::new(hi, if unit() < 0.3 { 0.0 } else { lo })
+        };
+        let iv = |unit: &mut dyn FnMut() -> f64,
+                  dd: &mut dyn FnMut(i32, &mut dyn FnMut() -> f64) -> Dd|
+         -> DdInterval {
+            let scale = match (unit() * 10.0) as u32 {
+                0 => 500 - (unit() * 100.0) as i32,  // huge
+                1 => -1000 - (unit() * 74.0) as i32, // tiny, down to the subnormals
+                2 => -600,
+                _ => (unit() * 120.0) as i32 - 60,
+            };
+            let c = dd(scale, unit);
+            let w = match (unit() * 6.0) as u32 {
+                0 | 1 => return DdInterval::point(c),
+                2 => dd(scale - 100 - (unit() * 10.0) as i32, unit).abs(),
+                3 => dd(scale - 55, unit).abs(),
+                4 => dd(scale - 20, unit).abs(),
+                _ => dd(scale + 1, unit).abs(), // wide, may straddle 0
+            };
+            let lo = c - w;
+            let hi = c + w.scale_pow2(-1);
+            if lo <= hi {
+                DdInterval::new(lo, hi).unwrap()
+            } else {
+                DdInterval::point(c)
+            }
+        };
+        let exact_range = |acc: DdInterval, neg: bool, xs: &[DdInterval], ys: &[DdInterval]| {
+            let sh = 1100usize;
+            let (mut lo, mut hi) = (exact(acc.lo) << sh, exact(acc.hi) << sh);
+            for (x, y) in xs.iter().zip(ys) {
+                let c: Vec<BigInt> = [(x.lo, y.lo), (x.lo, y.hi), (x.hi, y.lo), (x.hi, y.hi)]
+                    .iter()
+                    .map(|&(a, b)| exact(a) * exact(b))
+                    .collect();
+                let (mn, mx) = (
+                    c.iter().min().unwrap().clone(),
+                    c.iter().max().unwrap().clone(),
+                );
+                if neg {
+                    lo -= mx;
+                    hi -= mn;
+                } else {
+                    lo += mn;
+                    hi += mx;
+                }
+            }
+            (lo, hi)
+        };
+        let mut fast = 0;
+        for case in 0..1500 {
+            let n = 1 + (unit() * 40.0) as usize;
+            let mut xs: Vec<DdInterval> = (0..n).map(|_| iv(&mut unit, &mut dd)).collect();
+            let mut ys: Vec<DdInterval> = (0..n).map(|_| iv(&mut unit, &mut dd)).collect();
+            if case % 3 == 1 && n >= 2 {
+                // cancellation: the second product undoes the first up to a tiny remainder
+                xs[1] = -xs[0];
+                ys[1] = ys[0] + DdInterval::from_f64(pow2(-70)) * ys[0];
+            }
+            if case % 7 == 3 {
+                // unbounded, empty or overflowing inputs
+                let j = (unit() * n as f64) as usize;
+                xs[j] = match case % 4 {
+                    0 => DdInterval::ENTIRE,
+                    1 => DdInterval::new(Dd::ONE, Dd::INFINITY).unwrap(),
+                    2 => DdInterval::from_f64_pair(1e300, 1e301).unwrap(),
+                    _ => DdInterval::EMPTY,
+                };
+                ys[j] = DdInterval::from_f64_pair(1e10, 1e300).unwrap();
+            }
+            let acc = iv(&mut unit, &mut dd);
+            let neg = unit() < 0.5;
+            let got = DdInterval::dot_acc(acc, neg, xs.iter().copied().zip(ys.iter().copied()));
+            let chain = dot_chain(acc, neg, xs.iter().copied().zip(ys.iter().copied()));
+            assert!(no_nan(got), "case {case}");
+            if dot_fused(xs.iter().copied().zip(ys.iter().copied())).is_none() {
+                assert!(got == chain, "case {case}: the fallback is the chain");
+                continue;
+            }
+            fast += 1;
+            let (lo, hi) = exact_range(acc, neg, &xs, &ys);
+            let sh = 1100usize;
+            assert!(
+                (exact(got.lo) << sh) <= lo && hi <= (exact(got.hi) << sh),
+                "case {case}: {got:?} misses the exact range"
+            );
+            // Not much wider than the exact range: at most 1.5 times it (the balls of wide
+            // factors) plus a few 2^-100 of the magnitudes, when those are far from the
+            // subnormals.
+            let mag: f64 = xs
+                .iter()
+                .zip(&ys)
+                .map(|(x, y)| x.mag_up() * y.mag_up())
+                .sum::<f64>()
+                + acc.mag_up();
+            let ew = {
+                // a lower estimate of (hi - lo) 2^-2200 (within a factor 2), for a loose check
+                let bits = (&hi - &lo).bits() as i32;
+                if bits == 0 {
+                    0.0
+                } else {
+                    pow2((bits - 2201).clamp(-1074, 1023))
+                }
+            };
+            if mag.is_finite() && mag > 1e-250 {
+                assert!(
+                    got.wid_up() <= 3.0 * ew + mag * pow2(-96),
+                    "case {case}: {got:?} too wide ({} against {ew}, magnitude {mag})",
+                    got.wid_up()
+                );
+            }
+        }
+        assert!(fast > 1000, "{fast} cases took the fused sum");
     }
 }
