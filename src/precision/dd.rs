@@ -627,6 +627,162 @@ impl Ball {
     }
 }
 
+/// `x = +0` stays 0, a positive `x` moves one double up: for `x = fl(y)` with `y >= 0` an
+/// upper bound of `y` (12.1.2(a)) when `x = 0` only for `y = 0` (as for sums of non-negative
+/// doubles); `+inf` and NaN give NaN. Branch-free, on the bits.
+#[inline(always)]
+fn up0(x: f64) -> f64 {
+    let b = x.to_bits();
+    f64::from_bits(b + u64::from(b != 0))
+}
+
+/// `u (1 + 2^-50)`: at least `u (1 + u)^3`, the factor of the rounding bound of a radius
+/// ([spec (12.1.21)](crate::spec::precision)).
+const U_RAD: f64 = U * (1.0 + 1.0 / 1125899906842624.0);
+
+/// `1 + 2^-40`: at least `(1 + u)^k` for `k <= 2^12`, the factor that bounds the rounding of
+/// a sum of at most `2^12` non-negative terms each rounded at most `2^12` times
+/// ([spec (12.1.21)](crate::spec::precision)).
+const GROW: f64 = 1.0 + 1.0 / 1099511627776.0;
+
+/// The longest sum [`dot_fused`] takes (longer ones take the chain of interval operations).
+const DOT_MAX: u32 = 1024;
+
+/// A centre `c1 + c2` (two doubles, not necessarily normalised), `m = |fl(c1 + c2)|` and a
+/// radius `r`: every real of `x` lies within `r` of `c1 + c2`, and `|c1 + c2| <= (1 + u) m`
+/// ([spec (12.1.21)](crate::spec::precision)). A point has radius 0; an empty or unbounded
+/// interval has a NaN radius.
+#[inline(always)]
+fn centre_radius(x: DdInterval) -> (f64, f64, f64, f64) {
+    let (lo, hi) = (x.lo, x.hi);
+    // The width hi - lo = dh + dl up to the roundings of dh, dl and sw.
+    let dh = hi.hi - lo.hi;
+    let dl = hi.lo - lo.lo;
+    let sw = dh + dl;
+    let h = 0.5 * sw;
+    let c1 = lo.hi;
+    let c2 = lo.lo + h;
+    // sw - h is exact; it is h unless the halving rounded (subnormal).
+    let hm = h.abs().max((sw - h).abs());
+    let s = ((dh.abs() + dl.abs()) + sw.abs()) + c2.abs();
+    // s = 0: dh, dl, sw and c2 are exact (they are 0), so hm is the radius.
+    let r = if s == 0.0 {
+        hm
+    } else {
+        up(s.mul_add(U_RAD, hm))
+    };
+    let r = if lo.hi.is_finite() && hi.hi.is_finite() {
+        r
+    } else {
+        f64::NAN
+    };
+    (c1, c2, (c1 + c2).abs(), r)
+}
+
+/// The running sums of [`dot_fused`]: the centre `s + l` of the sum so far, `g` (a sum of
+/// magnitudes that bounds the rounding errors of the centre), `r` (the sum of the radii of the
+/// products).
+struct DotSums {
+    s: f64,
+    l: f64,
+    g: f64,
+    r: f64,
+}
+
+impl DotSums {
+    /// Adds `x y` ([spec (12.1.21)](crate::spec::precision)).
+    #[inline(always)]
+    fn term(&mut self, x: DdInterval, y: DdInterval) {
+        let (a1, a2, ma, ra) = centre_radius(x);
+        let (b1, b2, mb, rb) = centre_radius(y);
+        // The centres' product: DWTimesDW3 without its last renormalisation.
+        let (p, e) = two_prod(a1, b1);
+        let t0 = a2 * b2;
+        let t1 = a1.mul_add(b2, t0);
+        let k = a2.mul_add(b1, t1);
+        let (s, t) = two_sum(self.s, p);
+        let v1 = e + k;
+        let v2 = t + v1;
+        let l = self.l + v2;
+        self.s = s;
+        self.l = l;
+        self.g += ((t0.abs() + t1.abs()) + (k.abs() + v1.abs())) + (v2.abs() + l.abs());
+        self.r += ma.mul_add(rb, mb.mul_add(ra, ra * rb));
+    }
+}
+
+/// The sum of `x_j y_j` over the pairs, computed as one sum of the centres' products in
+/// double-double with a bound of its rounding errors, and one f64 radius
+/// ([spec (12.1.21)](crate::spec::precision)); `None` when an input is empty or unbounded, an
+/// intermediate is not finite, or there are more than [`DOT_MAX`] pairs.
+#[inline(always)]
+fn dot_fused(pairs: impl Iterator<Item = (DdInterval, DdInterval)>) -> Option<DdInterval> {
+    let mut z = DotSums {
+        s: 0.0,
+        l: 0.0,
+        g: 0.0,
+        r: 0.0,
+    };
+    let mut n = 0u32;
+    for (x, y) in pairs {
+        if n == DOT_MAX {
+            return None;
+        }
+        z.term(x, y);
+        n += 1;
+    }
+    // |sum - (s + l)| <= up(up(g GROW) u) + up(r GROW) + 4 n eta; 4 n eta exactly from the
+    // bits (a subnormal is its multiple of eta; no arithmetic on subnormals, which is slow).
+    // g = 0: the six magnitudes of every term are 0, so are their rounding errors.
+    let eg = if z.g == 0.0 {
+        0.0
+    } else {
+        up(U * up(z.g * GROW))
+    };
+    let er = up0(z.r * GROW);
+    let rad = up0(up0(eg + er) + f64::from_bits(4 * u64::from(n)));
+    if !(z.s.is_finite() && z.l.is_finite() && rad.is_finite()) {
+        return None;
+    }
+    Some(enclose(z.s, z.l, rad))
+}
+
+impl DdInterval {
+    /// `acc + sum_j x_j y_j` (`acc - ...` when `neg`) over the pairs, the sum enclosed at once
+    /// in midpoint-radius form ([spec (12.1.21)](crate::spec::precision)) and added to `acc`.
+    /// An empty or unbounded input, an overflow, or more than 1024 pairs take the chain of
+    /// interval operations `acc + x_0 y_0 + ...` instead, each rounded outward (12.1.4).
+    #[inline]
+    pub fn dot_acc<I>(acc: DdInterval, neg: bool, pairs: I) -> DdInterval
+    where
+        I: Iterator<Item = (DdInterval, DdInterval)> + Clone,
+    {
+        match dot_fused(pairs.clone()) {
+            Some(s) => {
+                if neg {
+                    acc - s
+                } else {
+                    acc + s
+                }
+            }
+            None => dot_chain(acc, neg, pairs),
+        }
+    }
+}
+
+/// The chain `acc +- x_0 y_0 +- x_1 y_1 ...` of outward-rounded operations (12.1.4).
+#[inline(never)]
+fn dot_chain(
+    acc: DdInterval,
+    neg: bool,
+    pairs: impl Iterator<Item = (DdInterval, DdInterval)>,
+) -> DdInterval {
+    pairs.fold(
+        acc,
+        |s, (x, y)| if neg { s - x * y } else { x.mul_add(y, s) },
+    )
+}
+
 /// `2^-969`: a product of two doubles at least this large has an exact FMA error term (its
 /// error is a multiple of `2^-1073`).
 const EXACT_PRODUCT: f64 = f64::from_bits(54 << 52);
@@ -1895,5 +2051,165 @@ mod tests {
         let big = format!("{}e-100000", "7".repeat(100_000));
         let sevens = DdInterval::from_decimal(&big).unwrap();
         assert!(sevens.inf_f64() > 0.7777 && sevens.sup_f64() < 0.7778 && sevens.wid_up() < 1e-31);
+    }
+
+    /// The exact value of a finite double-double times `2^1100` (an integer).
+    fn exact(x: Dd) -> num_bigint::BigInt {
+        use num_bigint::BigInt;
+        let one = |v: f64| -> BigInt {
+            if v == 0.0 {
+                return BigInt::from(0);
+            }
+            let (neg, m, e) = decompose(v);
+            let b = BigInt::from(m) << ((e + 1100) as usize);
+            if neg {
+                -b
+            } else {
+                b
+            }
+        };
+        one(x.hi) + one(x.lo)
+    }
+
+    /// (12.1.21) The fused dot product against exact integer arithmetic: for random and
+    /// adversarial intervals (points, thin and wide intervals, cancellation, huge and tiny
+    /// magnitudes down to the subnormals, zeros), `acc +- sum x_j y_j` contains the exact range
+    /// `acc +- [sum_j min corners, sum_j max corners]` (each term ranges independently over its
+    /// interval product), and is not much wider than it; empty, unbounded and overflowing
+    /// inputs take the chain of interval operations.
+    #[test]
+    fn fused_dot_contains_the_exact_range() {
+        use num_bigint::BigInt;
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            // splitmix64
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^ (z >> 31)
+        };
+        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        // A random double-double of magnitude about 2^k, or 0.
+        let mut dd = |k: i32, unit: &mut dyn FnMut() -> f64| -> Dd {
+            if unit() < 0.05 {
+                return Dd::ZERO;
+            }
+            let sign = if unit() < 0.5 { -1.0 } else { 1.0 };
+            let hi = sign * (1.0 + unit()) * pow2(k.clamp(-1074, 1022));
+            let lo = (unit() - 0.5) * hi * pow2(-53);
+            Dd::new(hi, if unit() < 0.3 { 0.0 } else { lo })
+        };
+        let iv = |unit: &mut dyn FnMut() -> f64,
+                  dd: &mut dyn FnMut(i32, &mut dyn FnMut() -> f64) -> Dd|
+         -> DdInterval {
+            let scale = match (unit() * 10.0) as u32 {
+                0 => 500 - (unit() * 100.0) as i32,  // huge
+                1 => -1000 - (unit() * 74.0) as i32, // tiny, down to the subnormals
+                2 => -600,
+                _ => (unit() * 120.0) as i32 - 60,
+            };
+            let c = dd(scale, unit);
+            let w = match (unit() * 6.0) as u32 {
+                0 | 1 => return DdInterval::point(c),
+                2 => dd(scale - 100 - (unit() * 10.0) as i32, unit).abs(),
+                3 => dd(scale - 55, unit).abs(),
+                4 => dd(scale - 20, unit).abs(),
+                _ => dd(scale + 1, unit).abs(), // wide, may straddle 0
+            };
+            let lo = c - w;
+            let hi = c + w.scale_pow2(-1);
+            if lo <= hi {
+                DdInterval::new(lo, hi).unwrap()
+            } else {
+                DdInterval::point(c)
+            }
+        };
+        let exact_range = |acc: DdInterval, neg: bool, xs: &[DdInterval], ys: &[DdInterval]| {
+            let sh = 1100usize;
+            let (mut lo, mut hi) = (exact(acc.lo) << sh, exact(acc.hi) << sh);
+            for (x, y) in xs.iter().zip(ys) {
+                let c: Vec<BigInt> = [(x.lo, y.lo), (x.lo, y.hi), (x.hi, y.lo), (x.hi, y.hi)]
+                    .iter()
+                    .map(|&(a, b)| exact(a) * exact(b))
+                    .collect();
+                let (mn, mx) = (
+                    c.iter().min().unwrap().clone(),
+                    c.iter().max().unwrap().clone(),
+                );
+                if neg {
+                    lo -= mx;
+                    hi -= mn;
+                } else {
+                    lo += mn;
+                    hi += mx;
+                }
+            }
+            (lo, hi)
+        };
+        let mut fast = 0;
+        for case in 0..1500 {
+            let n = 1 + (unit() * 40.0) as usize;
+            let mut xs: Vec<DdInterval> = (0..n).map(|_| iv(&mut unit, &mut dd)).collect();
+            let mut ys: Vec<DdInterval> = (0..n).map(|_| iv(&mut unit, &mut dd)).collect();
+            if case % 3 == 1 && n >= 2 {
+                // cancellation: the second product undoes the first up to a tiny remainder
+                xs[1] = -xs[0];
+                ys[1] = ys[0] + DdInterval::from_f64(pow2(-70)) * ys[0];
+            }
+            if case % 7 == 3 {
+                // unbounded, empty or overflowing inputs
+                let j = (unit() * n as f64) as usize;
+                xs[j] = match case % 4 {
+                    0 => DdInterval::ENTIRE,
+                    1 => DdInterval::new(Dd::ONE, Dd::INFINITY).unwrap(),
+                    2 => DdInterval::from_f64_pair(1e300, 1e301).unwrap(),
+                    _ => DdInterval::EMPTY,
+                };
+                ys[j] = DdInterval::from_f64_pair(1e10, 1e300).unwrap();
+            }
+            let acc = iv(&mut unit, &mut dd);
+            let neg = unit() < 0.5;
+            let got = DdInterval::dot_acc(acc, neg, xs.iter().copied().zip(ys.iter().copied()));
+            let chain = dot_chain(acc, neg, xs.iter().copied().zip(ys.iter().copied()));
+            assert!(no_nan(got), "case {case}");
+            if dot_fused(xs.iter().copied().zip(ys.iter().copied())).is_none() {
+                assert!(got == chain, "case {case}: the fallback is the chain");
+                continue;
+            }
+            fast += 1;
+            let (lo, hi) = exact_range(acc, neg, &xs, &ys);
+            let sh = 1100usize;
+            assert!(
+                (exact(got.lo) << sh) <= lo && hi <= (exact(got.hi) << sh),
+                "case {case}: {got:?} misses the exact range"
+            );
+            // Not much wider than the exact range: at most 1.5 times it (the balls of wide
+            // factors) plus a few 2^-100 of the magnitudes, when those are far from the
+            // subnormals.
+            let mag: f64 = xs
+                .iter()
+                .zip(&ys)
+                .map(|(x, y)| x.mag_up() * y.mag_up())
+                .sum::<f64>()
+                + acc.mag_up();
+            let ew = {
+                // a lower estimate of (hi - lo) 2^-2200 (within a factor 2), for a loose check
+                let bits = (&hi - &lo).bits() as i32;
+                if bits == 0 {
+                    0.0
+                } else {
+                    pow2((bits - 2201).clamp(-1074, 1023))
+                }
+            };
+            if mag.is_finite() && mag > 1e-250 {
+                assert!(
+                    got.wid_up() <= 3.0 * ew + mag * pow2(-96),
+                    "case {case}: {got:?} too wide ({} against {ew}, magnitude {mag})",
+                    got.wid_up()
+                );
+            }
+        }
+        assert!(fast > 1000, "{fast} cases took the fused sum");
     }
 }

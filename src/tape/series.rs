@@ -362,16 +362,8 @@ impl Coef for DdInterval {
         a.mul_add(b, self)
     }
     fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self {
-        let n = x.len();
-        let mut s = DdInterval::ZERO;
-        for j in 0..n {
-            s = x[j].mul_add(y[n - 1 - j], s);
-        }
-        if neg {
-            acc - s
-        } else {
-            acc + s
-        }
+        // one midpoint-radius sum ([spec (12.1.21)](crate::spec::precision))
+        DdInterval::dot_acc(acc, neg, x.iter().copied().zip(y.iter().rev().copied()))
     }
     fn quot(self, b: Self) -> Self {
         self / b
