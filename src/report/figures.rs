@@ -683,19 +683,19 @@ fn run_at_bits(
 pub fn work_precision_bits(s: &Settings, progress: &Progress) -> Result<Figure, Error> {
     let knife = model("knife", &[])?;
     let trailer = Model::new(&SceneFile::from_toml(TRAILER_SCENE, "trailer")?)?;
-    let problems: [(&str, &Model, &[f64], &[f64], f64); 2] = [
+    let problems = [
         (
             "knife",
             &knife,
-            &[0.0; 3],
-            &[0.8, 0.8],
+            vec![0.0; 3],
+            vec![0.8, 0.8],
             s.wp_bits_knife_time,
         ),
         (
             "trailer.toml",
             &trailer,
-            &[0.0; 4],
-            &[1.0, 0.3],
+            vec![0.0; 4],
+            vec![1.0, 0.3],
             s.wp_bits_trailer_time,
         ),
     ];
@@ -721,7 +721,7 @@ pub fn work_precision_bits(s: &Settings, progress: &Progress) -> Result<Figure, 
         for &bits in &s.wp_bits {
             progress.count("work-precision: bits", done, total);
             done += 1;
-            let r = run_at_bits(bits, m, q, u, t, s.wp_min_seconds)?;
+            let r = run_at_bits(bits, m, &q, &u, t, s.wp_min_seconds)?;
             table.rows.push(vec![
                 i as f64,
                 bits as f64,
