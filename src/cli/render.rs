@@ -144,12 +144,28 @@ fn draw_panel(area: &Area, p: &Panel) -> Result<(), String> {
         x: (x0, x1),
         y: (y0, y1),
     };
+    let log = |lo: f64, hi: f64| (lo..hi).log_scale().with_key_points(decades(lo, hi));
     match (p.x_log, p.y_log) {
         (false, false) => chart(area, p, &frame, x0..x1, y0..y1),
-        (false, true) => chart(area, p, &frame, x0..x1, (y0..y1).log_scale()),
-        (true, false) => chart(area, p, &frame, (x0..x1).log_scale(), y0..y1),
-        (true, true) => chart(area, p, &frame, (x0..x1).log_scale(), (y0..y1).log_scale()),
+        (false, true) => chart(area, p, &frame, x0..x1, log(y0, y1)),
+        (true, false) => chart(area, p, &frame, log(x0, x1), y0..y1),
+        (true, true) => chart(area, p, &frame, log(x0, x1), log(y0, y1)),
     }
+}
+
+/// The labelled ticks of a log axis from `lo` to `hi` (powers of ten, from `range`): every
+/// `c`-th power of ten from the lowest, `c` the least with at most ten ticks, as plotters
+/// chooses them; given explicitly because plotters leaves out ticks below `f64::EPSILON`
+/// (it takes them for its zero point).
+fn decades(lo: f64, hi: f64) -> Vec<f64> {
+    let a = (lo.log10() - 1e-9).ceil() as i32;
+    let b = (hi.log10() + 1e-9).floor() as i32;
+    let n = (b - a).max(1);
+    let step = (1..).find(|c| n / c <= 10).unwrap_or(n);
+    (a..=b)
+        .step_by(step as usize)
+        .map(|k| 10f64.powi(k))
+        .collect()
 }
 
 /// The drawn ranges of a panel.
@@ -273,6 +289,14 @@ where
             c.draw_series(pts.iter().map(|q| Circle::new(*q, 2, color.filled())))
                 .map_err(err)?;
         }
+        // Each shown point's text, above and to the right of it.
+        let texts = s.points.iter().zip(&s.labels).filter(|((a, b), _)| {
+            a.is_finite() && b.is_finite() && (!xl || *a > 0.0) && (!yl || *b > 0.0)
+        });
+        c.draw_series(texts.map(|(&q, text)| {
+            EmptyElement::at(q) + Text::new(text.clone(), (5, -14), ("sans-serif", 11))
+        }))
+        .map_err(err)?;
         // Error bars from each shown point down to its lower end (on a log axis, a lower end
         // at or below 0 is drawn at the bottom of the frame).
         let bar = ShapeStyle::from(color).stroke_width(1);

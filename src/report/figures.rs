@@ -6,10 +6,15 @@ use super::{max_width, points, Figure, Panel, Progress, Series, Style, Table};
 use crate::exact;
 use crate::interval::unwrap;
 use crate::oracle::{distance, energy};
+use crate::precision::dd::DdInterval;
+use crate::precision::wide::{self, WideInterval};
 use crate::scalar::point;
+use crate::scene::SceneFile;
 use crate::schemes::{NewtonOptions, Scheme, SchemeKind, Trajectory};
 use crate::testing::Ladder;
-use crate::{flow, AnyScene, Basis, Error, FlowOptions, Interval, Model};
+use crate::{
+    flow, flow_at_in, work_done, AnyScene, Basis, Error, FlowOptions, Interval, Ival, Model,
+};
 use std::time::Instant;
 
 /// Sizes of the runs. [`Settings::paper`] is the paper's; [`Settings::quick`] a small
@@ -38,6 +43,14 @@ pub struct Settings {
     /// Work-precision, second panel: the horizons `T` at which the two bases of (5.10) are
     /// compared on the knife (automatic steps).
     pub wp_set_times: Vec<f64>,
+    /// Work-precision in bits ([spec (9.4')](crate::spec::report)): the precisions of the
+    /// certified flows (53: f64 intervals; 54..=106: double-double; 107..=512: that many bits).
+    pub wp_bits: Vec<u32>,
+    /// Work-precision in bits: the final time of the knife from `q = 0`, `u = (0.8, 0.8)`.
+    pub wp_bits_knife_time: f64,
+    /// Work-precision in bits: the final time of the trailer scene file from `q = 0`,
+    /// `u = (1, 0.3)`.
+    pub wp_bits_trailer_time: f64,
     /// Orders ([spec (9.6)](crate::spec::report)): the step sizes of the local ladder.
     pub orders_local_h: Vec<f64>,
     /// Orders: the step sizes of the global ladder over `[0, 1]`.
@@ -61,6 +74,9 @@ impl Settings {
             wp_flow_h: (2..=7).map(|i| 0.5f64.powi(i)).collect(),
             wp_min_seconds: 0.05,
             wp_set_times: vec![8.0, 25.0, 50.0, 100.0, 200.0, 400.0, 600.0],
+            wp_bits: vec![53, 106, 160, 256],
+            wp_bits_knife_time: 50.0,
+            wp_bits_trailer_time: 2.0,
             orders_local_h: orders::LOCAL_H.to_vec(),
             orders_global_h: orders::GLOBAL_H.to_vec(),
             orders_starts: usize::MAX,
@@ -79,6 +95,9 @@ impl Settings {
             wp_flow_h: vec![0.5, 0.25],
             wp_min_seconds: 0.0,
             wp_set_times: vec![1.0, 4.0],
+            wp_bits: vec![53, 106, 160, 256],
+            wp_bits_knife_time: 10.0,
+            wp_bits_trailer_time: 0.25,
             orders_local_h: orders::LOCAL_H[..3].to_vec(),
             orders_global_h: vec![0.25, 0.125],
             orders_starts: usize::MAX,
@@ -559,6 +578,200 @@ pub fn work_precision(s: &Settings, progress: &Progress) -> Result<Figure, Error
     })
 }
 
+/// The trailer of `examples/scenes/trailer.toml` (a cart towing a trailer, two knife-edge
+/// constraints, a derived basis), the same definition without the file's comments: the
+/// figures are computed without reading files (`tests/it/figures.rs` checks that both pose
+/// the same scene).
+pub const TRAILER_SCENE: &str = r#"name = "trailer"
+coordinates = ["x", "y", "theta", "psi"]
+quasi_velocities = ["xd", "thetad"]
+mass = [
+  ["m + mt", 0,        0,   "mt*l*sin(psi)"],
+  [0,        "m + mt", 0,   "-mt*l*cos(psi)"],
+  [0,        0,        "I", 0],
+  ["mt*l*sin(psi)", "-mt*l*cos(psi)", 0, "mt*l^2 + It"],
+]
+constraints = [
+  ["-sin(theta)", "cos(theta)", 0, 0],
+  ["-sin(psi)", "cos(psi)", 0, "-l"],
+]
+free = ["x", "theta"]
+
+[parameters]
+m = 1.0
+I = 0.1
+mt = 0.5
+It = 0.05
+l = 1.5
+"#;
+
+/// One certified flow of the bits figure: its widths, cost and steps.
+struct BitsRun {
+    /// `max wid` over the enclosures of `q(T)` and `u(T)`.
+    width: f64,
+    /// `max wid / max(1, |x|)` over the same.
+    relative: f64,
+    /// Wall time (seconds).
+    seconds: f64,
+    /// [`crate::work_done`] terms of one run.
+    work: u64,
+    steps: usize,
+    order: usize,
+}
+
+/// The certified flow in the interval type `I`: the wall time as in [`timed`], except that a
+/// first run longer than a second is not repeated; the Taylor terms of the first run.
+fn bits_run<I: Ival>(
+    m: &Model,
+    q: &[f64],
+    u: &[f64],
+    t: f64,
+    min_seconds: f64,
+) -> Result<BitsRun, Error> {
+    let run = || flow_at_in::<I>(m, q, u, &[t], &FlowOptions::default());
+    let (w0, t0) = (work_done(), Instant::now());
+    let first = run()?;
+    let (mut seconds, work) = (t0.elapsed().as_secs_f64(), work_done() - w0);
+    if min_seconds > 0.0 && seconds < 1.0 {
+        seconds = seconds.min(timed(min_seconds, run).1);
+    }
+    let e = first.into_iter().next().ok_or_else(|| {
+        Error::internal_at(crate::Invariant::Missing, "flow_at_in answered no time")
+    })?;
+    let (mut width, mut relative) = (0.0f64, 0.0f64);
+    for x in e.q.iter().chain(&e.u) {
+        width = width.max(x.wid());
+        relative = relative.max(x.wid() / x.mag().max(1.0));
+    }
+    Ok(BitsRun {
+        width,
+        relative,
+        seconds,
+        work,
+        steps: e.stats.steps,
+        order: e.stats.order,
+    })
+}
+
+/// [`bits_run`] at `bits` significand bits: f64 intervals at 53, double-double up to 106,
+/// [`WideInterval`] at exactly `bits` up to [`wide::MAX_BITS`] (as `--precision`).
+fn run_at_bits(
+    bits: u32,
+    m: &Model,
+    q: &[f64],
+    u: &[f64],
+    t: f64,
+    min_seconds: f64,
+) -> Result<BitsRun, Error> {
+    match bits {
+        53 => bits_run::<inari::Interval>(m, q, u, t, min_seconds),
+        54..=106 => bits_run::<DdInterval>(m, q, u, t, min_seconds),
+        wide::MIN_BITS..=wide::MAX_BITS => {
+            wide::with_bits(bits, || bits_run::<WideInterval>(m, q, u, t, min_seconds))
+        }
+        _ => Err(Error::input(format!(
+            "work-precision: {bits} bits is not one of 53, 54..=106, {}..={}",
+            wide::MIN_BITS,
+            wide::MAX_BITS
+        ))),
+    }
+}
+
+/// Work-precision with the precision as the knob (9.4'): the certified flow's width against
+/// its wall time at each of `s.wp_bits`, on the knife and on the trailer posed by its scene
+/// file.
+pub fn work_precision_bits(s: &Settings, progress: &Progress) -> Result<Figure, Error> {
+    let knife = model("knife", &[])?;
+    let trailer = Model::new(&SceneFile::from_toml(TRAILER_SCENE, "trailer")?)?;
+    let problems = [
+        (
+            "knife",
+            &knife,
+            vec![0.0; 3],
+            vec![0.8, 0.8],
+            s.wp_bits_knife_time,
+        ),
+        (
+            "trailer.toml",
+            &trailer,
+            vec![0.0; 4],
+            vec![1.0, 0.3],
+            s.wp_bits_trailer_time,
+        ),
+    ];
+    let total = problems.len() * s.wp_bits.len();
+    let mut done = 0;
+    let mut table = Table::new(
+        "",
+        &[
+            "problem",
+            "bits",
+            "t",
+            "seconds",
+            "work",
+            "width",
+            "relative_width",
+            "steps",
+            "order",
+        ],
+    );
+    let mut series = vec![];
+    for (i, (name, m, q, u, t)) in problems.into_iter().enumerate() {
+        let (mut pts, mut labels) = (vec![], vec![]);
+        for &bits in &s.wp_bits {
+            progress.count("work-precision: bits", done, total);
+            done += 1;
+            let r = run_at_bits(bits, m, &q, &u, t, s.wp_min_seconds)?;
+            table.rows.push(vec![
+                i as f64,
+                bits as f64,
+                t,
+                r.seconds,
+                r.work as f64,
+                r.width,
+                r.relative,
+                r.steps as f64,
+                r.order as f64,
+            ]);
+            pts.push((r.seconds, r.width));
+            labels.push(format!("{bits}"));
+        }
+        series
+            .push(Series::new(format!("{name}, T = {t}"), Style::LineMarkers, pts).labels(labels));
+    }
+    progress.count("work-precision: bits", total, total);
+    let bits = s
+        .wp_bits
+        .iter()
+        .map(|b| b.to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    Ok(Figure {
+        name: "work_precision_bits".into(),
+        caption: format!(
+            "The precision as the knob: certified flows at {bits} bits (53: f64 intervals, \
+             106: double-double, above: that many bits), automatic steps and orders, each \
+             point labelled by its bits. Knife from q = 0, u = (0.8, 0.8) to T = {}; the \
+             trailer posed by its scene file (examples/scenes/trailer.toml) from q = 0, \
+             u = (1, 0.3) to T = {}. Width: the largest width over the enclosures of q(T) \
+             and u(T). Time: wall time of one flow on this machine (the shortest of \
+             repeated runs as in work_precision, a run of more than a second once); the \
+             CSV adds the deterministic work (Taylor terms, dalembert::work_done), the \
+             steps and the order.",
+            s.wp_bits_knife_time, s.wp_bits_trailer_time
+        ),
+        panels: vec![Panel {
+            title: "Work-precision by bits".into(),
+            x_label: "seconds per flow".into(),
+            y_label: "width of q(T), u(T)".into(),
+            x_log: true,
+            y_log: true,
+            series,
+        }],
+        tables: vec![table],
+    })
+}
+
 /// All figures.
 pub fn all(s: &Settings, progress: &Progress) -> Result<Vec<Figure>, Error> {
     let mut figs = particle(s.particle_steps, progress)?;
@@ -566,6 +779,7 @@ pub fn all(s: &Settings, progress: &Progress) -> Result<Vec<Figure>, Error> {
     figs.push(knife(None, s.knife_steps, progress)?);
     figs.push(knife(Some(0.1), s.knife_steps, progress)?);
     figs.push(work_precision(s, progress)?);
+    figs.push(work_precision_bits(s, progress)?);
     figs.push(orders(s, progress)?);
     Ok(figs)
 }

@@ -67,6 +67,8 @@ pub struct Series {
     /// Empty, or the lower ends of vertical error bars, one per point, each drawn from the
     /// point (the upper end) down to it.
     pub lower: Vec<f64>,
+    /// Empty, or one text per point, written beside it.
+    pub labels: Vec<String>,
 }
 
 /// Numbers with a header; `name` is empty for a figure's only table.
@@ -89,6 +91,7 @@ impl Series {
             points,
             color: None,
             lower: Vec::new(),
+            labels: Vec::new(),
         }
     }
     /// The same colour as another series (e.g. two forms of one curve).
@@ -100,6 +103,12 @@ impl Series {
     pub fn lower(mut self, lower: Vec<f64>) -> Self {
         assert_eq!(lower.len(), self.points.len(), "one lower end per point");
         self.lower = lower;
+        self
+    }
+    /// A text beside each point (e.g. the parameter that the point was computed at).
+    pub fn labels(mut self, labels: Vec<String>) -> Self {
+        assert_eq!(labels.len(), self.points.len(), "one label per point");
+        self.labels = labels;
         self
     }
 }
