@@ -112,14 +112,56 @@ pub fn flow_at_in<I: Ival>(
     times: &[f64],
     opts: &FlowOptions,
 ) -> Result<Vec<FlowEnclosure<I>>, Error> {
-    let x = flow_query(
-        model,
-        q,
-        u,
-        *times.first().ok_or_else(|| {
-            Error::input_at(InputKind::Times, "no time given: at least one is needed")
-        })?,
+    let x = flow_query(model, q, u, first_time(times)?)?;
+    flow_from(model, &LohnerSet::<I>::point(&x), times, opts)
+}
+
+/// [`flow_at_in`] from every state in the boxes `q`, `u` (of `I`'s precision: e.g. decimals
+/// read as exact decimals and enclosed, [spec (12.0.5)](crate::spec::precision)). The scene is checked on the
+/// boxes ([spec eq. (3.17)](crate::spec::scenes)).
+///
+/// # Containment
+/// As [`flow_at_in`], for every initial state in the boxes: the `i`-th enclosure contains
+/// `q(t_i)`, `u(t_i)`, `qd(t_i)` of the flow from each of them.
+pub fn flow_boxes_in<I: Ival>(
+    model: &Model,
+    q: &[I],
+    u: &[I],
+    times: &[f64],
+    opts: &FlowOptions,
+) -> Result<Vec<FlowEnclosure<I>>, Error> {
+    let mid = |x: &[I]| x.iter().map(|v| v.mid()).collect::<Vec<f64>>();
+    let t = first_time(times)?;
+    flow_query(model, &mid(q), &mid(u), t)?;
+    if !q.iter().chain(u).all(|x| x.is_finite()) {
+        return Err(Error::input_at(
+            InputKind::Number("state".into()),
+            "a component of the state is not a finite interval",
+        ));
+    }
+    model.check_at(
+        &q.iter()
+            .map(|x| crate::scalar::iv(x.inf(), x.sup()))
+            .collect::<Vec<_>>(),
     )?;
+    let x: Vec<I> = q.iter().chain(u).copied().collect();
+    flow_from(model, &LohnerSet::from_box(&x), times, opts)
+}
+
+fn first_time(times: &[f64]) -> Result<f64, Error> {
+    times
+        .first()
+        .copied()
+        .ok_or_else(|| Error::input_at(InputKind::Times, "no time given: at least one is needed"))
+}
+
+/// The flow of the checked initial set `start` to each of `times` (backward for those below 0).
+fn flow_from<I: Ival>(
+    model: &Model,
+    start: &LohnerSet<I>,
+    times: &[f64],
+    opts: &FlowOptions,
+) -> Result<Vec<FlowEnclosure<I>>, Error> {
     for (i, w) in times.windows(2).enumerate() {
         if !w[1].is_finite() || w[1] <= w[0] {
             return Err(Error::input_at(
@@ -140,7 +182,7 @@ pub fn flow_at_in<I: Ival>(
     let mut out = Vec::with_capacity(times.len());
     let mut steps = 0;
     if !back.is_empty() {
-        let (mut e, s) = carry::<I>(model, model.reversed(), -1.0, &x, &back, opts)?;
+        let (mut e, s) = carry::<I>(model, model.reversed(), -1.0, start.clone(), &back, opts)?;
         e.reverse();
         out.extend(e);
         steps = s;
@@ -150,26 +192,35 @@ pub fn flow_at_in<I: Ival>(
             max_taylor_steps: opts.max_taylor_steps.saturating_sub(steps),
             ..opts.clone()
         };
-        out.extend(carry::<I>(model, &model.dynamics, 1.0, &x, &times[split..], &rest)?.0);
+        out.extend(
+            carry::<I>(
+                model,
+                &model.dynamics,
+                1.0,
+                start.clone(),
+                &times[split..],
+                &rest,
+            )?
+            .0,
+        );
     }
     Ok(out)
 }
 
-/// The enclosures at the increasing times `times >= 0` of the flow of `sys` from the point
-/// `x`: the model's field (`sign` 1) or the reversed one (`sign` -1, the times then measured
+/// The enclosures at the increasing times `times >= 0` of the flow of `sys` from the set
+/// `set`: the model's field (`sign` 1) or the reversed one (`sign` -1, the times then measured
 /// backward: a refusal's `reached` and message carry the sign). Also the steps taken.
 fn carry<I: Ival>(
     model: &Model,
     sys: &crate::enclosure::System,
     sign: f64,
-    x: &[f64],
+    mut set: LohnerSet<I>,
     times: &[f64],
     opts: &FlowOptions,
 ) -> Result<(Vec<FlowEnclosure<I>>, usize), Error> {
     let last = *times
         .last()
         .ok_or_else(|| Error::input("no time given: at least one is needed"))?;
-    let mut set = LohnerSet::<I>::point(x);
     let mut total = FlowStats::default();
     let mut out = Vec::with_capacity(times.len());
     let mut from = 0.0;

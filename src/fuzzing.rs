@@ -689,7 +689,9 @@ fn used_exactly(given: &Value, q: &Query) {
                 ["scheme", "q", "u", "h", "rungs", "precision"].as_slice(),
             )
         }
-        Query::Precise { precision, query } => {
+        Query::Precise {
+            precision, query, ..
+        } => {
             assert_eq!(asked, Some(u64::from(*precision)));
             assert!(*precision > 53);
             return used_exactly(given, query);

@@ -87,6 +87,8 @@ pub(crate) struct PairArgs {
     pub work: Option<String>,
     #[arg(long, allow_hyphen_values = true, help = PRECISION_HELP)]
     pub precision: Option<String>,
+    #[arg(long = "exact-decimals", help = EXACT_DECIMALS_HELP)]
+    pub exact_decimals: bool,
     /// Print one JSON object
     #[arg(long)]
     pub json: bool,
@@ -95,15 +97,33 @@ pub(crate) struct PairArgs {
 const PRECISION_HELP: &str = "Significand bits to compute with: 53 (default, f64 intervals), \
      54..106 (double-double intervals, 106 bits) or 107..512 (exactly that many); above 53 each \
      end prints as a decimal string rounded outward (retract, step, lagrangian and flow). \
-     Decimal inputs are read as their nearest f64 at every precision";
+     Decimal inputs are read as their nearest f64 at every precision, unless --exact-decimals";
 
-/// `query` at the precision of `--precision` (none: 53 bits; contract E18).
-pub(super) fn precise(query: Query, precision: Option<&str>) -> Result<Query, Error> {
+const EXACT_DECIMALS_HELP: &str = "With --precision above 53: read the configuration and \
+     velocity vectors (--q and --u; --q0 and --q1) as the exact decimals written, enclosed at \
+     that precision, instead of their nearest f64 (times and steps stay their nearest f64)";
+
+/// `query` at the precision of `--precision` (none: 53 bits; contract E18), with its vectors
+/// read as the exact decimal texts `exact` (`--exact-decimals`, contract E22).
+pub(super) fn precise(
+    query: Query,
+    precision: Option<&str>,
+    exact: Option<[&str; 2]>,
+) -> Result<Query, Error> {
     match precision.map(protocol::parse_precision).transpose()? {
         Some(bits) if bits > 53 => Ok(Query::Precise {
             precision: bits,
             query: Box::new(query),
+            decimals: exact.map(|v| {
+                v.iter()
+                    .map(|s| s.split(',').map(|x| x.trim().to_string()).collect())
+                    .collect()
+            }),
         }),
+        _ if exact.is_some() => Err(Error::input_key(
+            "exact-decimals",
+            "--exact-decimals needs --precision above 53 (at 53 bits the inputs are f64 values)",
+        )),
         _ => Ok(query),
     }
 }
@@ -112,6 +132,11 @@ const CHECK_PRECISION_HELP: &str = "Significand bits of the exact discrete flow 
      candidate is compared with: 53 (default), 54..106 (double-double) or 107..512; the \
      distances, defects and energy errors print as f64 intervals rounded outward at every \
      precision";
+
+/// The decimal texts of a pair's `--q0` and `--q1` when `--exact-decimals` is given.
+fn exact(a: &PairArgs) -> Option<[&str; 2]> {
+    a.exact_decimals.then_some([a.q0.as_str(), a.q1.as_str()])
+}
 
 const DEADLINE_HELP: &str = "Time budget in seconds (> 0): past it, refused with exit 3 \
      `not certified within the budget`. Default: none (the work budget, --work, applies)";
@@ -153,6 +178,8 @@ pub(crate) enum Cmd {
         jacobian: bool,
         #[arg(long, allow_hyphen_values = true, help = PRECISION_HELP)]
         precision: Option<String>,
+        #[arg(long = "exact-decimals", help = EXACT_DECIMALS_HELP)]
+        exact_decimals: bool,
         #[arg(long, allow_hyphen_values = true, help = DEADLINE_HELP)]
         deadline: Option<String>,
         #[arg(long, allow_hyphen_values = true, help = WORK_HELP)]
@@ -484,6 +511,7 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
             order,
             jacobian,
             precision,
+            exact_decimals,
             deadline,
             work,
             json,
@@ -501,21 +529,26 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
                 order: order.map_or(Ok(0), |o| protocol::parse_order(&o))?,
                 jacobian,
             };
-            let query = precise(query, precision.as_deref())?;
+            let exact = exact_decimals.then_some([q.as_str(), u.as_str()]);
+            let query = precise(query, precision.as_deref(), exact)?;
             (query, budget(&deadline, &work)?, json)
         }
         Cmd::Retract(a) => (
-            precise(Query::Retract(pair(&a)?), a.precision.as_deref())?,
+            precise(Query::Retract(pair(&a)?), a.precision.as_deref(), exact(&a))?,
             pair_budget(&a)?,
             a.json,
         ),
         Cmd::Step(a) => (
-            precise(Query::Step(pair(&a)?), a.precision.as_deref())?,
+            precise(Query::Step(pair(&a)?), a.precision.as_deref(), exact(&a))?,
             pair_budget(&a)?,
             a.json,
         ),
         Cmd::Lagrangian(a) => (
-            precise(Query::Lagrangian(pair(&a)?), a.precision.as_deref())?,
+            precise(
+                Query::Lagrangian(pair(&a)?),
+                a.precision.as_deref(),
+                exact(&a),
+            )?,
             pair_budget(&a)?,
             a.json,
         ),
@@ -524,6 +557,13 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
             scheme,
             steps,
         } => {
+            if a.exact_decimals {
+                return Err(Error::input_key(
+                    "exact-decimals",
+                    "--exact-decimals is read by flow, retract, step and lagrangian, not \
+                     integrate (its trajectory is the scheme's, in f64)",
+                ));
+            }
             if a.precision.is_some() {
                 return Err(Error::input_key(
                     "precision",

@@ -35,6 +35,6 @@ pub fn run(
         h: h0,
         rungs,
     };
-    let query = super::precise(query, precision)?;
+    let query = super::precise(query, precision, None)?;
     Ok(Session::default().answer(&query)?.render(as_json))
 }

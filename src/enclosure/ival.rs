@@ -79,6 +79,13 @@ pub trait Ival: Coef + PartialEq + Debug + Send + Sync {
     fn convex_hull(&self, other: Self) -> Self;
     /// Whether empty.
     fn is_empty(&self) -> bool;
+    /// The interval of the exact value of the decimal `[+-]digits[.digits][(e|E)[+-]digits]`
+    /// at this precision, rounded outward; `None` for another string or a type that does not
+    /// read decimals (inari's: its inputs are f64 values).
+    fn from_decimal(s: &str) -> Option<Self> {
+        let _ = s;
+        None
+    }
     /// Non-empty with finite ends.
     fn is_finite(&self) -> bool {
         self.is_finite_coef()
@@ -289,6 +296,9 @@ impl Ival for DdInterval {
     fn convex_hull(&self, other: Self) -> Self {
         self.hull(other)
     }
+    fn from_decimal(s: &str) -> Option<Self> {
+        DdInterval::from_decimal(s)
+    }
     fn is_empty(&self) -> bool {
         DdInterval::is_empty(*self)
     }
@@ -374,6 +384,9 @@ impl Ival for WideInterval {
     }
     fn convex_hull(&self, other: Self) -> Self {
         self.hull(&other)
+    }
+    fn from_decimal(s: &str) -> Option<Self> {
+        WideInterval::from_decimal(s)
     }
     fn is_empty(&self) -> bool {
         WideInterval::is_empty(self)

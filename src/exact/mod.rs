@@ -194,6 +194,49 @@ fn points<I: Ival>(x: &[f64]) -> Vec<I> {
     x.iter().map(|v| I::cst(*v)).collect()
 }
 
+/// [`retract_in`] for every pair in the boxes `q0`, `q1` of `I`'s precision (e.g. decimals read
+/// as exact decimals, [spec (12.0.5)](crate::spec::precision)).
+///
+/// # Containment
+/// As [`retract`], for every `(Q0, Q1)` in the boxes.
+pub fn retract_box_in<I: Ival>(
+    model: &Model,
+    q0: &[I],
+    q1: &[I],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<Retraction<I>, Error> {
+    retract_box(model, q0, q1, h, opts)
+}
+
+/// [`step_in`] for every pair in the boxes `q0`, `q1` (as [`retract_box_in`]).
+///
+/// # Containment
+/// As [`step`], for every `(Q0, Q1)` in the boxes.
+pub fn step_box_in<I: Ival>(
+    model: &Model,
+    q0: &[I],
+    q1: &[I],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<ExactStep<I>, Error> {
+    step_box(model, q0, q1, h, opts)
+}
+
+/// [`discrete_lagrangian_in`] for every pair in the boxes `q0`, `q1` (as [`retract_box_in`]).
+///
+/// # Containment
+/// As [`discrete_lagrangian`], for every `(Q0, Q1)` in the boxes.
+pub fn discrete_lagrangian_box_in<I: Ival>(
+    model: &Model,
+    q0: &[I],
+    q1: &[I],
+    h: f64,
+    opts: &FlowOptions,
+) -> Result<(Retraction<I>, I), Error> {
+    lagrangian_box(model, q0, q1, h, opts)
+}
+
 /// [`retract`] with the pair in the computation's intervals.
 fn retract_box<I: Ival>(
     model: &Model,

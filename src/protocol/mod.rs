@@ -92,6 +92,10 @@ pub enum Query {
         precision: u32,
         /// The query.
         query: Box<Query>,
+        /// With `--exact-decimals` (contract E22): the decimal texts of the query's vectors
+        /// (flow: `q`, `u`; retract, step, lagrangian: `q0`, `q1`), read as exact decimals
+        /// enclosed at the precision; `None`: the query's f64 values, as everywhere else.
+        decimals: Option<Vec<Vec<String>>>,
     },
     /// `retract` (contract command 2): the exact retraction at the pair ([spec eqs.
     /// (6.2)-(6.4)](crate::spec::exact_discrete)).
@@ -393,9 +397,13 @@ impl Session {
                     jacobian,
                 })
             }
-            Query::Precise { precision, query } => {
+            Query::Precise {
+                precision,
+                query,
+                decimals,
+            } => {
                 let model = self.model(precise::scene(query)?)?;
-                precise::answer(*precision, &model, query, &opts)
+                precise::answer(*precision, &model, query, decimals.as_deref(), &opts)
             }
             Query::Retract(p) => {
                 let model = self.model(&p.scene)?;

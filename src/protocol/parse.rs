@@ -489,6 +489,7 @@ impl Query {
                     Query::Precise {
                         precision: bits,
                         query: Box::new(q),
+                        decimals: None,
                     }
                 } else {
                     q

@@ -5,8 +5,11 @@
 
 use super::{Answer, At, Query, SceneSpec};
 use crate::enclosure::{FlowOptions, Ival};
-use crate::exact::{discrete_lagrangian_in, retract_in, step_in};
-use crate::flow::{flow_at_in, flow_c1_in, FlowEnclosure};
+use crate::exact::{
+    discrete_lagrangian_box_in, discrete_lagrangian_in, retract_box_in, retract_in, step_box_in,
+    step_in,
+};
+use crate::flow::{flow_at_in, flow_boxes_in, flow_c1_in, FlowEnclosure};
 use crate::model::Model;
 use crate::precision::dd::DdInterval;
 use crate::precision::wide::{self, WideInterval};
@@ -34,13 +37,14 @@ pub(crate) fn answer(
     bits: u32,
     model: &Model,
     query: &Query,
+    decimals: Option<&[Vec<String>]>,
     opts: &FlowOptions,
 ) -> Result<Answer, Error> {
     match bits {
-        54..=106 => answer_in::<DdInterval>(106, model, query, opts),
-        wide::MIN_BITS..=wide::MAX_BITS => {
-            wide::with_bits(bits, || answer_in::<WideInterval>(bits, model, query, opts))
-        }
+        54..=106 => answer_in::<DdInterval>(106, model, query, decimals, opts),
+        wide::MIN_BITS..=wide::MAX_BITS => wide::with_bits(bits, || {
+            answer_in::<WideInterval>(bits, model, query, decimals, opts)
+        }),
         _ => Err(above(bits)),
     }
 }
@@ -56,16 +60,148 @@ pub(crate) fn above(bits: u32) -> Error {
     )
 }
 
-fn answer_in<I>(
+/// The decimal texts read as exact decimals enclosed in `I` (contract E22): one vector of
+/// boxes per text vector.
+fn exact_boxes<I: Ival>(decimals: &[Vec<String>]) -> Result<Vec<Vec<I>>, Error> {
+    decimals
+        .iter()
+        .map(|v| {
+            v.iter()
+                .map(|s| {
+                    I::from_decimal(s.trim()).ok_or_else(|| {
+                        Error::input_key(
+                            "exact-decimals",
+                            format!("--exact-decimals: `{s}` is not a decimal number"),
+                        )
+                    })
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// `query` with its vectors read as exact decimals (contract E22).
+fn answer_exact<I>(
     bits: u32,
     model: &Model,
     query: &Query,
+    decimals: &[Vec<String>],
     opts: &FlowOptions,
 ) -> Result<Answer, Error>
 where
     I: Ival + OutwardDecimal,
     I::Public: OutwardDecimal,
 {
+    let boxes = exact_boxes::<I>(decimals)?;
+    let [a, b] = boxes.as_slice() else {
+        return Err(Error::input_key(
+            "exact-decimals",
+            "--exact-decimals reads the two vectors of flow, retract, step and lagrangian",
+        ));
+    };
+    match query {
+        Query::Flow {
+            t, order, jacobian, ..
+        } => {
+            if *jacobian {
+                return Err(Error::input_key(
+                    "exact-decimals",
+                    "--exact-decimals is not offered with --jacobian (the derivative is at a point)",
+                ));
+            }
+            let o = FlowOptions {
+                order: (*order > 0).then_some(*order),
+                ..opts.clone()
+            };
+            let times = match t {
+                At::One(t) => vec![*t],
+                At::Many(ts) => ts.clone(),
+            };
+            let enclosures = flow_boxes_in::<I>(model, a, b, &times, &o)?;
+            let dec = |e: FlowEnclosure<I>| FlowEnclosure {
+                q: decimals_of(&e.q),
+                u: decimals_of(&e.u),
+                v: decimals_of(&e.v),
+                stats: e.stats,
+            };
+            match t {
+                At::One(_) => Ok(Answer::FlowWide {
+                    precision: bits,
+                    enclosure: dec(enclosures.into_iter().next().ok_or_else(|| {
+                        Error::internal_at(crate::Invariant::Missing, "no enclosure at t")
+                    })?),
+                    jacobian: None,
+                }),
+                At::Many(ts) => Ok(Answer::FlowAtWide {
+                    precision: bits,
+                    times: ts.clone(),
+                    enclosures: enclosures.into_iter().map(dec).collect(),
+                }),
+            }
+        }
+        Query::Retract(p) => {
+            retract_answer::<I>(bits, retract_box_in::<I>(model, a, b, p.h, opts)?)
+        }
+        Query::Step(p) => step_answer::<I>(bits, step_box_in::<I>(model, a, b, p.h, opts)?),
+        Query::Lagrangian(p) => {
+            let (r, l) = discrete_lagrangian_box_in::<I>(model, a, b, p.h, opts)?;
+            Ok(Answer::LagrangianWide {
+                precision: bits,
+                l: l.decimal(),
+                s: decimals_of(&r.s),
+            })
+        }
+        _ => Err(Error::input_key(
+            "exact-decimals",
+            "--exact-decimals is read by flow, retract, step and lagrangian only",
+        )),
+    }
+}
+
+fn retract_answer<I>(bits: u32, r: crate::exact::Retraction<I>) -> Result<Answer, Error>
+where
+    I: Ival + OutwardDecimal,
+    I::Public: OutwardDecimal,
+{
+    Ok(Answer::RetractWide {
+        precision: bits,
+        possibly_member: r.s.iter().all(|x| I::from_public(x.clone()).contains(0.0)),
+        u0: decimals_of(&r.u0),
+        v0: decimals_of(&r.v0),
+        v1: decimals_of(&r.v1),
+        s: decimals_of(&r.s),
+        q1: decimals_of(&r.q1),
+    })
+}
+
+fn step_answer<I>(bits: u32, s: crate::exact::ExactStep<I>) -> Result<Answer, Error>
+where
+    I: Ival + OutwardDecimal,
+    I::Public: OutwardDecimal,
+{
+    Ok(Answer::StepWide {
+        precision: bits,
+        q1: decimals_of(&s.q1),
+        q2: decimals_of(&s.q2),
+        p_minus: decimals_of(&s.p_minus),
+        p_plus: decimals_of(&s.p_plus),
+    })
+}
+
+fn answer_in<I>(
+    bits: u32,
+    model: &Model,
+    query: &Query,
+    decimals: Option<&[Vec<String>]>,
+    opts: &FlowOptions,
+) -> Result<Answer, Error>
+where
+    I: Ival + OutwardDecimal,
+    I::Public: OutwardDecimal,
+{
+    if let Some(d) = decimals {
+        return answer_exact::<I>(bits, model, query, d, opts);
+    }
     match query {
         Query::Flow {
             q,
@@ -82,33 +218,15 @@ where
             flow_in::<I>(bits, model, q, u, t, *jacobian, &o)
         }
         Query::Retract(p) => {
-            let r = retract_in::<I>(model, &p.q0, &p.q1, p.h, opts)?;
-            Ok(Answer::RetractWide {
-                precision: bits,
-                possibly_member: r.s.iter().all(|x| I::from_public(x.clone()).contains(0.0)),
-                u0: decimals(&r.u0),
-                v0: decimals(&r.v0),
-                v1: decimals(&r.v1),
-                s: decimals(&r.s),
-                q1: decimals(&r.q1),
-            })
+            retract_answer::<I>(bits, retract_in::<I>(model, &p.q0, &p.q1, p.h, opts)?)
         }
-        Query::Step(p) => {
-            let s = step_in::<I>(model, &p.q0, &p.q1, p.h, opts)?;
-            Ok(Answer::StepWide {
-                precision: bits,
-                q1: decimals(&s.q1),
-                q2: decimals(&s.q2),
-                p_minus: decimals(&s.p_minus),
-                p_plus: decimals(&s.p_plus),
-            })
-        }
+        Query::Step(p) => step_answer::<I>(bits, step_in::<I>(model, &p.q0, &p.q1, p.h, opts)?),
         Query::Lagrangian(p) => {
             let (r, l) = discrete_lagrangian_in::<I>(model, &p.q0, &p.q1, p.h, opts)?;
             Ok(Answer::LagrangianWide {
                 precision: bits,
                 l: l.decimal(),
-                s: decimals(&r.s),
+                s: decimals_of(&r.s),
             })
         }
         Query::Order {
@@ -143,9 +261,9 @@ where
     I: Ival + OutwardDecimal,
 {
     let dec = |e: FlowEnclosure<I>| FlowEnclosure {
-        q: decimals(&e.q),
-        u: decimals(&e.u),
-        v: decimals(&e.v),
+        q: decimals_of(&e.q),
+        u: decimals_of(&e.u),
+        v: decimals_of(&e.v),
         stats: e.stats,
     };
     match t {
@@ -166,7 +284,7 @@ where
         At::One(t) => {
             let (enclosure, jacobian) = if jacobian {
                 let (e, j) = flow_c1_in::<I>(model, q, u, *t, opts)?;
-                (e, Some(j.iter().map(|r| decimals(r)).collect()))
+                (e, Some(j.iter().map(|r| decimals_of(r)).collect()))
             } else {
                 let mut e = flow_at_in::<I>(model, q, u, &[*t], opts)?;
                 let e = e.pop().ok_or_else(|| {
@@ -183,6 +301,6 @@ where
     }
 }
 
-fn decimals<P: OutwardDecimal>(x: &[P]) -> Vec<DecimalInterval> {
+fn decimals_of<P: OutwardDecimal>(x: &[P]) -> Vec<DecimalInterval> {
     x.iter().map(|v| v.decimal()).collect()
 }

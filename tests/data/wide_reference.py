@@ -6,7 +6,8 @@
 
     python3 tests/data/wide_reference.py > tests/data/wide_reference.txt   (needs mpmath)
 
-Each line: `flow` scene q u t, or `exact` q0 q1 h (exact f64 values, Python's repr), then each
+Each line: `flow` scene q u t, `decimal knife` q u t (the decimals read exactly, for
+`--exact-decimals`), or `exact` q0 q1 h (exact f64 values, Python's repr), then each
 quantity (the flow's q, u, v; the exact objects' u0, s, q2, l as in exact_reference.py) as two
 decimals `lo hi`: the value minus and plus 1e-250 max(1, |value|), each printed with 280
 significant digits (so the printing moves it by far less than 1e-250 |value|). Under the
@@ -35,6 +36,11 @@ FLOWS = [
     ("knife", (0.0, 0.0, 0.0), (0.8, 0.8), 50.0),
     ("particle", (0.0, 0.0, 0.0), (0.8, 0.8), 0.5),
     ("particle", (0.2, -0.5, 1.0), (-1.1, 0.3), 20.0),
+]
+
+
+DECIMAL_FLOWS = [
+    ("0.1,0.2,0.3", "0.7,0.9", "5"),
 ]
 
 
@@ -67,6 +73,11 @@ def main():
     for scene, q, u, t in FLOWS:
         vals = (flow_reference.knife if scene == "knife" else flow_reference.particle)(q, u, t)
         print("flow", scene, nums(q), nums(u), repr(float(t)), *brackets(vals))
+    # decimal inputs read as exact decimals (flow --exact-decimals): the same closed form from
+    # the decimals themselves (mpmath reads a string at its 300 digits)
+    for q, u, t in DECIMAL_FLOWS:
+        vals = flow_reference.knife(q.split(","), u.split(","), t)
+        print("decimal knife", q, u, t, *brackets(vals))
     for q0, q1, h in exact_reference.CASES:
         print("exact", nums(q0), nums(q1), repr(float(h)),
               *brackets(exact_reference.retraction(q0, q1, h)))

@@ -352,3 +352,122 @@ fn check_at_precision_meets_the_f64_verdict_and_is_narrower() {
     assert_eq!(out.status.code(), Some(2));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--exact-decimals` (contract E22): the knife from the decimals q = (0.1, 0.2, 0.3),
+/// u = (0.7, 0.9) read exactly, at 256 bits, contains the closed form evaluated from those
+/// decimals (tests/data/wide_reference.py), and is disjoint from the answer without the option
+/// (the flow from the nearest f64s: about 1e-17 away, the answers 1e-76 wide); the option is
+/// refused at 53 bits, with `--jacobian` and on `integrate`.
+#[test]
+fn exact_decimals_are_a_different_initial_state_than_their_nearest_f64() {
+    let line = TABLE
+        .lines()
+        .find(|l| l.starts_with("decimal knife "))
+        .unwrap();
+    let f: Vec<&str> = line.split_whitespace().collect();
+    let (q, u, t) = (f[2], f[3], f[4]);
+    let want = brackets(&f, 5);
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "flow",
+            "--scene",
+            "knife",
+            "--q",
+            q,
+            "--u",
+            u,
+            "--t",
+            t,
+            "--precision",
+            "256",
+            "--json",
+        ];
+        args.extend(extra);
+        crate::common::run_args(&args)
+    };
+    let parse = |out: std::process::Output| -> Vec<MpInterval> {
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        ["q", "u", "v"]
+            .iter()
+            .flat_map(|k| v[k].as_array().unwrap().clone())
+            .map(|x| decimal_pair(&x))
+            .collect()
+    };
+    let exact = parse(run(&["--exact-decimals"]));
+    let nearest = parse(run(&[]));
+    assert_eq!(exact.len(), want.len());
+    for (k, (x, r)) in exact.iter().zip(&want).enumerate() {
+        assert!(contains(x, r), "component {k}: {x}");
+        assert!(
+            x.wid_up() < 1e-74 * x.mag_up().max(1.0),
+            "component {k}: {x}"
+        );
+    }
+    // q, u and v all move: the f64 inputs differ from the decimals by up to 2e-17
+    for k in [0, 1, 3, 5] {
+        assert!(
+            exact[k].disjoint(&nearest[k]),
+            "component {k}: {} meets {}",
+            exact[k],
+            nearest[k]
+        );
+    }
+    for args in [
+        vec![
+            "flow",
+            "--scene",
+            "knife",
+            "--q",
+            q,
+            "--u",
+            u,
+            "--t",
+            t,
+            "--exact-decimals",
+        ],
+        vec![
+            "flow",
+            "--scene",
+            "knife",
+            "--q",
+            q,
+            "--u",
+            u,
+            "--t",
+            t,
+            "--precision",
+            "106",
+            "--exact-decimals",
+            "--jacobian",
+        ],
+        vec![
+            "integrate",
+            "--scene",
+            "particle",
+            "--q0",
+            "0,0,0",
+            "--q1",
+            "0.1,0.1,0",
+            "--h",
+            "0.1",
+            "--steps",
+            "2",
+            "--scheme",
+            "dla",
+            "--exact-decimals",
+        ],
+    ] {
+        let out = crate::common::run_args(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("--exact-decimals") && err.lines().count() == 1,
+            "{err}"
+        );
+    }
+}
