@@ -71,14 +71,19 @@ impl Wide {
         man: [0; LIMBS],
     };
 
+    /// Minus (`neg`) or plus infinity.
+    pub fn infinity(neg: bool) -> Wide {
+        Wide {
+            neg,
+            inf: true,
+            ..Wide::ZERO
+        }
+    }
+
     /// The number `x` exactly, when it has at most [`MAX_BITS`] significant bits.
     pub fn from_mp(x: &Mp) -> Option<Wide> {
         if x.is_infinite() {
-            return Some(Wide {
-                neg: x.is_negative(),
-                inf: true,
-                ..Wide::ZERO
-            });
+            return Some(Wide::infinity(x.is_negative()));
         }
         let digits = x.mantissa().to_u64_digits();
         if digits.len() > LIMBS {
@@ -94,11 +99,17 @@ impl Wide {
         })
     }
 
-    /// `x` rounded to [`MAX_BITS`] bits in direction `mode` (exact when it fits).
+    /// `x` rounded to [`MAX_BITS`] bits in direction `mode` (exact when it fits). Should the
+    /// rounded number still not fit (never: 12.2.1 rounds to at most `MAX_BITS` bits), the
+    /// infinity on the side of `mode` (an end rounded outward stays outward), or 0 for a point.
     fn from_mp_round(x: &Mp, mode: Round) -> Wide {
         Wide::from_mp(x)
             .or_else(|| Wide::from_mp(&x.round(MAX_BITS, mode)))
-            .unwrap_or(Wide::ZERO)
+            .unwrap_or(match mode {
+                Round::Down => Wide::infinity(true),
+                Round::Up => Wide::infinity(false),
+                Round::Near => Wide::ZERO,
+            })
     }
 
     /// The same number as an [`Mp`] (exact).
