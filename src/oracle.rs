@@ -433,12 +433,12 @@ pub fn check_rows_in<I: Ival>(
                        dt: I|
      -> Result<(Inari, Iterate, IterateIn<I>), Error> {
         let exact = flow.next_iterate_in(dt)?;
-        let diff: Vec<Interval> = q
+        // the differences in I, each rounded outward to f64, then |.|_inf as in `distance`
+        let d = q
             .iter()
             .zip(&exact.q)
-            .map(|(x, y)| outward(&(I::cst(*x) - *y)).into())
-            .collect();
-        let d = distance(&vec![0.0; diff.len()], &diff).into();
+            .map(|(x, y)| outward(&(I::cst(*x) - *y)).abs())
+            .fold(point(0.0), |m, d| m.max(d));
         if !finite(d) {
             return Err(Error::refused(
                 Reason::Unbounded,

@@ -170,7 +170,7 @@ pub fn retract(
     h: f64,
     opts: &FlowOptions,
 ) -> Result<Retraction, Error> {
-    retract_box(model, &unwrap(q0), &unwrap(q1), h, opts)
+    retract_box_in(model, &unwrap(q0), &unwrap(q1), h, opts)
 }
 
 /// [`retract`] at the exact f64 points `q0`, `q1`, computed in the interval type `I` (e.g.
@@ -186,7 +186,7 @@ pub fn retract_in<I: Ival>(
     h: f64,
     opts: &FlowOptions,
 ) -> Result<Retraction<I>, Error> {
-    retract_box(model, &points::<I>(q0), &points::<I>(q1), h, opts)
+    retract_box_in(model, &points::<I>(q0), &points::<I>(q1), h, opts)
 }
 
 /// The exact f64 values as degenerate intervals of `I`.
@@ -195,50 +195,11 @@ fn points<I: Ival>(x: &[f64]) -> Vec<I> {
 }
 
 /// [`retract_in`] for every pair in the boxes `q0`, `q1` of `I`'s precision (e.g. decimals read
-/// as exact decimals, [spec (12.0.5)](crate::spec::precision)).
+/// as exact decimals, [spec (12.0.5)](crate::spec::precision)); what every retraction runs.
 ///
 /// # Containment
 /// As [`retract`], for every `(Q0, Q1)` in the boxes.
 pub fn retract_box_in<I: Ival>(
-    model: &Model,
-    q0: &[I],
-    q1: &[I],
-    h: f64,
-    opts: &FlowOptions,
-) -> Result<Retraction<I>, Error> {
-    retract_box(model, q0, q1, h, opts)
-}
-
-/// [`step_in`] for every pair in the boxes `q0`, `q1` (as [`retract_box_in`]).
-///
-/// # Containment
-/// As [`step`], for every `(Q0, Q1)` in the boxes.
-pub fn step_box_in<I: Ival>(
-    model: &Model,
-    q0: &[I],
-    q1: &[I],
-    h: f64,
-    opts: &FlowOptions,
-) -> Result<ExactStep<I>, Error> {
-    step_box(model, q0, q1, h, opts)
-}
-
-/// [`discrete_lagrangian_in`] for every pair in the boxes `q0`, `q1` (as [`retract_box_in`]).
-///
-/// # Containment
-/// As [`discrete_lagrangian`], for every `(Q0, Q1)` in the boxes.
-pub fn discrete_lagrangian_box_in<I: Ival>(
-    model: &Model,
-    q0: &[I],
-    q1: &[I],
-    h: f64,
-    opts: &FlowOptions,
-) -> Result<(Retraction<I>, I), Error> {
-    lagrangian_box(model, q0, q1, h, opts)
-}
-
-/// [`retract`] with the pair in the computation's intervals.
-fn retract_box<I: Ival>(
     model: &Model,
     q0: &[I],
     q1: &[I],
@@ -681,7 +642,7 @@ pub fn step(
     h: f64,
     opts: &FlowOptions,
 ) -> Result<ExactStep, Error> {
-    step_box(model, &unwrap(q0), &unwrap(q1), h, opts)
+    step_box_in(model, &unwrap(q0), &unwrap(q1), h, opts)
 }
 
 /// [`step`] at the exact f64 points `q0`, `q1`, computed in the interval type `I` (as
@@ -696,10 +657,14 @@ pub fn step_in<I: Ival>(
     h: f64,
     opts: &FlowOptions,
 ) -> Result<ExactStep<I>, Error> {
-    step_box(model, &points::<I>(q0), &points::<I>(q1), h, opts)
+    step_box_in(model, &points::<I>(q0), &points::<I>(q1), h, opts)
 }
 
-fn step_box<I: Ival>(
+/// [`step_in`] for every pair in the boxes `q0`, `q1` (as [`retract_box_in`]).
+///
+/// # Containment
+/// As [`step`], for every `(Q0, Q1)` in the boxes.
+pub fn step_box_in<I: Ival>(
     model: &Model,
     q0: &[I],
     q1: &[I],
@@ -707,7 +672,7 @@ fn step_box<I: Ival>(
     opts: &FlowOptions,
 ) -> Result<ExactStep<I>, Error> {
     let n = model.n;
-    let r = retract_box(model, q0, q1, h, opts)?;
+    let r = retract_box_in(model, q0, q1, h, opts)?;
     let p_minus = momentum_in(model, q0, &private::<I>(&r.v0))?;
     let p_plus = momentum_in(model, &private::<I>(&r.q1), &private::<I>(&r.v1))?;
     let (set2, _) = flow_set(&model.dynamics, r.set.clone(), h, opts)?;
@@ -902,7 +867,7 @@ impl<'m, I: Ival> ExactFlow<'m, I> {
         h: f64,
         opts: &FlowOptions,
     ) -> Result<Self, Error> {
-        let retraction = retract_box(model, &q0, q1, h, opts)?;
+        let retraction = retract_box_in(model, &q0, q1, h, opts)?;
         Ok(ExactFlow {
             model,
             h,
@@ -955,7 +920,7 @@ pub fn discrete_lagrangian(
     h: f64,
     opts: &FlowOptions,
 ) -> Result<(Retraction, Interval), Error> {
-    let (r, l) = lagrangian_box(model, &unwrap(q0), &unwrap(q1), h, opts)?;
+    let (r, l) = discrete_lagrangian_box_in(model, &unwrap(q0), &unwrap(q1), h, opts)?;
     Ok((r, l.into()))
 }
 
@@ -971,18 +936,22 @@ pub fn discrete_lagrangian_in<I: Ival>(
     h: f64,
     opts: &FlowOptions,
 ) -> Result<(Retraction<I>, I::Public), Error> {
-    let (r, l) = lagrangian_box(model, &points::<I>(q0), &points::<I>(q1), h, opts)?;
+    let (r, l) = discrete_lagrangian_box_in(model, &points::<I>(q0), &points::<I>(q1), h, opts)?;
     Ok((r, l.public()))
 }
 
-fn lagrangian_box<I: Ival>(
+/// [`discrete_lagrangian_in`] for every pair in the boxes `q0`, `q1` (as [`retract_box_in`]).
+///
+/// # Containment
+/// As [`discrete_lagrangian`], for every `(Q0, Q1)` in the boxes.
+pub fn discrete_lagrangian_box_in<I: Ival>(
     model: &Model,
     q0: &[I],
     q1: &[I],
     h: f64,
     opts: &FlowOptions,
 ) -> Result<(Retraction<I>, I), Error> {
-    let r = retract_box(model, q0, q1, h, opts)?;
+    let r = retract_box_in(model, q0, q1, h, opts)?;
     let x0: Vec<I> = q0
         .iter()
         .copied()

@@ -103,54 +103,20 @@ where
         Query::Flow {
             t, order, jacobian, ..
         } => {
-            if *jacobian {
-                return Err(Error::input_key(
-                    "exact-decimals",
-                    "--exact-decimals is not offered with --jacobian (the derivative is at a point)",
-                ));
-            }
             let o = FlowOptions {
                 order: (*order > 0).then_some(*order),
                 ..opts.clone()
             };
-            let times = match t {
-                At::One(t) => vec![*t],
-                At::Many(ts) => ts.clone(),
-            };
-            let enclosures = flow_boxes_in::<I>(model, a, b, &times, &o)?;
-            let dec = |e: FlowEnclosure<I>| FlowEnclosure {
-                q: decimals_of(&e.q),
-                u: decimals_of(&e.u),
-                v: decimals_of(&e.v),
-                stats: e.stats,
-            };
-            match t {
-                At::One(_) => Ok(Answer::FlowWide {
-                    precision: bits,
-                    enclosure: dec(enclosures.into_iter().next().ok_or_else(|| {
-                        Error::internal_at(crate::Invariant::Missing, "no enclosure at t")
-                    })?),
-                    jacobian: None,
-                }),
-                At::Many(ts) => Ok(Answer::FlowAtWide {
-                    precision: bits,
-                    times: ts.clone(),
-                    enclosures: enclosures.into_iter().map(dec).collect(),
-                }),
-            }
+            flow_in::<I>(bits, model, Start::Boxes(a, b), t, *jacobian, &o)
         }
         Query::Retract(p) => {
             retract_answer::<I>(bits, retract_box_in::<I>(model, a, b, p.h, opts)?)
         }
         Query::Step(p) => step_answer::<I>(bits, step_box_in::<I>(model, a, b, p.h, opts)?),
-        Query::Lagrangian(p) => {
-            let (r, l) = discrete_lagrangian_box_in::<I>(model, a, b, p.h, opts)?;
-            Ok(Answer::LagrangianWide {
-                precision: bits,
-                l: l.decimal(),
-                s: decimals_of(&r.s),
-            })
-        }
+        Query::Lagrangian(p) => lagrangian_answer(
+            bits,
+            discrete_lagrangian_box_in::<I>(model, a, b, p.h, opts)?,
+        ),
         _ => Err(Error::input_key(
             "exact-decimals",
             "--exact-decimals is read by flow, retract, step and lagrangian only",
@@ -171,6 +137,21 @@ where
         v1: decimals_of(&r.v1),
         s: decimals_of(&r.s),
         q1: decimals_of(&r.q1),
+    })
+}
+
+fn lagrangian_answer<I, L: OutwardDecimal>(
+    bits: u32,
+    (r, l): (crate::exact::Retraction<I>, L),
+) -> Result<Answer, Error>
+where
+    I: Ival + OutwardDecimal,
+    I::Public: OutwardDecimal,
+{
+    Ok(Answer::LagrangianWide {
+        precision: bits,
+        l: l.decimal(),
+        s: decimals_of(&r.s),
     })
 }
 
@@ -215,20 +196,16 @@ where
                 order: (*order > 0).then_some(*order),
                 ..opts.clone()
             };
-            flow_in::<I>(bits, model, q, u, t, *jacobian, &o)
+            flow_in::<I>(bits, model, Start::Points(q, u), t, *jacobian, &o)
         }
         Query::Retract(p) => {
             retract_answer::<I>(bits, retract_in::<I>(model, &p.q0, &p.q1, p.h, opts)?)
         }
         Query::Step(p) => step_answer::<I>(bits, step_in::<I>(model, &p.q0, &p.q1, p.h, opts)?),
-        Query::Lagrangian(p) => {
-            let (r, l) = discrete_lagrangian_in::<I>(model, &p.q0, &p.q1, p.h, opts)?;
-            Ok(Answer::LagrangianWide {
-                precision: bits,
-                l: l.decimal(),
-                s: decimals_of(&r.s),
-            })
-        }
+        Query::Lagrangian(p) => lagrangian_answer(
+            bits,
+            discrete_lagrangian_in::<I>(model, &p.q0, &p.q1, p.h, opts)?,
+        ),
         Query::Order {
             scheme,
             q,
@@ -248,11 +225,30 @@ where
     }
 }
 
+/// Where a flow starts: the query's f64 point `(q, u)`, or boxes (exact decimals, E22).
+enum Start<'a, I> {
+    Points(&'a [f64], &'a [f64]),
+    Boxes(&'a [I], &'a [I]),
+}
+
+impl<I: Ival> Start<'_, I> {
+    fn flow(
+        &self,
+        model: &Model,
+        times: &[f64],
+        opts: &FlowOptions,
+    ) -> Result<Vec<FlowEnclosure<I>>, Error> {
+        match self {
+            Start::Points(q, u) => flow_at_in::<I>(model, q, u, times, opts),
+            Start::Boxes(q, u) => flow_boxes_in::<I>(model, q, u, times, opts),
+        }
+    }
+}
+
 fn flow_in<I>(
     bits: u32,
     model: &Model,
-    q: &[f64],
-    u: &[f64],
+    start: Start<'_, I>,
     t: &At,
     jacobian: bool,
     opts: &FlowOptions,
@@ -274,7 +270,7 @@ where
                     "`jacobian` is given only at one time `t`, not with `times`",
                 ));
             }
-            let enclosures = flow_at_in::<I>(model, q, u, times, opts)?;
+            let enclosures = start.flow(model, times, opts)?;
             Ok(Answer::FlowAtWide {
                 precision: bits,
                 times: times.clone(),
@@ -283,10 +279,16 @@ where
         }
         At::One(t) => {
             let (enclosure, jacobian) = if jacobian {
+                let Start::Points(q, u) = start else {
+                    return Err(Error::input_key(
+                        "exact-decimals",
+                        "--exact-decimals is not offered with --jacobian (the derivative is at a point)",
+                    ));
+                };
                 let (e, j) = flow_c1_in::<I>(model, q, u, *t, opts)?;
                 (e, Some(j.iter().map(|r| decimals_of(r)).collect()))
             } else {
-                let mut e = flow_at_in::<I>(model, q, u, &[*t], opts)?;
+                let mut e = start.flow(model, &[*t], opts)?;
                 let e = e.pop().ok_or_else(|| {
                     Error::internal_at(crate::Invariant::Missing, "flow_at_in answered no time")
                 })?;
