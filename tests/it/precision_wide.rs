@@ -146,6 +146,25 @@ fn retractions_steps_and_lagrangians_above_106_bits_contain_the_closed_forms() {
     assert_eq!(checked, 5 * 7);
 }
 
+/// The JSON answer of a successful `flow --json` command.
+fn flow_json(args: &[&str]) -> serde_json::Value {
+    let out = crate::common::run_args(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// The ends of `q`, `u`, `v` of a flow answer in that order, as read from their decimals.
+fn states(v: &serde_json::Value) -> Vec<&serde_json::Value> {
+    ["q", "u", "v"]
+        .iter()
+        .flat_map(|k| v[k].as_array().unwrap())
+        .collect()
+}
+
 fn decimal_pair(v: &serde_json::Value) -> MpInterval {
     let end = |k: usize| {
         let s = v[k].as_str().expect("a string end");
@@ -159,26 +178,10 @@ fn decimal_pair(v: &serde_json::Value) -> MpInterval {
 /// 1e-76 wide; `--precision 513` is an input error.
 #[test]
 fn the_command_line_answers_at_256_bits() {
-    let out = crate::common::run_args(&[
-        "flow",
-        "--scene",
-        "knife",
-        "--q",
-        "0,0,0",
-        "--u",
-        "0.8,0.8",
-        "--t",
-        "5",
-        "--precision",
-        "256",
-        "--json",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let flow = [
+        "flow", "--scene", "knife", "--q", "0,0,0", "--u", "0.8,0.8", "--t", "5",
+    ];
+    let v = flow_json(&[&flow[..], &["--precision", "256", "--json"]].concat());
     assert_eq!(v["precision"], 256);
     let line = TABLE
         .lines()
@@ -186,10 +189,7 @@ fn the_command_line_answers_at_256_bits() {
         .unwrap();
     let f: Vec<&str> = line.split_whitespace().collect();
     let want = brackets(&f, 5);
-    let got: Vec<&serde_json::Value> = ["q", "u", "v"]
-        .iter()
-        .flat_map(|k| v[k].as_array().unwrap())
-        .collect();
+    let got = states(&v);
     assert_eq!(got.len(), want.len());
     for (k, (x, r)) in got.iter().zip(&want).enumerate() {
         for end in x.as_array().unwrap() {
@@ -209,19 +209,7 @@ fn the_command_line_answers_at_256_bits() {
             "component {k}: {x}"
         );
     }
-    let out = crate::common::run_args(&[
-        "flow",
-        "--scene",
-        "knife",
-        "--q",
-        "0,0,0",
-        "--u",
-        "0.8,0.8",
-        "--t",
-        "5",
-        "--precision",
-        "513",
-    ]);
+    let out = crate::common::run_args(&[&flow[..], &["--precision", "513"]].concat());
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -367,39 +355,25 @@ fn exact_decimals_are_a_different_initial_state_than_their_nearest_f64() {
     let f: Vec<&str> = line.split_whitespace().collect();
     let (q, u, t) = (f[2], f[3], f[4]);
     let want = brackets(&f, 5);
-    let run = |extra: &[&str]| {
-        let mut args = vec![
-            "flow",
-            "--scene",
-            "knife",
-            "--q",
-            q,
-            "--u",
-            u,
-            "--t",
-            t,
-            "--precision",
-            "256",
-            "--json",
-        ];
-        args.extend(extra);
-        crate::common::run_args(&args)
+    let flow = [
+        "flow",
+        "--scene",
+        "knife",
+        "--q",
+        q,
+        "--u",
+        u,
+        "--t",
+        t,
+        "--precision",
+        "256",
+        "--json",
+    ];
+    let read = |v: &serde_json::Value| -> Vec<MpInterval> {
+        states(v).into_iter().map(decimal_pair).collect()
     };
-    let parse = |out: std::process::Output| -> Vec<MpInterval> {
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-        ["q", "u", "v"]
-            .iter()
-            .flat_map(|k| v[k].as_array().unwrap().clone())
-            .map(|x| decimal_pair(&x))
-            .collect()
-    };
-    let exact = parse(run(&["--exact-decimals"]));
-    let nearest = parse(run(&[]));
+    let exact = read(&flow_json(&[&flow[..], &["--exact-decimals"]].concat()));
+    let nearest = read(&flow_json(&flow));
     assert_eq!(exact.len(), want.len());
     for (k, (x, r)) in exact.iter().zip(&want).enumerate() {
         assert!(contains(x, r), "component {k}: {x}");
