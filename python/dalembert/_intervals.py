@@ -2,15 +2,17 @@
 
 Every bound the binary prints reaches the caller unchanged: JSON numbers are read by
 Python's `json` (correctly rounded, so each endpoint is the f64 the binary printed) and kept
-as they are in `Interval(lo, hi)`; nothing here rounds, re-computes or re-centres them. The
-bounds this module computes itself (`distance`, `quotient`, `observed_order`,
-`Interval.width_up`) round outwards; their docstrings say how. `Interval.mid` is a point,
-not a bound.
+as they are in `Interval(lo, hi)`; the decimal strings of an answer computed with more than
+53 bits (contract E18) are kept as the exact `decimal.Decimal` each writes. Nothing here
+rounds, re-computes or re-centres them. The bounds this module computes itself
+(`distance`, `quotient`, `observed_order`, `Interval.width_up`, `to_array` of decimal ends)
+round outwards; their docstrings say how. `Interval.mid` is a point, not a bound.
 """
 
 from __future__ import annotations
 
 import math
+from decimal import Decimal, Inexact, localcontext
 from fractions import Fraction
 from typing import Any, Iterable, Iterator, List, Sequence, Tuple, Union
 
@@ -20,11 +22,19 @@ __all__ = [
 ]
 
 
+def _exponent(d: Decimal) -> int:
+    """The exponent of a finite Decimal's last digit."""
+    e = d.as_tuple().exponent
+    assert isinstance(e, int)
+    return e
+
+
 class Interval(tuple):  # type: ignore[type-arg]
     """A closed interval [lo, hi] as the oracle printed it: `lo` and `hi` are the JSON
-    numbers, unchanged (never rounded, never recomputed). The exact value lies in it.
-    (A tuple `(lo, hi)` underneath, so that the client builds many of them fast; `x in iv`
-    is the interval's membership, not the tuple's.)"""
+    numbers, unchanged (never rounded, never recomputed), or for an answer computed with
+    more than 53 bits the exact `Decimal`s of its decimal strings. The exact value lies in
+    it. (A tuple `(lo, hi)` underneath, so that the client builds many of them fast;
+    `x in iv` is the interval's membership, not the tuple's, and compares exactly.)"""
 
     __slots__ = ()
 
@@ -52,19 +62,35 @@ class Interval(tuple):  # type: ignore[type-arg]
         return self.lo > 0 or self.hi < 0
 
     def width_up(self) -> float:
-        """An upper bound on hi - lo (the float difference rounded up by one ulp)."""
-        return up(self[1] - self[0])
+        """An upper bound on hi - lo: the float difference rounded up by one ulp (decimal
+        ends: the exact difference rounded up to a float)."""
+        lo, hi = self
+        if type(lo) is float and type(hi) is float:
+            return up(hi - lo)
+        return _float_up(Fraction(hi) - Fraction(lo))
 
     def mag(self) -> float:
         """max(|lo|, |hi|): exact (abs and max of floats round nothing)."""
         return max(abs(self.lo), abs(self.hi))
 
     @property
-    def mid(self) -> float:
-        """A float point inside the interval (round to nearest): a point, not a bound."""
-        lo, hi = self.lo, self.hi
-        m = lo / 2 + hi / 2
-        return min(max(m, lo), hi)
+    def mid(self) -> Any:
+        """A point inside the interval (a point, not a bound): a float (round to nearest);
+        for decimal ends the float nearest the exact midpoint, or, when no float lies in
+        the interval, the exact midpoint as a `Decimal`."""
+        lo, hi = self
+        if type(lo) is float and type(hi) is float:
+            m = lo / 2 + hi / 2
+            return min(max(m, lo), hi)
+        f = float((Fraction(lo) + Fraction(hi)) / 2)  # correctly rounded
+        if lo <= f <= hi:  # (if a float lies in [lo, hi], the one nearest the midpoint does)
+            return f
+        a, b = Decimal(lo), Decimal(hi)
+        with localcontext() as c:  # digits enough for the exact sum, then exact halving
+            c.traps[Inexact] = True
+            low = min(_exponent(a), _exponent(b))
+            c.prec = max(a.adjusted(), b.adjusted()) - low + 3
+            return (a + b) / 2
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Interval) and tuple.__eq__(self, other)
@@ -98,13 +124,28 @@ def intervals(pairs: Any) -> List[Interval]:
 IntervalLike = Union[Interval, Sequence[float], Tuple[float, float]]
 
 
+def _outward(x: Any) -> Any:
+    """`x` with every interval's ends made floats outward: float ends as they are, other
+    ends (decimals) rounded down (lo) and up (hi) to floats exactly."""
+    if isinstance(x, Interval):
+        lo, hi = x
+        if type(lo) is float and type(hi) is float:
+            return x
+        return (_float_down(Fraction(lo)), _float_up(Fraction(hi)))
+    if isinstance(x, (list, tuple)):
+        return [_outward(v) for v in x]
+    return x
+
+
 def to_array(intervals: Any) -> Any:
     """The intervals as a float64 numpy array whose last axis is [lo, hi]: `(n, 2)` for a
-    vector of intervals, `(n, n, 2)` for a matrix, `(2,)` for one interval. The endpoints
-    are the oracle's floats, copied exactly (float64 holds every f64). Needs numpy."""
+    vector of intervals, `(n, n, 2)` for a matrix, `(2,)` for one interval. Float ends are
+    the oracle's floats, copied exactly (float64 holds every f64); decimal ends (answers
+    computed with more than 53 bits) are rounded outward to the floats around them, so
+    that the array still encloses. Needs numpy."""
     import numpy as np
 
-    return np.array(intervals, dtype=np.float64)
+    return np.array(_outward(intervals), dtype=np.float64)
 
 
 # Python floats round to nearest: the result r of one +, -, *, / or abs of floats is the
@@ -140,11 +181,18 @@ def distance(x: Sequence[float], box: Sequence[IntervalLike]) -> Interval:
     `x` is a sequence of floats, `box` a sequence of `Interval`s (or [lo, hi] pairs, e.g. the
     rows of an `(n, 2)` array). Each subtraction is done in float and its result moved one
     ulp outwards with math.nextafter (`down`/`up`), since Python rounds to nearest; abs and
-    max are exact."""
+    max are exact. A box with decimal ends (an answer computed with more than 53 bits) is
+    measured in exact rationals, each bound then rounded outward to a float."""
     lo = hi = 0.0
     for xi, b in _zip_same(x, box):
         ib = _box(b)
         xi = float(xi)
+        if type(ib.lo) is not float or type(ib.hi) is not float:  # decimal ends: exact
+            fx, flo, fhi = Fraction(xi), Fraction(ib.lo), Fraction(ib.hi)
+            near_q = max(flo - fx, fx - fhi, Fraction(0))
+            lo = max(lo, _float_down(near_q))
+            hi = max(hi, _float_up(max(fx - flo, fhi - fx)))
+            continue
         far = max(up(xi - ib.lo), up(ib.hi - xi))
         if xi < ib.lo:
             near = down(ib.lo - xi)
@@ -158,10 +206,14 @@ def distance(x: Sequence[float], box: Sequence[IntervalLike]) -> Interval:
 
 def quotient(a: IntervalLike, b: IntervalLike) -> Interval:
     """Certified a / b for intervals of positive numbers (b.lo > 0, a.lo >= 0): each
-    endpoint divided in float and moved one ulp outwards (math.nextafter)."""
+    endpoint divided in float and moved one ulp outwards (math.nextafter); with a decimal
+    end, divided exactly in rationals and rounded outward to floats."""
     ia, ib = _box(a), _box(b)
     if not (ia.lo >= 0 and ib.lo > 0):
         raise ValueError(f"quotient needs a >= 0 and b > 0: {ia}, {ib}")
+    if any(type(e) is not float for e in (*ia, *ib)):  # decimal ends: exact, then outward
+        return Interval(_float_down(Fraction(ia.lo) / Fraction(ib.hi)),
+                        _float_up(Fraction(ia.hi) / Fraction(ib.lo)))
     return Interval(max(0.0, down(ia.lo / ib.hi)), up(ia.hi / ib.lo))
 
 

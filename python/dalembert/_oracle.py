@@ -27,6 +27,7 @@ import gc
 import json
 import os
 import queue
+import re
 import select
 import shutil
 import subprocess
@@ -34,6 +35,7 @@ import sys
 import sysconfig
 import threading
 from collections import deque
+from decimal import Decimal
 from typing import (
     Any, Deque, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Union,
 )
@@ -53,64 +55,92 @@ Scene = Union[str, Mapping[str, Any]]
 
 class Answer(Mapping[str, Any]):
     """An `ok` answer: a read-only mapping whose keys are also attributes (`a.q2` is
-    `a["q2"]`). The numbers and intervals of a key are made when the key is first read (an
-    answer whose keys are not all read costs only what is read)."""
+    `a["q2"]`), each key's intervals made when the key is first read.
 
-    __slots__ = ("_raw", "_shape", "_done", "_lazy")
+    An answer whose `ok` object is flat (no object inside it: step, retract, lagrangian, a
+    flow at one time, ...) is kept as its line of text until a key is read, and then only
+    that key's value is parsed: the key is found as the text `"key":`, which in a flat object
+    can only be one of its own keys (a quote inside a JSON string is escaped). So an answer
+    not yet read holds one string, not a tree of lists for the cyclic garbage collector to
+    rescan, and one read costs what that key costs. A damaged answer body (which a working
+    binary never prints) is a `ProtocolError` raised when the damaged key, or the whole
+    answer (iteration, `len`), is read."""
 
-    def __init__(self, raw: Dict[str, Any], shape: Optional[_Shape] = None,
-                 lazy: bool = False) -> None:
-        self._raw = raw
+    __slots__ = ("_raw", "_shape", "_done", "_text", "_at")
+
+    def __init__(self, raw: Optional[Dict[str, Any]], shape: Optional[_Shape] = None,
+                 text: Optional[str] = None, at: int = 0) -> None:
+        self._raw = raw  # the parsed `ok` object; None while only the text is kept
         self._shape = shape or {}
         self._done: Dict[str, Any] = {}
-        self._lazy = lazy  # numbers kept as text (bytes) in raw
+        self._text = text  # the answer line, its flat `ok` object from index `at`
+        self._at = at
+
+    def _whole(self) -> Dict[str, Any]:
+        """The parsed `ok` object (parsed now if only the text was kept)."""
+        raw = self._raw
+        if raw is None:
+            text = self._text
+            assert text is not None
+            try:
+                raw, end = _SCAN(text, self._at)
+                if end != len(text) - 1 or type(raw) is not dict:
+                    raise ValueError
+            except (ValueError, StopIteration):
+                raise ProtocolError(f"an answer that is not JSON: {text!r}") from None
+            self._raw, self._text = raw, None
+        return raw
+
+    def _value(self, key: str) -> Any:
+        """The parsed value of `key` (KeyError when absent)."""
+        text = self._text
+        if text is None or type(key) is not str or '"' in key or "\\" in key:
+            return self._whole()[key]
+        i = text.find('"' + key + '":', self._at)
+        if i < 0:
+            return self._whole()[key]  # absent (or a key written with escapes)
+        try:
+            v, end = _SCAN(text, i + len(key) + 3)
+            if text[end] not in ",}":
+                raise ValueError
+        except (ValueError, StopIteration, IndexError):
+            raise ProtocolError(f"an answer that is not JSON: {text!r}") from None
+        return v
 
     def __getitem__(self, key: str) -> Any:
         done = self._done
         if key in done:
             return done[key]
-        v = self._raw[key]
+        v = self._value(key)
         s = self._shape.get(key)
-        if s is None:
-            v = _numbers(v) if self._lazy else v
-        elif isinstance(s, dict):
-            v = Answer(v, s, self._lazy) if isinstance(v, dict) else (
-                _numbers(v) if self._lazy else v)
-        else:
+        if type(s) is int:
             v = _intervals(v, s)
+        elif s is not None and type(v) is dict:
+            v = Answer(v, s)
         done[key] = v
         return v
 
     def __getattr__(self, key: str) -> Any:
-        # (what __getitem__ does, without a second call: attribute access is the common way)
         if key[:1] == "_":
             raise AttributeError(key)
-        done = self._done
-        if key in done:
-            return done[key]
         try:
-            v = self._raw[key]
+            return self[key]
         except KeyError:
             raise AttributeError(key) from None
-        s = self._shape.get(key)
-        if s is None or type(s) is dict:
-            return self[key]
-        v = _intervals(v, s)
-        done[key] = v
-        return v
 
     def __iter__(self) -> Iterator[str]:
-        return iter(self._raw)
+        return iter(self._whole())
 
     def __len__(self) -> int:
-        return len(self._raw)
+        return len(self._whole())
 
     def __repr__(self) -> str:
         return f"Answer({dict(self.items())!r})"
 
     def array(self, key: str) -> Any:
         """The intervals under `key` as a float64 numpy array, last axis [lo, hi] (`(n, 2)`
-        for a vector). Needs numpy."""
+        for a vector): float ends copied exactly, decimal ends rounded outward. Needs
+        numpy."""
         return to_array(self[key])
 
 
@@ -160,45 +190,42 @@ _SHAPES: Dict[str, _Shape] = {
 }
 
 
-# Answers are parsed with every JSON number that has a fraction or an exponent kept as its
-# text (bytes, `parse_float=str.encode`) and turned into a float only when its key is read:
-# float(text) is the float `json` itself would give (both are Python's correctly rounded
-# reading of the decimal), and the numbers of keys never read are never converted.
-_DECODE = json.JSONDecoder(parse_float=str.encode).decode
-# The decoder's scanner called directly (without `decode`'s checks for white space around
-# the value): a line it does not read whole is handed to `_DECODE`, which gives the same
-# value or the same error.
-_SCAN: Any = getattr(json.JSONDecoder(parse_float=str.encode), "scan_once")
-# Answers that are mostly plain floats (integrate's rows) are parsed at once, as json.loads
-# does, and handed over as they are.
-_EAGER = {"integrate"}
-_DECODE_EAGER = json.JSONDecoder().decode
+# Answers are read by the JSON scanner called directly (`scan_once`, without `decode`'s
+# checks for white space around the value), which gives what `json.loads` gives (floats
+# correctly rounded, so each end is the f64 the binary printed); a line it does not read
+# whole is handed to `_DECODE`, which gives the same value or the same error.
+_DECODE = json.JSONDecoder().decode
+_SCAN: Any = getattr(json.JSONDecoder(), "scan_once")
+# An interval end printed as a decimal string (contract E18: answers computed with more than
+# 53 bits), read as the exact `Decimal` it writes.
+_DECIMAL_END = re.compile(r"-?[0-9]+(\.[0-9]+)?(e-?[0-9]+)?")
 
 
-def _numbers(value: Any) -> Any:
-    """`value` as `json.loads` gives it: each number kept as text made a float."""
-    t = type(value)
-    if t is bytes:
-        return float(value)
-    if t is list:
-        return [_numbers(v) for v in value]
-    if t is dict:
-        return {k: _numbers(v) for k, v in value.items()}
-    return value
+def _end(x: Any) -> Any:
+    """An interval end as the client keeps it: a JSON number as it is, a decimal string as
+    its exact `Decimal`; TypeError otherwise."""
+    t = type(x)
+    if t is float or t is int:
+        return x
+    if t is str and _DECIMAL_END.fullmatch(x):
+        return Decimal(x)
+    raise TypeError(x)
 
 
 def _pairs(value: List[Any]) -> List[Interval]:
-    """`Interval`s from the [lo, hi] pairs of an answer (numbers as text or as numbers);
-    ValueError or TypeError when one is not an interval."""
-    new, out = tuple.__new__, []
+    """`Interval`s from the [lo, hi] pairs of an answer; ValueError or TypeError when one is
+    not an interval."""
+    new = tuple.__new__
+    # (the common case, float ends, in one comprehension; anything else below)
+    out = [new(Interval, p) for p in value if type(p) is list and len(p) == 2
+           and type(p[0]) is float and type(p[1]) is float and p[0] <= p[1]]
+    if len(out) == len(value):
+        return out
+    out = []
     for p in value:
-        if not isinstance(p, list) or len(p) != 2:
+        if type(p) is not list or len(p) != 2:
             raise ValueError(p)
-        lo, hi = p
-        if type(lo) is bytes:
-            lo = float(lo)
-        if type(hi) is bytes:
-            hi = float(hi)
+        lo, hi = _end(p[0]), _end(p[1])
         if not lo <= hi:
             raise ValueError(p)
         out.append(new(Interval, (lo, hi)))
@@ -209,20 +236,22 @@ def _intervals(value: Any, depth: int) -> Any:
     if value is None:
         return None
     try:
-        if depth == 1 and None not in value:
-            return _pairs(value)
         if depth == 0:
             return _pairs([value])[0]
+        if type(value) is not list:
+            raise TypeError(value)
+        if depth == 1 and None not in value:
+            return _pairs(value)
     except (ValueError, TypeError):
-        raise ProtocolError(f"expected intervals [lo, hi], got {_numbers(value)!r}") from None
+        raise ProtocolError(f"expected intervals [lo, hi], got {value!r}") from None
     return [_intervals(v, depth - 1) for v in value]
 
 
-def _answer(cmd: str, ok: Dict[str, Any], lazy: bool = False) -> Answer:
+def _answer(cmd: str, ok: Dict[str, Any]) -> Answer:
     if cmd == "flow" and "at" in ok:
         # dense output: one answer per stop, with keys t, q, u, v
-        ok = {**ok, "at": [_answer("flow", stop, lazy) for stop in ok["at"]]}
-    return Answer(ok, _SHAPES.get(cmd, {}), lazy)
+        ok = {**ok, "at": [_answer("flow", stop) for stop in ok["at"]]}
+    return Answer(ok, _SHAPES.get(cmd, {}))
 
 
 def _error(err: Dict[str, Any], id: Any) -> OracleError:
@@ -632,32 +661,29 @@ class Oracle:
 
     @staticmethod
     def _result(line: Union[str, bytes], p: Pending) -> Union[Answer, BaseException]:
-        lazy = p.cmd not in _EAGER
+        if type(line) is str and type(p.id) is int and line[-2:] == "}}":
+            # An `ok` answer to this id whose `ok` object is flat: kept as its text.
+            head = '{"id":%d,"ok":{' % p.id
+            if line.startswith(head) and line.find("{", len(head)) < 0:
+                return Answer(None, _SHAPES.get(p.cmd or "", {}), line, len(head) - 1)
         try:
             text = line.decode() if isinstance(line, bytes) else line
-            if lazy:
-                try:
-                    answer, end = _SCAN(text, 0)
-                    if end != len(text):
-                        raise ValueError
-                except (ValueError, StopIteration):
-                    answer = _DECODE(text)
-            else:
-                answer = _DECODE_EAGER(text)
+            try:
+                answer, end = _SCAN(text, 0)
+                if end != len(text):
+                    raise ValueError
+            except (ValueError, StopIteration):
+                answer = _DECODE(text)
         except ValueError:  # UnicodeDecodeError and JSONDecodeError among them
             raw = line.encode() if isinstance(line, str) else line
             return ProtocolError(f"an answer that is not JSON: {raw!r}")
-        if type(answer) is not dict:
-            return ProtocolError(f"answer {_numbers(answer)!r} is not the answer to id {p.id!r}")
-        aid = answer.get("id", ...)
-        if aid != p.id and _numbers(aid) != p.id:  # (numbers kept as text never equal p.id)
-            return ProtocolError(
-                f"answer {_numbers(answer)!r} is not the answer to id {p.id!r}")
+        if type(answer) is not dict or answer.get("id", ...) != p.id:
+            return ProtocolError(f"answer {answer!r} is not the answer to id {p.id!r}")
         if "error" in answer:
-            return _error(_numbers(answer["error"]), p.id)
+            return _error(answer["error"], p.id)
         if "ok" not in answer:
-            return ProtocolError(f"an answer without ok or error: {_numbers(answer)!r}")
-        return _answer(p.cmd or "", answer["ok"], lazy)
+            return ProtocolError(f"an answer without ok or error: {answer!r}")
+        return _answer(p.cmd or "", answer["ok"])
 
     def close(self) -> int:
         """Answer what is in flight, end the input, wait for the process; its exit status

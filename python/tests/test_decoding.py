@@ -1,7 +1,7 @@
-"""The client keeps each number of an answer as its text until its key is read: what every
-key then gives must be exactly what parsing the whole line with `json.loads` gives (same
-types, bit-identical floats, the same intervals and errors), for real answers of every
-command and for random floats at the edges of f64."""
+"""The client keeps a flat answer as its line until a key is read, and then parses that key
+alone: what every key then gives must be exactly what parsing the whole line with
+`json.loads` gives (same types, bit-identical floats, the same intervals and errors), for
+real answers of every command and for random floats at the edges of f64."""
 
 import json
 import math
@@ -104,13 +104,18 @@ def test_random_floats_are_read_bit_for_bit():
                  for _ in range(rng.randint(1, 6))]
         lo, hi = pairs[0]
         other = [random_float(rng) for _ in range(3)]
-        line = json.dumps({"id": n, "ok": {"q2": pairs, "l": [lo, hi], "stats": other,
-                                           "member": True}}).encode()
-        a = Oracle._result(line, Pending(None, n, "lagrangian"))
-        assert identical(a.l, Interval(lo, hi))
-        assert identical(a.stats, other) and a.member is True
-        a = Oracle._result(line, Pending(None, n, "step"))
-        assert identical(a.q2, [Interval(x, y) for x, y in pairs])
+        obj = {"id": n, "ok": {"q2": pairs, "l": [lo, hi], "stats": other, "member": True}}
+        # the binary's compact form (kept as text, each key parsed alone) and a spaced one
+        # (parsed whole)
+        for line, kept in ((json.dumps(obj, separators=(",", ":")), True),
+                           (json.dumps(obj).encode(), False)):
+            a = Oracle._result(line, Pending(None, n, "lagrangian"))
+            assert (a._text is not None) == kept
+            assert identical(a.l, Interval(lo, hi))
+            assert identical(a.stats, other) and a.member is True
+            a = Oracle._result(line, Pending(None, n, "step"))
+            assert identical(a.q2, [Interval(x, y) for x, y in pairs])
+            assert identical(dict(a), json.loads(line)["ok"] | {"q2": a.q2})
 
 
 def test_what_is_not_an_answer_is_still_refused():
