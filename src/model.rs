@@ -35,18 +35,20 @@ pub struct Model {
     /// x' = -F(x), the time-reversed field, recorded on the first backward flow ([spec
     /// (5.17)](crate::spec::enclosure)).
     reversed: std::sync::OnceLock<System>,
-    /// The same with the action: (q, u, l)' = (F(q, u), L(q, E^T u)) ([spec eq. (6.8)](crate::spec::exact_discrete)).
-    pub(crate) with_action: System,
+    /// The same with the action: (q, u, l)' = (F(q, u), L(q, E^T u)) ([spec eq. (6.8)](crate::spec::exact_discrete)),
+    /// recorded on first use (only the exact discrete Lagrangian needs it).
+    with_action: std::sync::OnceLock<System>,
     /// x -> v = E(q)^T u ([spec eq. (4.2)](crate::spec::dynamics)).
     pub(crate) velocity: Tape,
     /// x -> (v, Dv/Dx) for the centred form ([spec eq. (5.12)](crate::spec::enclosure)).
     pub(crate) velocity_jac: Tape,
     /// q -> mu(q), k x n row-major ([spec eq. (3.1)](crate::spec::scenes)).
     pub(crate) constraints: Tape,
-    /// (q, v) -> p_a = <M(q) v + A(q), e_a(q)> ([spec eq. (4.8)](crate::spec::dynamics)).
-    pub(crate) momentum_d: Tape,
-    /// (q, v) -> E_L(q, v) ([spec eq. (4.9)](crate::spec::dynamics)).
-    pub(crate) energy: Tape,
+    /// (q, v) -> p_a = <M(q) v + A(q), e_a(q)> ([spec eq. (4.8)](crate::spec::dynamics)),
+    /// recorded on first use.
+    momentum_d: std::sync::OnceLock<Tape>,
+    /// (q, v) -> E_L(q, v) ([spec eq. (4.9)](crate::spec::dynamics)), recorded on first use.
+    energy: std::sync::OnceLock<Tape>,
     /// (q, v) -> F_nh(q, v) ([spec eq. (4.6)](crate::spec::dynamics)).
     #[cfg(feature = "internals")]
     pub(crate) nh_force: Tape,
@@ -536,6 +538,38 @@ impl Model {
         })
     }
 
+    /// The field with the action appended ([spec eq. (6.8)](crate::spec::exact_discrete)).
+    /// Recorded on first use: a model that only flows never pays for it.
+    pub(crate) fn action_system(&self) -> &System {
+        self.with_action.get_or_init(|| {
+            let s = &self.scene;
+            System::record(
+                self.state_dim() + 1,
+                0,
+                |x| field_with_action(s, x),
+                |x| field_with_action(s, x),
+            )
+        })
+    }
+
+    /// (q, v) -> p_a ([spec eq. (4.8)](crate::spec::dynamics)). Recorded on first use.
+    pub(crate) fn momentum_tape(&self) -> &Tape {
+        self.momentum_d.get_or_init(|| {
+            let (s, n) = (&self.scene, self.n);
+            Tape::record(2 * n, |x| Geometry::at(s, &x[..n]).momentum_d(&x[n..]))
+        })
+    }
+
+    /// (q, v) -> E_L(q, v) ([spec eq. (4.9)](crate::spec::dynamics)). Recorded on first use.
+    pub(crate) fn energy_tape(&self) -> &Tape {
+        self.energy.get_or_init(|| {
+            let (s, n) = (&self.scene, self.n);
+            Tape::record(2 * n, |x| {
+                vec![crate::dynamics::energy(s, &x[..n], &x[n..])]
+            })
+        })
+    }
+
     /// The tape of x' = F(x) and its variational equation (internals feature).
     #[cfg(feature = "internals")]
     #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
@@ -547,7 +581,7 @@ impl Model {
     #[cfg(feature = "internals")]
     #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
     pub fn with_action(&self) -> &System {
-        &self.with_action
+        self.action_system()
     }
 
     /// The tape of x -> v = E(q)^T u (internals feature).
@@ -575,14 +609,14 @@ impl Model {
     #[cfg(feature = "internals")]
     #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
     pub fn momentum_d(&self) -> &crate::tape::Tape {
-        &self.momentum_d
+        self.momentum_tape()
     }
 
     /// The tape of (q, v) -> E_L(q, v) (internals feature).
     #[cfg(feature = "internals")]
     #[cfg_attr(docsrs, doc(cfg(feature = "internals")))]
     pub fn energy(&self) -> &crate::tape::Tape {
-        &self.energy
+        self.energy_tape()
     }
 
     /// The tape of (q, v) -> F_nh(q, v) (internals feature).
@@ -599,20 +633,10 @@ impl Model {
         let (n, k) = (s.n, s.k);
         let d = 2 * n - k;
         let dynamics = System::record(d, n - k, |x| reduced_field(s, x), |x| reduced_field(s, x));
-        let with_action = System::record(
-            d + 1,
-            0,
-            |x| field_with_action(s, x),
-            |x| field_with_action(s, x),
-        );
         let velocity = Tape::record(d, |x| Geometry::at(s, &x[..n]).velocity(&x[n..]));
         let velocity_jac =
             Tape::record_with_jacobian(d, |x| Geometry::at(s, &x[..n]).velocity(&x[n..]));
         let constraints = s.constraints.clone();
-        let momentum_d = Tape::record(2 * n, |x| Geometry::at(s, &x[..n]).momentum_d(&x[n..]));
-        let energy = Tape::record(2 * n, |x| {
-            vec![crate::dynamics::energy(s, &x[..n], &x[n..])]
-        });
         #[cfg(feature = "internals")]
         let nh_force = Tape::record(2 * n, |x| Geometry::at(s, &x[..n]).nh_force(&x[n..]));
         Ok(Model {
@@ -621,12 +645,12 @@ impl Model {
             k,
             dynamics,
             reversed: std::sync::OnceLock::new(),
-            with_action,
+            with_action: std::sync::OnceLock::new(),
             velocity,
             velocity_jac,
             constraints,
-            momentum_d,
-            energy,
+            momentum_d: std::sync::OnceLock::new(),
+            energy: std::sync::OnceLock::new(),
             #[cfg(feature = "internals")]
             nh_force,
         })

@@ -86,7 +86,7 @@ pub fn distance(a: &[f64], b: &[Interval]) -> Interval {
 pub(crate) fn energy<I: Ival>(model: &Model, q: &[I], v: &[I]) -> Result<I, Error> {
     let x: Vec<I> = q.iter().chain(v).copied().collect();
     model
-        .energy
+        .energy_tape()
         .eval_checked(&x)
         .map(|e| e[0])
         .ok_or_else(|| Error::refused(Reason::Unbounded, "energy enclosure not finite"))

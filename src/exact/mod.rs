@@ -696,7 +696,7 @@ pub fn momentum(model: &Model, q: &[Interval], v: &[Interval]) -> Result<Vec<Int
 fn momentum_in<I: Ival>(model: &Model, q: &[I], v: &[I]) -> Result<Vec<I>, Error> {
     let x: Vec<I> = q.iter().chain(v).copied().collect();
     model
-        .momentum_d
+        .momentum_tape()
         .eval_checked(&x)
         .ok_or_else(|| Error::refused(Reason::Unbounded, "momentum enclosure not finite"))
 }
@@ -958,7 +958,7 @@ pub fn discrete_lagrangian_box_in<I: Ival>(
         .chain(private::<I>(&r.u0))
         .chain(std::iter::once(I::zero()))
         .collect();
-    let (set, _) = flow_set(&model.with_action, LohnerSet::from_box(&x0), h, opts)?;
+    let (set, _) = flow_set(model.action_system(), LohnerSet::from_box(&x0), h, opts)?;
     let l = set.hull()[x0.len() - 1];
     if !l.is_finite() {
         return Err(Error::refused(

@@ -602,12 +602,12 @@ mod tests {
                 m.dynamics.field.clone(),
                 m.dynamics.field_var.clone(),
                 m.dynamics.field_var_tail.clone(),
-                m.with_action.field.clone(),
+                m.action_system().field.clone(),
                 m.velocity.clone(),
                 m.velocity_jac.clone(),
                 m.constraints.clone(),
-                m.momentum_d.clone(),
-                m.energy.clone(),
+                m.momentum_tape().clone(),
+                m.energy_tape().clone(),
             ]
         };
         let mut seed = 0xfeed_u64;
