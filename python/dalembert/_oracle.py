@@ -57,14 +57,14 @@ class Answer(Mapping[str, Any]):
     """An `ok` answer: a read-only mapping whose keys are also attributes (`a.q2` is
     `a["q2"]`), each key's intervals made when the key is first read.
 
-    An answer whose `ok` object is flat (no object inside it: step, retract, lagrangian, a
-    flow at one time, ...) is kept as its line of text until a key is read, and then only
-    that key's value is parsed: the key is found as the text `"key":`, which in a flat object
-    can only be one of its own keys (a quote inside a JSON string is escaped). So an answer
-    not yet read holds one string, not a tree of lists for the cyclic garbage collector to
-    rescan, and one read costs what that key costs. A damaged answer body (which a working
-    binary never prints) is a `ProtocolError` raised when the damaged key, or the whole
-    answer (iteration, `len`), is read."""
+    An answer whose `ok` object is flat (no object inside it: step, retract, lagrangian,
+    integrate; not flow, whose `stats` is an object) is kept as its line of text until a key
+    is read, and then only that key's value is parsed: the key is found as the text
+    `"key":`, which in a flat object can only be one of its own keys (a quote inside a JSON
+    string is escaped). So an answer not yet read holds one string, not a tree of lists for
+    the cyclic garbage collector to rescan, and one read costs what that key costs. A
+    damaged answer body (which a working binary never prints) is a `ProtocolError` raised
+    when the damaged key, or the whole answer (iteration, `len`), is read."""
 
     __slots__ = ("_raw", "_shape", "_done", "_text", "_at")
 
