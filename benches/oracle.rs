@@ -20,7 +20,9 @@ fn certified(c: &mut Criterion) {
     let opts = FlowOptions::default();
     for (name, q1) in SCENES {
         // what every start of the command line pays before it computes (spec (4.11))
-        c.bench_function(&format!("model/{name}"), |b| b.iter(|| model(black_box(name))));
+        c.bench_function(&format!("model/{name}"), |b| {
+            b.iter(|| model(black_box(name)))
+        });
         let m = model(name);
         c.bench_function(&format!("flow/{name}/t=0.5"), |b| {
             b.iter(|| flow(&m, black_box(&[0.0; 3]), &[0.8, 0.8], 0.5, &opts))
