@@ -246,7 +246,7 @@ pub fn flow_set_c1<I: Ival>(
 }
 
 /// As [`flow_set_c1`] with each step's Jacobian enclosed to the rounding level (its
-/// variational order raised until its remainder is below 16 ulps of its size, [spec eq.
+/// variational order raised until its remainder is below 1 ulp of its size, [spec eq.
 /// (5.6)](crate::spec::enclosure)): slower, but the derivative stays narrow over long times ([spec Theorem 5.3](crate::spec::enclosure)).
 // used through the `internals` feature (and its tests); the crate's own flows go through
 // `flow_set_jacobian_explained`

@@ -442,7 +442,7 @@ pub(super) fn remainder_over<I: Ival>(
 /// extended system `(x, V)`. The orders of [`JAC_ORDERS`] up to `p` are tried from
 /// `*order` (an index, updated for the next step) on until the remainder's share of the new
 /// set's width (`wid(remainder) |x0 - m| d`) is below the rounding level of the state and,
-/// if `precise`, the remainder itself below 16 ulps of the Jacobian's size (the C^1 output
+/// if `precise`, the remainder itself below 1 ulp of the Jacobian's size (the C^1 output
 /// of [`flow_set_jacobian`]). `None` when no order does: the step is then taken over the
 /// whole set (`box_enclosure`).
 #[allow(clippy::too_many_arguments)]
@@ -503,7 +503,7 @@ pub(super) fn step_jacobian<I: Ival>(
             // (NaN fails the tests too)
             let share = widest * extent * d as f64 / (scale * I::eps());
             let own = if precise {
-                widest / (16.0 * size * I::eps())
+                widest / (size * I::eps())
             } else {
                 0.0
             };
