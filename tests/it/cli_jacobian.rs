@@ -4,21 +4,11 @@
 
 use std::process::Command;
 
-/// The particle's flow from q = (0.1, 0.2, 0.3), u = (0.8, -0.4) to t = 7, with `extra`.
-fn flow_jacobian(extra: &[&str]) -> serde_json::Value {
+/// The particle's flow from `q`, `u` to `t`, with `extra`.
+fn particle_flow(q: &str, u: &str, t: &str, extra: &[&str]) -> serde_json::Value {
     let o = Command::new(env!("CARGO_BIN_EXE_dalembert"))
-        .args([
-            "flow",
-            "--scene",
-            "particle",
-            "--q",
-            "0.1,0.2,0.3",
-            "--u",
-            "0.8,-0.4",
-            "--t",
-            "7",
-            "--json",
-        ])
+        .args(["flow", "--scene", "particle", "--q", q, "--u", u, "--t", t])
+        .args(["--json"])
         .args(extra)
         .output()
         .unwrap();
@@ -26,21 +16,18 @@ fn flow_jacobian(extra: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&o.stdout).unwrap()
 }
 
-fn contains(iv: &serde_json::Value, x: f64) -> bool {
-    iv[0].as_f64().unwrap() <= x && x <= iv[1].as_f64().unwrap()
+/// The particle's flow from q = (0.1, 0.2, 0.3), u = (0.8, -0.4) to t = 7, with `extra`.
+fn flow_jacobian(extra: &[&str]) -> serde_json::Value {
+    particle_flow("0.1,0.2,0.3", "0.8,-0.4", "7", extra)
 }
 
-#[test]
-fn the_particle_jacobian_has_its_exact_rows() {
-    let t = 7.0;
-    let v = flow_jacobian(&["--jacobian"]);
-    let j = v["jacobian"].as_array().unwrap();
+/// The particle's derivative at time `t` is 5 x 5 and contains its exact rows: that of
+/// y = y0 + u2 t, d/d(x, y, z, u1, u2) = (0, 1, 0, 0, t), and that of the constant u2,
+/// (0, 0, 0, 0, 1) (paper Example 2.1).
+fn has_exact_rows(j: &[serde_json::Value], t: f64) {
     assert_eq!(j.len(), 5);
     assert!(j.iter().all(|r| r.as_array().unwrap().len() == 5));
-    // row of y = y0 + u2 t: d/d(x, y, z, u1, u2) = (0, 1, 0, 0, t)
-    let want_y = [0.0, 1.0, 0.0, 0.0, t];
-    // row of u2 (constant): (0, 0, 0, 0, 1)
-    let want_u2 = [0.0, 0.0, 0.0, 0.0, 1.0];
+    let (want_y, want_u2) = ([0.0, 1.0, 0.0, 0.0, t], [0.0, 0.0, 0.0, 0.0, 1.0]);
     for c in 0..5 {
         assert!(
             contains(&j[1][c], want_y[c]),
@@ -53,6 +40,17 @@ fn the_particle_jacobian_has_its_exact_rows() {
             j[4][c]
         );
     }
+}
+
+fn contains(iv: &serde_json::Value, x: f64) -> bool {
+    iv[0].as_f64().unwrap() <= x && x <= iv[1].as_f64().unwrap()
+}
+
+#[test]
+fn the_particle_jacobian_has_its_exact_rows() {
+    let v = flow_jacobian(&["--jacobian"]);
+    let j = v["jacobian"].as_array().unwrap();
+    has_exact_rows(j, 7.0);
     // and it is tight enough to serve a Newton solve
     for row in j {
         for e in row.as_array().unwrap() {
@@ -96,30 +94,9 @@ fn the_particle_jacobian_has_its_exact_rows() {
 /// T = 600 was 1.35e-8 wide (CAPD's C1Rect2Set: 8.8e-10). It still has its exact rows.
 #[test]
 fn the_long_particle_derivative_stays_narrow() {
-    let t = 600.0;
-    let o = Command::new(env!("CARGO_BIN_EXE_dalembert"))
-        .args([
-            "flow", "--scene", "particle", "--q", "0,0,0", "--u", "0.8,0.8",
-        ])
-        .args(["--t", "600", "--jacobian", "--json"])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let v = particle_flow("0,0,0", "0.8,0.8", "600", &["--jacobian"]);
     let j = v["jacobian"].as_array().unwrap();
-    let (want_y, want_u2) = ([0.0, 1.0, 0.0, 0.0, t], [0.0, 0.0, 0.0, 0.0, 1.0]);
-    for c in 0..5 {
-        assert!(
-            contains(&j[1][c], want_y[c]),
-            "y row, column {c}: {}",
-            j[1][c]
-        );
-        assert!(
-            contains(&j[4][c], want_u2[c]),
-            "u2 row, column {c}: {}",
-            j[4][c]
-        );
-    }
+    has_exact_rows(j, 600.0);
     let widest = j
         .iter()
         .flat_map(|r| r.as_array().unwrap())

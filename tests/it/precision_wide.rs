@@ -355,20 +355,8 @@ fn exact_decimals_are_a_different_initial_state_than_their_nearest_f64() {
     let f: Vec<&str> = line.split_whitespace().collect();
     let (q, u, t) = (f[2], f[3], f[4]);
     let want = brackets(&f, 5);
-    let flow = [
-        "flow",
-        "--scene",
-        "knife",
-        "--q",
-        q,
-        "--u",
-        u,
-        "--t",
-        t,
-        "--precision",
-        "256",
-        "--json",
-    ];
+    let knife = ["flow", "--scene", "knife", "--q", q, "--u", u, "--t", t];
+    let flow = [&knife[..], &["--precision", "256", "--json"]].concat();
     let read = |v: &serde_json::Value| -> Vec<MpInterval> {
         states(v).into_iter().map(decimal_pair).collect()
     };
@@ -392,33 +380,12 @@ fn exact_decimals_are_a_different_initial_state_than_their_nearest_f64() {
         );
     }
     for args in [
-        vec![
-            "flow",
-            "--scene",
-            "knife",
-            "--q",
-            q,
-            "--u",
-            u,
-            "--t",
-            t,
-            "--exact-decimals",
-        ],
-        vec![
-            "flow",
-            "--scene",
-            "knife",
-            "--q",
-            q,
-            "--u",
-            u,
-            "--t",
-            t,
-            "--precision",
-            "106",
-            "--exact-decimals",
-            "--jacobian",
-        ],
+        [&knife[..], &["--exact-decimals"]].concat(),
+        [
+            &knife[..],
+            &["--precision", "106", "--exact-decimals", "--jacobian"],
+        ]
+        .concat(),
         vec![
             "integrate",
             "--scene",
