@@ -13,17 +13,19 @@ guide.
 """
 
 from ._intervals import (
-    Interval, IntervalLike, distance, down, intervals, observed_order, quotient, to_array, up,
+    Exact, Interval, IntervalLike, distance, down, intervals, observed_order, quotient, to_array, up,
 )
 from ._oracle import (
-    Answer, InputError, Oracle, OracleError, Pending, ProtocolError, Scene, Uncertified,
-    Vector, find_binary,
+    CAUSES, Answer, InputError, Oracle, OracleError, Pending, ProtocolError, SceneLike,
+    Uncertified, Vector, find_binary,
 )
+from ._scene import Scene
 
 __all__ = [
-    "Oracle", "Answer", "Pending", "Interval", "IntervalLike", "Scene", "Vector",
+    "Oracle", "Answer", "Pending", "Interval", "IntervalLike", "Scene", "SceneLike", "Vector",
+    "CAUSES",
     "OracleError", "InputError", "Uncertified", "ProtocolError", "find_binary",
-    "distance", "quotient", "observed_order", "down", "up", "to_array", "intervals",
+    "Exact", "distance", "quotient", "observed_order", "down", "up", "to_array", "intervals",
 ]
 
 __version__ = "0.1.0"

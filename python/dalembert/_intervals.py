@@ -3,7 +3,10 @@
 Every bound the binary prints reaches the caller unchanged: JSON numbers are read by
 Python's `json` (correctly rounded, so each endpoint is the f64 the binary printed) and kept
 as they are in `Interval(lo, hi)`; the decimal strings of an answer computed with more than
-53 bits (contract E18) are kept as the exact `decimal.Decimal` each writes. Nothing here
+53 bits (contract E18) are kept as the exact `Exact` (a `decimal.Decimal` subclass that
+mixes exactly with floats) each writes. So an end is a `float` at 53 bits and an `Exact`
+above: both exact, compared exactly with ints, floats, Fractions and Decimals, and both
+take float operands (`iv.lo - 1.2`). Nothing here
 rounds, re-computes or re-centres them. The bounds this module computes itself
 (`distance`, `quotient`, `observed_order`, `Interval.width_up`, `to_array` of decimal ends)
 round outwards; their docstrings say how. `Interval.mid` is a point, not a bound.
@@ -12,12 +15,15 @@ round outwards; their docstrings say how. `Interval.mid` is a point, not a bound
 from __future__ import annotations
 
 import math
-from decimal import Decimal, Inexact, localcontext
+from decimal import (
+    MAX_EMAX, MIN_EMIN, Context, Decimal, DivisionByZero, Inexact, InvalidOperation, Overflow,
+    Rounded, localcontext,
+)
 from fractions import Fraction
 from typing import Any, Iterable, Iterator, List, Sequence, Tuple, Union
 
 __all__ = [
-    "Interval", "IntervalLike", "down", "up", "distance", "quotient", "observed_order",
+    "Interval", "IntervalLike", "Exact", "down", "up", "distance", "quotient", "observed_order",
     "to_array",
 ]
 
@@ -29,10 +35,104 @@ def _exponent(d: Decimal) -> int:
     return e
 
 
+_EXACT_TRAPS = [InvalidOperation, DivisionByZero, Overflow, Inexact, Rounded]
+
+
+def _operand(x: Any) -> Any:
+    """`x` as a Decimal operand: a float or an int exactly (Decimal(float) is the float's
+    exact binary value), a Decimal as it is; NotImplemented for anything else."""
+    if isinstance(x, Decimal):
+        return x
+    if isinstance(x, (float, int)) and not isinstance(x, bool):
+        if isinstance(x, float) and not math.isfinite(x):
+            return NotImplemented
+        return Decimal(x)
+    return NotImplemented
+
+
+def _exact_context(a: Decimal, b: Decimal, product: bool) -> Context:
+    """A context whose precision holds the exact sum (or product) of finite a and b."""
+    da, db = len(a.as_tuple().digits), len(b.as_tuple().digits)
+    if product:
+        prec = da + db
+    else:
+        prec = max(a.adjusted(), b.adjusted()) - min(_exponent(a), _exponent(b)) + 2
+    return Context(prec=max(prec, 1), Emax=MAX_EMAX, Emin=MIN_EMIN, traps=_EXACT_TRAPS)
+
+
+class Exact(Decimal):
+    """An interval end of an answer computed with more than 53 bits (contract E18, E20):
+    the exact decimal number the binary printed, a `decimal.Decimal` that also mixes with
+    floats. Comparisons with ints, floats, Fractions and Decimals are exact (as Decimal's);
+    `+`, `-` and `*` with an int, a float (taken as its exact binary value) or a Decimal
+    are exact and give an `Exact` (`iv.lo - 1.2` is the exact difference from the float
+    1.2); `/` rounds to the current decimal context (a point, not a bound); with a
+    Fraction the result is the exact `Fraction`. `float(x)` is the float nearest x."""
+
+    __slots__ = ()
+
+    def _exact(self, other: Any, op: str, swap: bool = False) -> Any:
+        if isinstance(other, Fraction):
+            a, b = Fraction(self), other
+            if swap:
+                a, b = b, a
+            return {"+": a + b, "-": a - b, "*": a * b}[op]
+        o = _operand(other)
+        if o is NotImplemented:
+            return NotImplemented
+        a, b = (o, self) if swap else (self, o)
+        c = _exact_context(a, b, op == "*")
+        r = c.add(a, b) if op == "+" else c.subtract(a, b) if op == "-" else c.multiply(a, b)
+        return Exact(r)
+
+    def __add__(self, other: Any) -> Any:  # type: ignore[override]
+        return self._exact(other, "+")
+
+    def __radd__(self, other: Any) -> Any:  # type: ignore[override]
+        return self._exact(other, "+", True)
+
+    def __sub__(self, other: Any) -> Any:  # type: ignore[override]
+        return self._exact(other, "-")
+
+    def __rsub__(self, other: Any) -> Any:  # type: ignore[override]
+        return self._exact(other, "-", True)
+
+    def __mul__(self, other: Any) -> Any:  # type: ignore[override]
+        return self._exact(other, "*")
+
+    def __rmul__(self, other: Any) -> Any:  # type: ignore[override]
+        return self._exact(other, "*", True)
+
+    def __truediv__(self, other: Any) -> Any:  # type: ignore[override]
+        if isinstance(other, Fraction):
+            return Fraction(self) / other
+        o = _operand(other)
+        return NotImplemented if o is NotImplemented else Exact(Decimal.__truediv__(self, o))
+
+    def __rtruediv__(self, other: Any) -> Any:  # type: ignore[override]
+        if isinstance(other, Fraction):
+            return other / Fraction(self)
+        o = _operand(other)
+        return NotImplemented if o is NotImplemented else Exact(Decimal.__truediv__(o, self))
+
+    def __neg__(self, context: Any = None) -> "Exact":  # type: ignore[override]
+        return Exact(self.copy_negate())
+
+    def __pos__(self, context: Any = None) -> "Exact":  # type: ignore[override]
+        return self
+
+    def __abs__(self, round: bool = True, context: Any = None) -> "Exact":  # type: ignore[override]
+        return Exact(self.copy_abs())
+
+    def __repr__(self) -> str:
+        return f"Exact('{self}')"
+
+
 class Interval(tuple):  # type: ignore[type-arg]
     """A closed interval [lo, hi] as the oracle printed it: `lo` and `hi` are the JSON
     numbers, unchanged (never rounded, never recomputed), or for an answer computed with
-    more than 53 bits the exact `Decimal`s of its decimal strings. The exact value lies in
+    more than 53 bits the `Exact` numbers (exact Decimals that mix with floats) of its
+    decimal strings. The exact value lies in
     it. (A tuple `(lo, hi)` underneath, so that the client builds many of them fast;
     `x in iv` is the interval's membership, not the tuple's, and compares exactly.)"""
 
@@ -90,7 +190,7 @@ class Interval(tuple):  # type: ignore[type-arg]
             c.traps[Inexact] = True
             low = min(_exponent(a), _exponent(b))
             c.prec = max(a.adjusted(), b.adjusted()) - low + 3
-            return (a + b) / 2
+            return Exact((a + b) / 2)
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Interval) and tuple.__eq__(self, other)

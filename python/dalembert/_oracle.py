@@ -2,8 +2,9 @@
 
 Errors. An answer with an error raises `InputError` (code 2: invalid input) or `Uncertified`
 (code 3: not certified, including past the budget, `reason == "budget"`); both are
-`OracleError`s with `code`, `message`, `id`, `reason` and `reached`. The session goes on
-after either. A broken session (the process ended, an answer out of order or not JSON)
+`OracleError`s with `code`, `message`, `id`, `reason`, `cause` and `reached`, and an
+`Uncertified` also has `at` (the stops of a `times` flow certified before the refusal). The
+session goes on after either. A broken session (the process ended, an answer out of order or not JSON)
 raises `ProtocolError`.
 
 Answers are `Answer`s: dicts that also allow attribute access (`a.q2` is `a["q2"]`), with
@@ -35,22 +36,21 @@ import sys
 import sysconfig
 import threading
 from collections import deque
-from decimal import Decimal
 from typing import (
     Any, Deque, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Union,
 )
 
-from ._intervals import Interval, to_array
+from ._intervals import Exact, Interval, to_array
 
 __all__ = [
     "Oracle", "Answer", "Pending", "OracleError", "InputError", "Uncertified",
-    "ProtocolError", "find_binary", "Scene", "Vector",
+    "ProtocolError", "find_binary", "SceneLike", "Vector", "CAUSES",
 ]
 
 Vector = Sequence[float]
 #: A scene: a built-in name ("particle", "knife", ...) or a dict with the keys of a scene
-#: file (spec chapter 10), sent inline in each query.
-Scene = Union[str, Mapping[str, Any]]
+#: file (spec chapter 10; a `dalembert.Scene` among them), sent inline in each query.
+SceneLike = Union[str, Mapping[str, Any]]
 
 
 class Answer(Mapping[str, Any]):
@@ -144,16 +144,28 @@ class Answer(Mapping[str, Any]):
         return to_array(self[key])
 
 
+#: The documented refusal causes (`OracleError.cause`; spec/contract.md, the `cause` key).
+CAUSES = frozenset({"mass", "basis", "domain", "width", "steps", "work", "deadline", "proof",
+                    "unbounded", "internal"})
+
+
 class OracleError(Exception):
     """An error answer: `code` (2 or 3), `message` (the binary's text), `id`; for code 3 also
-    `reason` ("budget", "no_proof", "unbounded", "undefined" or "internal") and `reached`
-    (the time a flow had been proved up to, or None): contract E10."""
+    `reason` ("budget", "no_proof", "unbounded", "undefined" or "internal"), `reached` (the
+    time a flow had been proved up to, or None): contract E10; and `cause`, the one cause of
+    the refusal, one of `CAUSES`: "mass" (the mass matrix not proved positive definite),
+    "basis" (the derived basis singular), "domain" (an expression of the scene outside its
+    domain), "width" (the enclosure grew too wide before any scene data failed: a higher
+    `precision` may answer), "steps" (the step limit, `max_steps`), "work" (the work
+    budget), "deadline", "proof" (a proof failed), "unbounded", "internal"; None for code 2
+    or from a binary that does not name it."""
 
     def __init__(self, code: Optional[int], message: str, id: Any = None,
-                 reason: Optional[str] = None, reached: Optional[float] = None) -> None:
+                 reason: Optional[str] = None, reached: Optional[float] = None,
+                 cause: Optional[str] = None) -> None:
         super().__init__(f"code {code}: {message}")
         self.code, self.message, self.id = code, message, id
-        self.reason, self.reached = reason, reached
+        self.reason, self.reached, self.cause = reason, reached, cause
 
 
 class InputError(OracleError):
@@ -161,7 +173,11 @@ class InputError(OracleError):
 
 
 class Uncertified(OracleError):
-    """Code 3: the oracle could not certify (or ran past the query's budget)."""
+    """Code 3: the oracle could not certify (or ran past the query's budget). `at`: for a
+    flow with `times`, the stops certified before the refusal (each an `Answer` with t, q,
+    u, v, as in a whole answer's `at`); empty otherwise."""
+
+    at: List[Answer] = []
 
     @property
     def past_budget(self) -> bool:
@@ -197,18 +213,18 @@ _SHAPES: Dict[str, _Shape] = {
 _DECODE = json.JSONDecoder().decode
 _SCAN: Any = getattr(json.JSONDecoder(), "scan_once")
 # An interval end printed as a decimal string (contract E18: answers computed with more than
-# 53 bits), read as the exact `Decimal` it writes.
+# 53 bits), read as the exact `Exact` (a Decimal that mixes with floats) it writes.
 _DECIMAL_END = re.compile(r"-?[0-9]+(\.[0-9]+)?(e-?[0-9]+)?")
 
 
 def _end(x: Any) -> Any:
     """An interval end as the client keeps it: a JSON number as it is, a decimal string as
-    its exact `Decimal`; TypeError otherwise."""
+    its exact `Exact` (a Decimal); TypeError otherwise."""
     t = type(x)
     if t is float or t is int:
         return x
     if t is str and _DECIMAL_END.fullmatch(x):
-        return Decimal(x)
+        return Exact(x)
     raise TypeError(x)
 
 
@@ -258,7 +274,11 @@ def _error(err: Dict[str, Any], id: Any) -> OracleError:
     code, message = err.get("code"), err.get("message", "")
     cls = {2: InputError, 3: Uncertified}.get(code, OracleError) if isinstance(code, int) \
         else OracleError
-    return cls(code, message, id, err.get("reason"), err.get("reached"))
+    e = cls(code, message, id, err.get("reason"), err.get("reached"), err.get("cause"))
+    stops = err.get("at")
+    if isinstance(e, Uncertified) and isinstance(stops, list):
+        e.at = [_answer("flow", stop) for stop in stops if isinstance(stop, dict)]
+    return e
 
 
 def _script_dirs() -> List[str]:
@@ -321,6 +341,18 @@ class Pending:
 _FLUSH_BYTES = 1 << 16
 _READ_BYTES = 1 << 16
 _ENCODE = json.JSONEncoder(allow_nan=False, separators=(",", ":")).encode
+
+
+def _numpy_default(value: Any) -> Any:
+    """For `json`: a numpy array or scalar (anywhere in a query) as its list or number."""
+    if hasattr(value, "tolist") and hasattr(value, "shape"):
+        return value.tolist()
+    raise TypeError(f"Object of type {type(value).__name__} is not JSON serializable")
+
+
+# (the whole-query encoder of the slow path: numpy values nested in lists or dicts too)
+_ENCODE_ANY = json.JSONEncoder(allow_nan=False, separators=(",", ":"),
+                               default=_numpy_default).encode
 # Whether the calling thread does all the pipe I/O itself (non-blocking writes, poll); a
 # module-level switch so that the tests also run the reader-thread way used without poll.
 _POLL = hasattr(select, "poll") and hasattr(os, "set_blocking")
@@ -336,7 +368,7 @@ _POLL = hasattr(select, "poll") and hasattr(os, "set_blocking")
 # `json` whole (so NaN and infinity are refused as before). Keys that hold integers
 # (`steps`, `order`, ...) keep floats in `repr` form, so that 4.0 stays a float there.
 _FLOAT_SLOT = "%.17g"
-_INT_KEYS = frozenset({"steps", "order", "rungs", "work", "precision"})
+_INT_KEYS = frozenset({"steps", "order", "rungs", "work", "precision", "max_steps"})
 _TEMPLATES: Dict[Any, str] = {}
 _is_integer = float.is_integer
 # The kind of a slot for JSON text: an object of its own (True would equal the length 1 of
@@ -402,9 +434,73 @@ def _line(query: Mapping[str, Any], id: int) -> bytes:
     q = dict(query)
     q["id"] = id
     try:
-        return _ENCODE(q).encode()
+        return _ENCODE_ANY(q).encode()
     except ValueError as e:  # NaN or infinity: invalid input, as the contract says
         raise InputError(2, f"non-finite number in the query: {e}", id) from None
+
+
+# The keys whose value is a vector (a 1-D array) or a matrix (rows; 2-D), for numpy input.
+_VECTOR_KEYS = frozenset({"q", "u", "q0", "q1", "times", "t"})
+_MATRIX_KEYS = frozenset({"q"})  # (for `check`, whose q is a trajectory: rows)
+
+
+def _count(key: str, value: Any) -> int:
+    """An integer >= 1 (a step limit, a work budget); ValueError naming `key` otherwise."""
+    if isinstance(value, bool) or not float(value).is_integer() or value < 1:
+        raise ValueError(f"{key}: expected an integer >= 1, got {value!r}")
+    return int(value)
+
+
+def _plain(key: str, value: Any, cmd: str = "") -> Any:
+    """`value` with numpy arrays and scalars made lists and numbers (JSON's), the shape of
+    an array checked against `key`: a vector key takes a 1-D array, `check`'s `q` a 2-D
+    one (ValueError naming the key and the shape otherwise). Any other value is returned
+    as it is."""
+    t = type(value)
+    if t is float or t is int or t is str or t is list or t is bool or value is None:
+        return value
+    shape = getattr(value, "shape", None)
+    if shape is not None and hasattr(value, "tolist"):  # a numpy array or scalar
+        want = 2 if (cmd == "check" and key in _MATRIX_KEYS) else (
+            1 if key in _VECTOR_KEYS and not (key == "t" and len(shape) == 0) else None)
+        if want is not None and len(shape) != want:
+            what = "a vector (a 1-D array)" if want == 1 else "rows (a 2-D array)"
+            raise ValueError(f"{key}: expected {what}, got an array of shape {tuple(shape)}")
+        return value.tolist()
+    if t is tuple:
+        return [_plain(key, v) for v in value]
+    if isinstance(value, Mapping) and t is not dict:
+        return dict(value)
+    return value
+
+
+def _parse(line: Union[str, bytes], id: Any, cmd: Optional[str]
+           ) -> Union[Answer, BaseException]:
+    """The answer line to the query with `id` and `cmd`: its `Answer`, the `OracleError` of
+    an error answer, or a `ProtocolError` (returned, not raised)."""
+    if type(line) is str and type(id) is int and line[-2:] == "}}":
+        # An `ok` answer to this id whose `ok` object is flat: kept as its text.
+        head = '{"id":%d,"ok":{' % id
+        if line.startswith(head) and line.find("{", len(head)) < 0:
+            return Answer(None, _SHAPES.get(cmd or "", {}), line, len(head) - 1)
+    try:
+        text = line.decode() if isinstance(line, bytes) else line
+        try:
+            answer, end = _SCAN(text, 0)
+            if end != len(text):
+                raise ValueError
+        except (ValueError, StopIteration):
+            answer = _DECODE(text)
+    except ValueError:  # UnicodeDecodeError and JSONDecodeError among them
+        raw = line.encode() if isinstance(line, str) else line
+        return ProtocolError(f"an answer that is not JSON: {raw!r}")
+    if type(answer) is not dict or answer.get("id", ...) != id:
+        return ProtocolError(f"answer {answer!r} is not the answer to id {id!r}")
+    if "error" in answer:
+        return _error(answer["error"], id)
+    if "ok" not in answer:
+        return ProtocolError(f"an answer without ok or error: {answer!r}")
+    return _answer(cmd or "", answer["ok"])
 
 
 class Oracle:
@@ -413,12 +509,15 @@ class Oracle:
     a built-in name or a dict with the keys of a scene file (an inline scene). `work` (an
     integer, Taylor terms) and `deadline` (seconds) are the budget of every query that
     names none (`batch --work`, `--deadline`); with neither, the binary's default work
-    budget applies, which answers the same on every machine (contract E14)."""
+    budget applies, which answers the same on every machine (contract E14). `max_steps` (an
+    integer >= 1) is the step limit of every validated flow that names none (`batch
+    --max-steps`; the binary's default is 20000): a refusal with `cause == "steps"` may be
+    answered with a larger one."""
 
-    def __init__(self, binary: Optional[str] = None, scene: Optional[Scene] = None,
+    def __init__(self, binary: Optional[str] = None, scene: Optional[SceneLike] = None,
                  params: Optional[Mapping[str, float]] = None,
                  deadline: Optional[float] = None, work: Optional[int] = None,
-                 jobs: Optional[int] = None) -> None:
+                 jobs: Optional[int] = None, max_steps: Optional[int] = None) -> None:
         self.binary = find_binary(binary)
         args = [self.binary, "batch"]
         if jobs is not None:
@@ -427,6 +526,8 @@ class Oracle:
             args += ["--deadline", repr(float(deadline))]
         if work is not None:
             args += ["--work", str(int(work))]
+        if max_steps is not None:
+            args += ["--max-steps", str(_count("max_steps", max_steps))]
         self.scene, self.params = scene, params
         self._p = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                    bufsize=0)
@@ -456,11 +557,20 @@ class Oracle:
     # -- the queries -------------------------------------------------------------------
     def flow(self, q: Vector, u: Vector, t: Optional[float] = None, *,
              times: Optional[Vector] = None, order: Optional[int] = None,
-             jacobian: Optional[bool] = None, **common: Any) -> Answer:
+             jacobian: Optional[bool] = None, precision: Optional[int] = None,
+             max_steps: Optional[int] = None, **common: Any) -> Answer:
         """Exact state at time t from q with quasi-velocities u: keys q, u, v (, jacobian);
-        with times=[t1, t2, ..] instead of t, key at (one answer per time: t, q, u, v)."""
+        with times=[t1, t2, ..] instead of t, key at (one answer per time: t, q, u, v).
+
+        `precision` (bits, 53..512; default 53): the answer is computed with intervals of
+        that many significand bits (contract E18, E20), its interval ends then `Exact`
+        numbers instead of floats; a flow refused with `cause == "width"` (the enclosure
+        grew too wide) may be answered at 106. `max_steps`: this query's step limit (the
+        session's, or 20000). A refusal after some of the `times` were certified raises
+        `Uncertified` with those stops in its `at`."""
         return self.ask(self.query("flow", q=q, u=u, t=t, times=times, order=order,
-                                   jacobian=jacobian, **common))
+                                   jacobian=jacobian, precision=precision,
+                                   max_steps=max_steps, **common))
 
     def retract(self, q0: Vector, q1: Vector, h: float, **common: Any) -> Answer:
         """(q0, q1) onto M_h^{e,nh}: keys u0, v0, v1, defect, member, q1."""
@@ -498,28 +608,55 @@ class Oracle:
         return self.ask(self.query("order", q=q, u=u, scheme=scheme, h=h, rungs=rungs,
                                    **common))
 
-    def scenes(self, scene_file: Optional[str] = None) -> Dict[str, Any]:
-        """`dalembert scenes --json`: every built-in scene (or the scene file given) with
-        its coordinates, parameters, Lagrangian, constraints and basis of D."""
-        args = [self.binary, "scenes", "--json"]
-        if scene_file is not None:
-            args += ["--scene-file", scene_file]
-        out = subprocess.run(args, capture_output=True, text=True)
-        if out.returncode != 0:
-            raise _error({"code": out.returncode, "message": out.stderr.strip()}, None)
-        return json.loads(out.stdout)  # type: ignore[no-any-return]
+    def scenes(self, scene: Optional[SceneLike] = None, *, scene_file: Optional[str] = None,
+               params: Optional[Mapping[str, float]] = None) -> Dict[str, Any]:
+        """What `dalembert scenes --json` prints, `{"scenes": [entry, ..]}`: each scene's
+        coordinates, parameters, Lagrangian, constraints and basis of D (a derived basis
+        written out as formulas). `scene`: a built-in name or an inline scene (a dict, e.g.
+        a `Scene`), asked through the batch `scenes` query; `scene_file`: a scene file
+        (TOML, or JSON by the extension `.json`); neither: every built-in scene (not the
+        session's default scene). `params` override the scene's parameters."""
+        if scene is not None and scene_file is not None:
+            raise ValueError("scenes: give scene or scene_file, not both")
+        if scene_file is not None or (params is None and not isinstance(scene, Mapping)):
+            # a file, or built-in scenes: the command line (`scenes --json`)
+            args = [self.binary, "scenes", "--json"]
+            if scene_file is not None:
+                args += ["--scene-file", os.fspath(scene_file)]
+            for k, v in (params or {}).items():
+                args += ["--param", f"{k}={float(v)!r}"]
+            out = subprocess.run(args, capture_output=True, text=True)
+            if out.returncode != 0:
+                raise _error({"code": out.returncode, "message": out.stderr.strip()}, None)
+            got: Dict[str, Any] = json.loads(out.stdout)
+            if isinstance(scene, str):
+                entries = [e for e in got["scenes"] if e.get("name") == scene]
+                if not entries:
+                    raise InputError(2, f"scene: unknown scene `{scene}` (the built-in "
+                                     f"scenes: {', '.join(e['name'] for e in got['scenes'])})")
+                got = {"scenes": entries}
+            return got
+        q: Dict[str, Any] = {"cmd": "scenes"}
+        if scene is not None:
+            q["scene"] = dict(scene) if isinstance(scene, Mapping) else scene
+        if params is not None:
+            q["params"] = dict(params)
+        a = self.ask(q)
+        return {k: a[k] for k in a}
 
     # -- the protocol ------------------------------------------------------------------
-    def query(self, cmd: str, *, scene: Optional[Scene] = None,
+    def query(self, cmd: str, *, scene: Optional[SceneLike] = None,
               params: Optional[Mapping[str, float]] = None, deadline: Optional[float] = None,
               work: Optional[int] = None, **keys: Any) -> Dict[str, Any]:
-        """The query object (a dict) for `cmd`; None values are left out."""
+        """The query object (a dict) for `cmd`; None values are left out; numpy arrays
+        and scalars become lists and numbers (a vector must be one-dimensional, `check`'s
+        `q` two-dimensional: ValueError naming the key otherwise)."""
         q: Dict[str, Any] = {"cmd": cmd, "scene": scene if scene is not None else self.scene}
         q["params"] = params if params is not None else self.params
         q["deadline"] = deadline
         q["work"] = work
         q.update(keys)
-        return {k: v for k, v in q.items() if v is not None}
+        return {k: _plain(k, v, cmd) for k, v in q.items() if v is not None}
 
     def submit(self, query: Mapping[str, Any]) -> Pending:
         """Send one query (a dict without `id`, e.g. from `query`) without waiting: its
@@ -661,29 +798,7 @@ class Oracle:
 
     @staticmethod
     def _result(line: Union[str, bytes], p: Pending) -> Union[Answer, BaseException]:
-        if type(line) is str and type(p.id) is int and line[-2:] == "}}":
-            # An `ok` answer to this id whose `ok` object is flat: kept as its text.
-            head = '{"id":%d,"ok":{' % p.id
-            if line.startswith(head) and line.find("{", len(head)) < 0:
-                return Answer(None, _SHAPES.get(p.cmd or "", {}), line, len(head) - 1)
-        try:
-            text = line.decode() if isinstance(line, bytes) else line
-            try:
-                answer, end = _SCAN(text, 0)
-                if end != len(text):
-                    raise ValueError
-            except (ValueError, StopIteration):
-                answer = _DECODE(text)
-        except ValueError:  # UnicodeDecodeError and JSONDecodeError among them
-            raw = line.encode() if isinstance(line, str) else line
-            return ProtocolError(f"an answer that is not JSON: {raw!r}")
-        if type(answer) is not dict or answer.get("id", ...) != p.id:
-            return ProtocolError(f"answer {answer!r} is not the answer to id {p.id!r}")
-        if "error" in answer:
-            return _error(answer["error"], p.id)
-        if "ok" not in answer:
-            return ProtocolError(f"an answer without ok or error: {answer!r}")
-        return _answer(p.cmd or "", answer["ok"])
+        return _parse(line, p.id, p.cmd)
 
     def close(self) -> int:
         """Answer what is in flight, end the input, wait for the process; its exit status

@@ -17,15 +17,22 @@ per non-blank line, its `id` the line's own (null for a line that is not a JSON 
 an id). A partition whose process fails, or whose answers do not check, is retried
 (`retries`); a worker lost mid-run has its partitions rerun by Dask. Blank lines are skipped,
 as `batch` skips them.
+
+Queries may also be dicts (as `Oracle.query` makes them, numpy arrays allowed; any `id`
+key is replaced by the query's position, 1, 2, ...): then the answers are `Answer` objects,
+or the `OracleError` of a query refused (returned in its place, not raised), as
+`Oracle.run` gives them. Lines in, lines out; dicts in, answers out.
 """
 
 from __future__ import annotations
 
 import json
 import subprocess
-from typing import Any, List, Optional, Sequence, Union
+from typing import Any, List, Mapping, Optional, Sequence, Union
 
-from ._oracle import find_binary
+from ._oracle import Answer, OracleError, ProtocolError, _line, _parse, _plain, find_binary
+
+Query = Union[str, Mapping[str, Any]]
 
 __all__ = ["CampaignError", "run_campaign", "run_local", "partition"]
 
@@ -79,10 +86,49 @@ def _batch(lines: Sequence[str], binary: Optional[str], args: Sequence[str],
     return answers
 
 
-def run_local(lines: Sequence[str], binary: Optional[str] = None,
-              args: Sequence[str] = ()) -> List[str]:
-    """One local `dalembert batch` run: the answer lines, checked."""
-    return _batch(lines, binary, args)
+def _as_lines(queries: Sequence[Query]) -> Optional[List[Mapping[str, Any]]]:
+    """None when every query is a line; the dicts when every query is a dict (ValueError
+    for a mix, or anything else)."""
+    if all(isinstance(q, str) for q in queries):
+        return None
+    if all(isinstance(q, Mapping) for q in queries):
+        return list(queries)  # type: ignore[arg-type]
+    for i, q in enumerate(queries):
+        if not isinstance(q, (str, Mapping)):
+            raise ValueError(f"queries[{i}]: a query is a line (str) or a dict, not "
+                             f"{type(q).__name__}")
+    raise ValueError("queries: all lines (str) or all dicts, not a mix")
+
+
+def _encode(dicts: Sequence[Mapping[str, Any]]) -> List[str]:
+    """The batch lines of query dicts, ids 1, 2, ... in order."""
+    out = []
+    for i, q in enumerate(dicts):
+        cmd = str(q.get("cmd", ""))
+        out.append(_line({k: _plain(k, v, cmd) for k, v in q.items() if v is not None},
+                         i + 1).decode())
+    return out
+
+
+def _decode(dicts: Sequence[Mapping[str, Any]], answers: Sequence[str]
+            ) -> List[Union[Answer, OracleError]]:
+    out: List[Union[Answer, OracleError]] = []
+    for i, (q, a) in enumerate(zip(dicts, answers)):
+        v = _parse(a, i + 1, q.get("cmd"))
+        if isinstance(v, ProtocolError):
+            raise CampaignError(str(v))
+        out.append(v)  # type: ignore[arg-type]
+    return out
+
+
+def run_local(lines: Sequence[Query], binary: Optional[str] = None,
+              args: Sequence[str] = ()) -> List[Any]:
+    """One local `dalembert batch` run: the answer lines, checked (or, for dict queries,
+    their `Answer`s and `OracleError`s)."""
+    dicts = _as_lines(lines)
+    if dicts is None:
+        return _batch(lines, binary, args)  # type: ignore[arg-type]
+    return _decode(dicts, _batch(_encode(dicts), binary, args))
 
 
 def partition(lines: Sequence[str], parts: int) -> List[List[str]]:
@@ -97,13 +143,19 @@ def partition(lines: Sequence[str], parts: int) -> List[List[str]]:
     return out
 
 
-def run_campaign(lines: Sequence[str], client: Union[str, Any, None] = None, *,
+def run_campaign(lines: Sequence[Query], client: Union[str, Any, None] = None, *,
                  partitions: Optional[int] = None, binary: Optional[str] = None,
-                 args: Sequence[str] = (), retries: int = 3) -> List[str]:
+                 args: Sequence[str] = (), retries: int = 3) -> List[Any]:
     """Answer `lines` (batch query lines, JSON text) on Dask: `client` is a
     `distributed.Client`, a scheduler address, or None for the current client.
     `partitions` defaults to 4 per worker thread; `args` are extra `dalembert batch` flags
-    (e.g. ["--work", "1000000"]). Returns the answer lines in input order."""
+    (e.g. ["--work", "1000000"]). Returns the answer lines in input order; for dict queries
+    their `Answer`s (an `OracleError` in the place of a query refused)."""
+    dicts = _as_lines(lines)
+    if dicts is not None:
+        return _decode(dicts, run_campaign(
+            _encode(dicts), client, partitions=partitions, binary=binary, args=args,
+            retries=retries))
     from distributed import Client, get_client
 
     own = None

@@ -30,7 +30,8 @@ from typing import Any, List, Mapping, Optional, Tuple
 from hypothesis import strategies as st
 
 from ._intervals import Interval
-from ._oracle import Oracle, OracleError, Scene
+from ._oracle import Oracle, OracleError
+from ._oracle import SceneLike as Scene
 
 __all__ = [
     "Pair", "dimensions", "configurations", "pairs_on_manifold", "pairs_near",
