@@ -20,10 +20,11 @@ from ._oracle import (
     Uncertified, Vector, find_binary,
 )
 from ._scene import Scene
+from ._grade import Grade, WorkPrecision, WorkPrecisionRow, grade, work_precision
 
 __all__ = [
     "Oracle", "Answer", "Pending", "Interval", "IntervalLike", "Scene", "SceneLike", "Vector",
-    "CAUSES",
+    "CAUSES", "grade", "Grade", "work_precision", "WorkPrecision", "WorkPrecisionRow",
     "OracleError", "InputError", "Uncertified", "ProtocolError", "find_binary",
     "Exact", "distance", "quotient", "observed_order", "down", "up", "to_array", "intervals",
 ]
