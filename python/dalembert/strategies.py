@@ -9,7 +9,12 @@ oracle: `q1` is the midpoint of the certified flow from (q0, u0) at h, and the d
 what the oracle's retraction certifies for the float pair. So when Hypothesis shrinks a
 failing example it shrinks q0, u0 and h, and the pair is rebuilt from them: a shrunk pair
 is as admissible as the first. Starts the oracle cannot certify are rejected (filtered), not
-answered.
+answered, and each rejection is a Hypothesis event naming its cause (`refused (mass)`,
+...), so `pytest --hypothesis-show-statistics` shows the filter rate.
+
+`states(oracle, scene, q_bound, u_bound, t=T)` draws initial states (q, u) whose flow the
+oracle certifies up to the horizon T; `pairs_on_manifold` and `pairs_near` take the same
+`t=` so that their starts are certified that far too (not only for the one step h).
 
     from hypothesis import given
     from dalembert import Oracle
@@ -25,16 +30,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, List, Mapping, Optional, Tuple
+from typing import Any, List, Mapping, NamedTuple, Optional, Tuple
 
+from hypothesis import event
 from hypothesis import strategies as st
 
 from ._intervals import Interval
-from ._oracle import Oracle, OracleError
+from ._oracle import Oracle, OracleError, Uncertified
 from ._oracle import SceneLike as Scene
 
 __all__ = [
-    "Pair", "dimensions", "configurations", "pairs_on_manifold", "pairs_near",
+    "Pair", "State", "states", "dimensions", "configurations", "pairs_on_manifold", "pairs_near",
     "extreme_steps", "large_configurations",
 ]
 
@@ -50,6 +56,18 @@ class Pair:
     q1: List[float]
     h: float
     defect: List[Interval]
+
+
+class State(NamedTuple):
+    """An initial state (q, u) whose flow the oracle certified up to the horizon."""
+
+    q: List[float]
+    u: List[float]
+
+
+def _refused(what: str, e: OracleError) -> None:
+    """A rejected draw, reported in Hypothesis' statistics with its cause."""
+    event(f"{what}: refused ({getattr(e, 'cause', None) or e.reason or 'code %s' % e.code})")
 
 
 def dimensions(oracle: Oracle, scene: Scene, params: Optional[Mapping[str, float]] = None
@@ -75,7 +93,8 @@ def _admissible(oracle: Oracle, scene: Scene, params: Any, q: List[float], m: in
     try:
         oracle.flow(q, [0.0] * m, 0.0, scene=scene, params=params)
         return True
-    except OracleError:
+    except OracleError as e:
+        _refused("configuration", e)
         return False
 
 
@@ -121,8 +140,11 @@ def _normal(oracle: Oracle, scene: Scene, params: Any, q: List[float], m: int
 
 
 def _pair(oracle: Oracle, scene: Scene, params: Any, m: int, q0: List[float],
-          u0: List[float], h: float, distance: float) -> Optional[Pair]:
+          u0: List[float], h: float, distance: float, t: Optional[float] = None
+          ) -> Optional[Pair]:
     try:
+        if t is not None and abs(t) > h:
+            oracle.flow(q0, u0, t, scene=scene, params=params)  # certified to the horizon
         flow = oracle.flow(q0, u0, h, scene=scene, params=params)
         q1 = [iv.mid for iv in flow.q]
         if distance != 0.0:
@@ -131,14 +153,15 @@ def _pair(oracle: Oracle, scene: Scene, params: Any, m: int, q0: List[float],
                 return None
             q1 = [x + distance * nx for x, nx in zip(q1, normal)]
         r = oracle.retract(q0, q1, h, scene=scene, params=params)
-    except OracleError:
+    except OracleError as e:
+        _refused("pair", e)
         return None
     return Pair(q0=q0, u0=u0, q1=q1, h=h, defect=list(r.defect))
 
 
 def _pairs(oracle: Oracle, scene: Scene, q_bound: float, u_bound: float,
-           h: Tuple[float, float], distance: float, params: Optional[Mapping[str, float]]
-           ) -> st.SearchStrategy[Pair]:
+           h: Tuple[float, float], distance: float, params: Optional[Mapping[str, float]],
+           t: Optional[float] = None) -> st.SearchStrategy[Pair]:
     n, m = dimensions(oracle, scene, params)
     inputs = st.tuples(
         configurations(oracle, scene, q_bound, params),
@@ -146,27 +169,54 @@ def _pairs(oracle: Oracle, scene: Scene, q_bound: float, u_bound: float,
         st.floats(h[0], h[1], allow_nan=False, allow_infinity=False),
     )
     return inputs.map(
-        lambda t: _pair(oracle, scene, params, m, t[0], t[1], t[2], distance)
+        lambda d: _pair(oracle, scene, params, m, d[0], d[1], d[2], distance, t)
     ).filter(lambda p: p is not None)  # type: ignore[return-value]
 
 
 def pairs_on_manifold(oracle: Oracle, scene: Scene, q_bound: float, u_bound: float,
-                      h: Tuple[float, float], params: Optional[Mapping[str, float]] = None
-                      ) -> st.SearchStrategy[Pair]:
+                      h: Tuple[float, float], params: Optional[Mapping[str, float]] = None,
+                      *, t: Optional[float] = None) -> st.SearchStrategy[Pair]:
     """Pairs (q0, q1) on M_h^{e,nh} up to rounding: q1 is the midpoint of the certified
     exact exponential map from (q0, u0) at h (q0 in [-q_bound, q_bound]^n, u0 in
     [-u_bound, u_bound]^m, h in the closed range `h`), with the defect the oracle's
-    retraction certifies for the float pair. Starts the oracle cannot certify are rejected."""
-    return _pairs(oracle, scene, q_bound, u_bound, h, 0.0, params)
+    retraction certifies for the float pair. Starts the oracle cannot certify are rejected
+    (a Hypothesis event names each cause); with `t` (the horizon of the test), also starts
+    whose flow is not certified up to t."""
+    return _pairs(oracle, scene, q_bound, u_bound, h, 0.0, params, t)
 
 
 def pairs_near(oracle: Oracle, scene: Scene, q_bound: float, u_bound: float,
                h: Tuple[float, float], distance: float,
-               params: Optional[Mapping[str, float]] = None) -> st.SearchStrategy[Pair]:
+               params: Optional[Mapping[str, float]] = None, *, t: Optional[float] = None
+               ) -> st.SearchStrategy[Pair]:
     """As `pairs_on_manifold`, with q1 then moved by `distance` along a unit vector
     orthogonal to D(q1) (the constraint normal's direction when there is one constraint):
     pairs at a chosen distance from M_h^{e,nh}. The defect is certified for the moved pair."""
-    return _pairs(oracle, scene, q_bound, u_bound, h, distance, params)
+    return _pairs(oracle, scene, q_bound, u_bound, h, distance, params, t)
+
+
+def states(oracle: Oracle, scene: Scene, q_bound: float, u_bound: float, *, t: float,
+           params: Optional[Mapping[str, float]] = None) -> st.SearchStrategy[State]:
+    """Initial states `State(q, u)` (q in [-q_bound, q_bound]^n, u in [-u_bound, u_bound]^m)
+    whose flow the oracle certifies up to the horizon `t` (one flow query per draw). Draws
+    it cannot certify are filtered out, each a Hypothesis event `states: refused (CAUSE)`
+    and the others `states: certified to t`, so that the filter rate is in Hypothesis'
+    statistics (`pytest --hypothesis-show-statistics`). Shrinks toward q = 0, u = 0."""
+    if not (isinstance(t, (int, float)) and math.isfinite(t)):
+        raise ValueError(f"t: expected a finite horizon, got {t!r}")
+    n, m = dimensions(oracle, scene, params)
+
+    def certified(s: State) -> bool:
+        try:
+            oracle.flow(s.q, s.u, float(t), scene=scene, params=params)
+        except Uncertified as e:
+            _refused("states", e)
+            return False
+        event("states: certified to t")
+        return True
+
+    return st.builds(State, st.lists(_floats(q_bound), min_size=n, max_size=n),
+                     st.lists(_floats(u_bound), min_size=m, max_size=m)).filter(certified)
 
 
 def extreme_steps() -> st.SearchStrategy[float]:
