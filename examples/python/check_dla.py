@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """A Python DLA step for the nonholonomic particle, checked against the dalembert oracle.
 
-The oracle is used through `dalembert batch` (JSON lines in, JSON lines out) by the module
-clients/python/dalembert_oracle.py, so nothing here links Rust. For each step size h the
+The oracle is used through `dalembert batch` (JSON lines in, JSON lines out) by
+the `dalembert` Python package, so nothing here links Rust. For each step size h the
 script takes one DLA step (q0, q1) -> q2 from a pair on an exact trajectory and asks the oracle for the exact discrete flow from the same
 pair: `step` returns certified enclosures of q(2h) on the exact trajectory through
 (q0, q1 moved onto M_h^{e,nh}). The one-step error |q2_dla - q(2h)|_inf is then known as a
@@ -30,11 +30,9 @@ passes.
 Usage: check_dla.py [path/to/dalembert]     (default: $DALEMBERT, or `dalembert` on PATH)
 """
 import math
-import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../clients/python"))
-from dalembert_oracle import InputError, Oracle, distance, quotient  # noqa: E402
+from dalembert import InputError, Oracle, distance, quotient
 
 
 def dla_particle_step(q0, q1, h):

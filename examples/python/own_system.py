@@ -8,7 +8,7 @@ mass m and moment of inertia J,
 
 sent as a JSON object in the `scene` field of each `dalembert batch` query (the same keys
 as a scene file; see the README, "Your own system"), here by the module
-clients/python/dalembert_oracle.py (`Oracle(scene=UNICYCLE)`). With free = ["x", "theta"] the basis of
+the `dalembert` Python package (`Oracle(scene=UNICYCLE)`). With free = ["x", "theta"] the basis of
 D is derived: e1 = (1, tan theta, 0), e2 = (0, 0, 1), so u = (xd, thetad).
 
 The script checks the certified answers against the closed form (speed along the blade
@@ -19,11 +19,9 @@ every check passes.
 Usage: own_system.py [path/to/dalembert]     (default: $DALEMBERT, or `dalembert` on PATH)
 """
 import math
-import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../clients/python"))
-from dalembert_oracle import Oracle, distance  # noqa: E402
+from dalembert import Oracle, distance
 
 UNICYCLE = {
     "name": "unicycle",

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Validate a scheme written in Python on the contact oscillator, with dalembert_oracle.
+"""Validate a scheme written in Python on the contact oscillator, with the `dalembert` package.
 
 The scene `contact-oscillator` (spec (3.8)): q = (x, y, z),
 L = |qd|^2 / 2 - V,  V = (x^2 + y^2 + z^2 + eps x^2 z^2) / 2,  constraint xd + y zd = 0,
@@ -18,11 +18,9 @@ The script asserts them and prints `ok`.
 
 Usage: validate_scheme.py [path/to/dalembert]   (default: $DALEMBERT, or `dalembert` on PATH)
 """
-import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../clients/python"))
-from dalembert_oracle import Oracle, distance, observed_order  # noqa: E402
+from dalembert import Oracle, distance, observed_order
 
 EPS = 0.3  # the scene's default parameter
 

@@ -49,6 +49,11 @@ class Grade:
     precision: int = 53
     tol: Optional[float] = None
 
+    def __repr__(self) -> str:
+        return (f"Grade({len(self.t)} times, max_error={self.max_error:.3e}, "
+                f"passed={self.passed}, verdict={self.verdict!r}, "
+                f"refused={len(self.refused)}, precision={self.precision})")
+
 
 def _times_and_states(sol: Any, t: Any, y: Any) -> Tuple[Any, Any]:
     import numpy as np
