@@ -177,7 +177,9 @@ class Uncertified(OracleError):
     flow with `times`, the stops certified before the refusal (each an `Answer` with t, q,
     u, v, as in a whole answer's `at`); empty otherwise."""
 
-    at: List[Answer] = []
+    def __init__(self, *args: Any, **kw: Any) -> None:
+        super().__init__(*args, **kw)
+        self.at: List[Answer] = []
 
     @property
     def past_budget(self) -> bool:
@@ -596,7 +598,9 @@ class Oracle:
               **common: Any) -> Answer:
         """Certified verdict on a trajectory q (rows) of step h, or at times t (one per
         row): keys distance, max_distance, defect, max_defect, energy_error, passed (False
-        when the distance is proved beyond tol or a pair's defect beyond defect_tol)."""
+        when the distance is proved beyond tol or a pair's defect beyond defect_tol).
+        `precision=BITS` computes the exact discrete flow at that precision (contract E21;
+        the figures stay float intervals)."""
         return self.ask(self.query("check", q=q, h=h, t=t, tol=tol, defect_tol=defect_tol,
                                    pairs=pairs, **common))
 
