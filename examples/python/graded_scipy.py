@@ -74,7 +74,8 @@ def main(binary=None):
         runs = [(f"{method} rtol={rtol:.0e}",
                  solve_ivp(rhs, (0.0, 1.5), start(q0, u0), method=method, rtol=rtol,
                            atol=rtol * 1e-3, t_eval=T), rtol)
-                for method, rtols in (("RK45", (1e-4, 1e-7)), ("DOP853", (1e-6, 1e-9, 1e-12, 1e-14)),
+                for method, rtols in (("RK45", (1e-4, 1e-7)),
+                                      ("DOP853", (1e-6, 1e-9, 1e-12, 1e-14)),
                                       ("LSODA", (1e-6,)))
                 for rtol in rtols]
         tables = {}

@@ -13,7 +13,8 @@ guide.
 """
 
 from ._intervals import (
-    Exact, Interval, IntervalLike, distance, down, intervals, observed_order, quotient, to_array, up,
+    Exact, Interval, IntervalLike, distance, down, intervals, observed_order, quotient,
+    to_array, up,
 )
 from ._oracle import (
     CAUSES, Answer, InputError, Oracle, OracleError, Pending, ProtocolError, SceneLike,

@@ -73,10 +73,10 @@ class Exact(Decimal):
 
     def _exact(self, other: Any, op: str, swap: bool = False) -> Any:
         if isinstance(other, Fraction):
-            a, b = Fraction(self), other
+            fa, fb = Fraction(self), other
             if swap:
-                a, b = b, a
-            return {"+": a + b, "-": a - b, "*": a * b}[op]
+                fa, fb = fb, fa
+            return {"+": fa + fb, "-": fa - fb, "*": fa * fb}[op]
         o = _operand(other)
         if o is NotImplemented:
             return NotImplemented
@@ -85,43 +85,43 @@ class Exact(Decimal):
         r = c.add(a, b) if op == "+" else c.subtract(a, b) if op == "-" else c.multiply(a, b)
         return Exact(r)
 
-    def __add__(self, other: Any) -> Any:  # type: ignore[override]
+    def __add__(self, other: Any) -> Any:
         return self._exact(other, "+")
 
-    def __radd__(self, other: Any) -> Any:  # type: ignore[override]
+    def __radd__(self, other: Any) -> Any:
         return self._exact(other, "+", True)
 
-    def __sub__(self, other: Any) -> Any:  # type: ignore[override]
+    def __sub__(self, other: Any) -> Any:
         return self._exact(other, "-")
 
-    def __rsub__(self, other: Any) -> Any:  # type: ignore[override]
+    def __rsub__(self, other: Any) -> Any:
         return self._exact(other, "-", True)
 
-    def __mul__(self, other: Any) -> Any:  # type: ignore[override]
+    def __mul__(self, other: Any) -> Any:
         return self._exact(other, "*")
 
-    def __rmul__(self, other: Any) -> Any:  # type: ignore[override]
+    def __rmul__(self, other: Any) -> Any:
         return self._exact(other, "*", True)
 
-    def __truediv__(self, other: Any) -> Any:  # type: ignore[override]
+    def __truediv__(self, other: Any) -> Any:
         if isinstance(other, Fraction):
             return Fraction(self) / other
         o = _operand(other)
         return NotImplemented if o is NotImplemented else Exact(Decimal.__truediv__(self, o))
 
-    def __rtruediv__(self, other: Any) -> Any:  # type: ignore[override]
+    def __rtruediv__(self, other: Any) -> Any:
         if isinstance(other, Fraction):
             return other / Fraction(self)
         o = _operand(other)
         return NotImplemented if o is NotImplemented else Exact(Decimal.__truediv__(o, self))
 
-    def __neg__(self, context: Any = None) -> "Exact":  # type: ignore[override]
+    def __neg__(self, context: Any = None) -> "Exact":
         return Exact(self.copy_negate())
 
-    def __pos__(self, context: Any = None) -> "Exact":  # type: ignore[override]
+    def __pos__(self, context: Any = None) -> "Exact":
         return self
 
-    def __abs__(self, round: bool = True, context: Any = None) -> "Exact":  # type: ignore[override]
+    def __abs__(self, round: bool = True, context: Any = None) -> "Exact":
         return Exact(self.copy_abs())
 
     def __repr__(self) -> str:

@@ -4,8 +4,8 @@ Errors. An answer with an error raises `InputError` (code 2: invalid input) or `
 (code 3: not certified, including past the budget, `reason == "budget"`); both are
 `OracleError`s with `code`, `message`, `id`, `reason`, `cause` and `reached`, and an
 `Uncertified` also has `at` (the stops of a `times` flow certified before the refusal). The
-session goes on after either. A broken session (the process ended, an answer out of order or not JSON)
-raises `ProtocolError`.
+session goes on after either. A broken session (the process ended, an answer out of order or
+not JSON) raises `ProtocolError`.
 
 Answers are `Answer`s: dicts that also allow attribute access (`a.q2` is `a["q2"]`), with
 each interval of the command's answer (spec/contract.md) turned into an `Interval`; other
@@ -274,9 +274,9 @@ def _answer(cmd: str, ok: Dict[str, Any]) -> Answer:
 
 def _error(err: Dict[str, Any], id: Any) -> OracleError:
     code, message = err.get("code"), err.get("message", "")
-    cls = {2: InputError, 3: Uncertified}.get(code, OracleError) if isinstance(code, int) \
-        else OracleError
-    e = cls(code, message, id, err.get("reason"), err.get("reached"), err.get("cause"))
+    cls: Any = {2: InputError, 3: Uncertified}.get(code, OracleError) \
+        if isinstance(code, int) else OracleError
+    e: OracleError = cls(code, message, id, err.get("reason"), err.get("reached"), err.get("cause"))
     stops = err.get("at")
     if isinstance(e, Uncertified) and isinstance(stops, list):
         e.at = [_answer("flow", stop) for stop in stops if isinstance(stop, dict)]

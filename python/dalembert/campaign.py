@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import json
 import subprocess
-from typing import Any, List, Mapping, Optional, Sequence, Union
+from typing import Any, List, Mapping, Optional, Sequence, Union, cast
 
 from ._oracle import Answer, OracleError, ProtocolError, _line, _parse, _plain, find_binary
 
@@ -157,6 +157,8 @@ def run_campaign(lines: Sequence[Query], client: Union[str, Any, None] = None, *
             _encode(dicts), client, partitions=partitions, binary=binary, args=args,
             retries=retries))
     from distributed import Client, get_client
+
+    lines = cast(Sequence[str], lines)
 
     own = None
     if client is None:

@@ -1,7 +1,7 @@
 """A `dalembert.Scene` from a model written with sympy (optional dependency `sympy`).
 
     import sympy as sp
-    from sympy.physics.mechanics import dynamicsymbols
+    from sympy.physics.mechanics import dynamicsymbols  # type: ignore[import-untyped]
     from dalembert.sympy import scene_from_lagrangian
 
     x, y, th = dynamicsymbols("x y theta")
@@ -30,8 +30,8 @@ import itertools
 import math
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
-import sympy as sp
-from sympy.core.function import AppliedUndef
+import sympy as sp  # type: ignore[import-untyped]
+from sympy.core.function import AppliedUndef  # type: ignore[import-untyped]
 
 from ._scene import FUNCTIONS, IDENTIFIER, NOT_ANALYTIC, RESERVED, Scene
 
@@ -141,12 +141,12 @@ class _Printer:
             # the real-exponent path of (10.6): exp(x log b), defined for b > 0
             return f"{self.wrap(b, _POW)}^({self.p(x)[0]})", _POW
         if isinstance(e, sp.Function) and len(e.args) == 1:
-            f = type(e)
+            fn = type(e)
             arg = self.p(e.args[0])[0]
-            if f in _SAME_NAME:
-                return f"{_SAME_NAME[f]}({arg})", _ATOM
-            if f in _QUOTIENTS:
-                num_f, den_f = _QUOTIENTS[f]
+            if fn in _SAME_NAME:
+                return f"{_SAME_NAME[fn]}({arg})", _ATOM
+            if fn in _QUOTIENTS:
+                num_f, den_f = _QUOTIENTS[fn]
                 top = "1" if num_f == "1" else f"{num_f}({arg})"
                 return f"{top}/{den_f}({arg})", _MUL
         name = type(e).__name__
@@ -169,7 +169,7 @@ def _name(c: Any, i: int, t: Any) -> str:
     if not (isinstance(c, AppliedUndef) and c.args == (t,)):
         raise SceneError(f"q[{i + 1}]: expected a coordinate as dynamicsymbols makes it (a "
                          f"function of {t}), got `{c}`")
-    name = c.func.__name__
+    name: str = c.func.__name__
     if not IDENTIFIER.match(name) or name in RESERVED:
         raise SceneError(f"q[{i + 1}]: the name `{name}` is not a name of the scene language "
                          f"(an identifier [A-Za-z_][A-Za-z0-9_]*, not one of its functions "
@@ -214,7 +214,7 @@ def scene_from_lagrangian(L: Any, q: Sequence[Any], constraints: Sequence[Any],
     determinant is nonzero at q = 0. `basis`: rows e_a(q) of D instead (sympy expressions
     in q). `t`: the time symbol (default `dynamicsymbols._t`). SceneError (a ValueError)
     names what cannot be read."""
-    from sympy.physics.mechanics import dynamicsymbols
+    from sympy.physics.mechanics import dynamicsymbols  # type: ignore[import-untyped]
 
     t = dynamicsymbols._t if t is None else t
     q = list(q)
@@ -413,4 +413,5 @@ def from_lagranges(lm: Any, parameters: Mapping[Any, Any], **kw: Any) -> Scene:
 def to_scene_expr(e: Any, names: Mapping[Any, str], where: str = "expression") -> str:
     """One sympy expression printed in the scene language, `names` mapping its symbols to
     scene names (SceneError naming what cannot be read)."""
-    return _Printer(dict(names), where, str).p(sp.sympify(e))[0]
+    text: str = _Printer(dict(names), where, str).p(sp.sympify(e))[0]
+    return text

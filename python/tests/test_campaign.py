@@ -81,7 +81,7 @@ def test_300_queries_on_two_workers_equal_one_local_batch(cluster):
 
 
 def test_a_worker_killed_mid_run_still_answers_every_query_once(cluster):
-    lines = queries(300, seed=4)
+    lines = queries(900, seed=4)  # (a run long enough to be killed in, even on a fast build)
     local = run_local(lines)
     pids = cluster.run(os.getpid)
     victim = sorted(pids.values())[0]
@@ -100,3 +100,19 @@ def test_a_worker_killed_mid_run_still_answers_every_query_once(cluster):
     ids = [json.loads(a)["id"] for a in got]
     want = [json.loads(q)["id"] if q.startswith("{") else None for q in lines]
     assert ids == want
+
+
+def test_dict_queries_come_back_as_answers(cluster):
+    from dalembert import Answer, Oracle, OracleError
+
+    dicts = [json.loads(line) for line in queries(60, seed=5) if line.startswith("{")]
+    got = run_campaign(dicts, cluster, partitions=4)
+    assert len(got) == len(dicts)
+    with Oracle() as o:
+        want = o.run([{k: v for k, v in d.items() if k != "id"} for d in dicts])
+    for g, w in zip(got, want):
+        assert type(g) is type(w) and (isinstance(g, OracleError) or type(g) is Answer)
+        if isinstance(g, Answer):
+            assert dict(g.items()) == dict(w.items())
+        else:
+            assert (g.code, g.message) == (w.code, w.message)

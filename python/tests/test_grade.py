@@ -13,7 +13,6 @@ np = pytest.importorskip("numpy")
 integrate = pytest.importorskip("scipy.integrate")
 from sympy.physics.mechanics import dynamicsymbols  # noqa: E402
 
-import dalembert  # noqa: E402
 from dalembert import Grade, grade, work_precision  # noqa: E402
 from dalembert.sympy import scene_from_lagrangian  # noqa: E402
 
