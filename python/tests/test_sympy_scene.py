@@ -2,7 +2,9 @@
 closed form of the free unicycle and (b) the sympy model solved independently at 40 digits
 (sympy's own `LagrangesMethod` equations, Lagrange multipliers and all, integrated by
 mpmath's Taylor-series `odefun`: nothing of dalembert in it); the forms of `Scene.state`;
-and one clear error for what the scene language cannot read."""
+a tilting rolling disc built from sympy bodies (sympy's energy and constraints hold along
+the oracle's flow, in interval arithmetic); and one clear error for what the scene language
+cannot read."""
 
 import math
 
@@ -156,3 +158,64 @@ def test_printed_expressions_read_back_as_the_same_values(oracle):
     assert "^" in s["potential"] and "**" not in s["potential"]
     a = oracle.flow(q, [0.1, 0.2], 0.1, scene=s)
     assert all(iv.width_up() < 1e-12 for iv in a.q)
+
+
+def rolling_disc():
+    """The tilting rolling disc of issue 47 from sympy.physics.mechanics bodies, as a
+    KanesMethod user has them: L = Lagrangian(N, disc), the contact point's velocity = 0
+    (its horizontal components: the nonholonomic constraints)."""
+    from sympy.physics.mechanics import Lagrangian, Point, ReferenceFrame, RigidBody, inertia
+
+    x, y, yaw, lean, spin = dynamicsymbols("x y yaw lean spin")
+    mass, r, g = sp.symbols("mass r g", positive=True)
+    N = ReferenceFrame("N")
+    A = N.orientnew("A", "Axis", [yaw, N.z])
+    B = A.orientnew("B", "Axis", [lean, A.x])
+    C = B.orientnew("C", "Axis", [spin, B.y])
+    P = Point("P")
+    P.set_vel(N, x.diff(T) * N.x + y.diff(T) * N.y)
+    O = P.locatenew("O", r * B.z)
+    O.set_vel(N, O.pos_from(P).dt(N) + P.vel(N))
+    disc = RigidBody("disc", O, C, mass,
+                     (inertia(B, mass * r**2 / 4, mass * r**2 / 2, mass * r**2 / 4), O))
+    disc.potential_energy = mass * g * r * sp.cos(lean)
+    L = sp.simplify(Lagrangian(N, disc))
+    contact = O.vel(N) + C.ang_vel_in(N).cross(-r * B.z)
+    constraints = [sp.simplify(contact.dot(N.x)), sp.simplify(contact.dot(N.y))]
+    q = [x, y, yaw, lean, spin]
+    params = {mass: 1.0, r: 0.5, g: 9.81}
+    return L, q, constraints, params
+
+
+def test_a_rolling_disc_from_bodies_keeps_sympys_energy_and_constraints(oracle):
+    L, q, constraints, params = rolling_disc()
+    s = scene_from_lagrangian(L, q, constraints, params, name="disc")
+    assert s["free"] == ["yaw", "lean", "spin"] and (s.n, s.m) == (5, 3)
+    q0, u0 = [0.0, 0.0, 0.0, 0.3, 0.0], [1.0, 0.2, 2.0]
+    a = oracle.flow(q0, u0, 0.5, scene=s)
+    # sympy's own energy T + V and constraints, evaluated in interval arithmetic (mpmath.iv)
+    # on the oracle's boxes of q and qdot = v: the energy encloses the start's, the
+    # constraints enclose 0
+    qd = [c.diff(T) for c in q]
+    plain = sp.symbols("z0:10")
+    sub = {**dict(zip(qd, plain[5:])), **dict(zip(q, plain[:5]))}
+    Lp = L.subs(params).subs(sub)
+    energy = sum(v * sp.diff(Lp, v) for v in plain[5:]) - Lp
+    fns = {"sin": mp.iv.sin, "cos": mp.iv.cos}
+    e_fn = sp.lambdify(plain, energy, modules=[fns])
+    c_fns = [sp.lambdify(plain, c.subs(params).subs(sub), modules=[fns])
+             for c in constraints]
+    with mp.workdps(30):
+        def box(ivs):
+            return [mp.iv.mpf([str(iv.lo), str(iv.hi)]) for iv in ivs]
+        start = [mp.iv.mpf(str(v)) for v in q0] + [mp.iv.mpf(str(v)) for v in
+                                                   (0.0, 0.0, u0[0], u0[1], u0[2])]
+        # the start's qdot: v at t = 0 from the basis (yaw, lean, spin free)
+        v0 = oracle.flow(q0, u0, 0.0, scene=s).v
+        e0 = e_fn(*(start[:5] + box(v0)))
+        e1 = e_fn(*(box(a.q) + box(a.v)))
+        assert e1.a <= e0.b and e0.a <= e1.b, (e0, e1)  # the enclosures meet
+        assert e1.delta < 1e-8
+        for c in c_fns:
+            value = c(*(box(a.q) + box(a.v)))
+            assert value.a <= 0 <= value.b, value
