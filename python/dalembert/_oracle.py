@@ -636,8 +636,11 @@ class Oracle:
             if isinstance(scene, str):
                 entries = [e for e in got["scenes"] if e.get("name") == scene]
                 if not entries:
+                    hint = " (a file is scene_file=...)" if scene.lower().endswith(
+                        (".toml", ".json")) else ""
                     raise InputError(2, f"scene: unknown scene `{scene}` (the built-in "
-                                     f"scenes: {', '.join(e['name'] for e in got['scenes'])})")
+                                     f"scenes: {', '.join(e['name'] for e in got['scenes'])})"
+                                     f"{hint}")
                 got = {"scenes": entries}
             return got
         q: Dict[str, Any] = {"cmd": "scenes"}

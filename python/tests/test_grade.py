@@ -116,3 +116,12 @@ def test_bad_input_gets_one_clear_error(oracle):
         grade(sol, t=sol.t, scene=SCENE, oracle=oracle)
     with pytest.raises(ValueError, match=r"^t: 1.0 - t\[0\] = 0.001 is not a float exactly"):
         grade(t=[0.001, 1.0], y=sol.y[:, :2], scene=SCENE, oracle=oracle)
+
+
+def test_work_precision_plots_with_matplotlib(oracle):
+    pytest.importorskip("matplotlib")  # optional by design: the rows come without it
+    rows = work_precision([("a", run(rtol=1e-4), 1e-4), ("b", run(rtol=1e-8), 1e-8)],
+                          scene=SCENE, precision=53, oracle=oracle)
+    ax = rows.figure.axes[0]
+    assert ax.get_xscale() == "log" and len(ax.lines) == 2
+    assert ax.lines[1].get_ydata()[0] == rows[1].max_error
