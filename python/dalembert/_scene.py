@@ -91,6 +91,10 @@ class Scene(dict):  # type: ignore[type-arg]
     `n` is the number of coordinates, `m` the number of quasi-velocities (n - k, k the
     number of constraints); `state(y)` maps a solver's state vector to the scene's (q, u)."""
 
+    def __reduce__(self) -> Any:
+        # pickled (Dask, multiprocessing) as its dict alone, without the compiled functions
+        return (Scene, (dict(self),))
+
     @property
     def n(self) -> int:
         return len(self["coordinates"])

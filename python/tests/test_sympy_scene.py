@@ -219,3 +219,12 @@ def test_a_rolling_disc_from_bodies_keeps_sympys_energy_and_constraints(oracle):
         for c in c_fns:
             value = c(*(box(a.q) + box(a.v)))
             assert value.a <= 0 <= value.b, value
+
+
+def test_a_scene_pickles_as_its_dict():
+    import pickle
+
+    s = scene_from_lagrangian(FREE_L, [X, Y, TH], [CONSTRAINT], PARAMS)
+    s.state([0.0, 0.0, 0.3, 1.0, 0.5])  # (its compiled functions cached)
+    back = pickle.loads(pickle.dumps(s))
+    assert type(back) is Scene and back == s and back.state([0.0, 0.0, 0.3, 1.0, 0.5])
