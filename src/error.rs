@@ -147,6 +147,81 @@ pub struct Refusal {
     /// For a validated flow: the time up to which the enclosure had been proved when the
     /// work stopped (`None` when no flow was under way, or it had not started).
     pub reached: Option<f64>,
+    /// What the refusal is about, one of a documented set ([`Cause`], contract E23, [spec
+    /// 0.3](crate::spec::overview#03-failure)): finer than `reason`, and the set the steps
+    /// shrank toward when a step limit was reached for that.
+    pub cause: Cause,
+}
+
+/// What a [`Refusal`] is about (contract E23, [spec 0.3](crate::spec::overview#03-failure)):
+/// one cause, one name, whatever path refused. Only words a refusal: nothing is proved or
+/// answered with it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Cause {
+    /// The mass matrix is not proved positive definite where the query needs it.
+    Mass,
+    /// The derived basis of D is singular there (its pivot block, or the rank of the
+    /// constraints and the basis).
+    Basis,
+    /// An expression of the scene is not proved finite or defined there (outside its domain).
+    Domain,
+    /// The enclosure grew too wide before any of the scene's data failed: a higher precision
+    /// may answer.
+    Width,
+    /// The step limit was reached ([`crate::FlowOptions::max_taylor_steps`], `--max-steps`).
+    Steps,
+    /// The work budget was spent ([`crate::FlowOptions::work_limit`], `--work`).
+    Work,
+    /// The wall-clock deadline passed (`--deadline`).
+    Deadline,
+    /// A proof failed: a priori enclosure, Krawczyk, Newton, an undecided tolerance.
+    Proof,
+    /// An enclosure became unbounded or not finite.
+    Unbounded,
+}
+
+impl Cause {
+    /// The name in the batch protocol's error object (`"cause"`, contract E23).
+    pub fn name(self) -> &'static str {
+        match self {
+            Cause::Mass => "mass",
+            Cause::Basis => "basis",
+            Cause::Domain => "domain",
+            Cause::Width => "width",
+            Cause::Steps => "steps",
+            Cause::Work => "work",
+            Cause::Deadline => "deadline",
+            Cause::Proof => "proof",
+            Cause::Unbounded => "unbounded",
+        }
+    }
+
+    /// Every cause, in the order of the contract's table (E23).
+    pub const ALL: [Cause; 9] = [
+        Cause::Mass,
+        Cause::Basis,
+        Cause::Domain,
+        Cause::Width,
+        Cause::Steps,
+        Cause::Work,
+        Cause::Deadline,
+        Cause::Proof,
+        Cause::Unbounded,
+    ];
+
+    /// The cause a refusal has unless a more precise one is known: from its reason and,
+    /// for a budget, the limit spent.
+    fn of(reason: Reason, limit: Option<Limit>) -> Cause {
+        match (reason, limit) {
+            (Reason::Budget, Some(Limit::Deadline)) => Cause::Deadline,
+            (Reason::Budget, Some(Limit::Work)) => Cause::Work,
+            (Reason::Budget, _) => Cause::Steps,
+            (Reason::NoProof, _) => Cause::Proof,
+            (Reason::Unbounded, _) => Cause::Unbounded,
+            (Reason::Undefined, _) => Cause::Domain,
+        }
+    }
 }
 
 /// Which budget a [`Reason::Budget`] refusal spent.
@@ -255,6 +330,7 @@ impl Error {
             limit: None,
             message: msg.into(),
             reached: None,
+            cause: Cause::of(reason, None),
         })
     }
     /// A [`Reason::Budget`] refusal that spent the budget `limit`.
@@ -264,6 +340,7 @@ impl Error {
             limit: Some(limit),
             message: msg.into(),
             reached: None,
+            cause: Cause::of(Reason::Budget, Some(limit)),
         })
     }
     /// A fault of the crate itself ([`Error::Internal`], [`Invariant::Other`]): an
@@ -304,6 +381,31 @@ impl Error {
                 ..r
             }),
             other => other,
+        }
+    }
+    /// The same error, a refusal with the cause `cause` (contract E23); other errors
+    /// unchanged.
+    pub fn with_cause(self, cause: Cause) -> Self {
+        match self {
+            Error::Uncertified(r) => Error::Uncertified(Refusal { cause, ..r }),
+            other => other,
+        }
+    }
+    /// The same error, its message (a refusal's) with `more` appended; other errors unchanged.
+    pub(crate) fn with_more(self, more: &str) -> Self {
+        match self {
+            Error::Uncertified(r) => Error::Uncertified(Refusal {
+                message: format!("{}{more}", r.message),
+                ..r
+            }),
+            other => other,
+        }
+    }
+    /// The cause of a refusal (contract E23); `None` for input errors and internal faults.
+    pub fn cause(&self) -> Option<Cause> {
+        match self {
+            Error::Uncertified(r) => Some(r.cause),
+            _ => None,
         }
     }
     /// The kind of a refusal; `None` for input errors and internal faults.

@@ -112,8 +112,57 @@ pub fn flow_at_in<I: Ival>(
     times: &[f64],
     opts: &FlowOptions,
 ) -> Result<Vec<FlowEnclosure<I>>, Error> {
-    let x = flow_query(model, q, u, first_time(times)?)?;
+    flow_at_certified_in(model, q, u, times, opts).map_err(|r| r.error)
+}
+
+/// A dense flow refused at some stop: the stops certified before the refusal, each with
+/// its time (contract E25), and the refusal.
+#[derive(Clone, Debug)]
+pub struct Refused<I = Interval> {
+    /// The stops proved before the refusal, in the order of the times given: `(t, the
+    /// enclosure at t)`, as [`flow_at_in`] would answer them (empty when none).
+    pub at: Vec<(f64, FlowEnclosure<I>)>,
+    /// Why the rest was not answered.
+    pub error: Error,
+}
+
+/// [`flow_at_in`], keeping on a refusal the stops proved before it ([`Refused`]).
+///
+/// # Containment
+/// As [`flow_at_in`], for the answer and for every stop of a refusal's `at`: each is the
+/// same enclosure [`flow_at_in`] computes for that time when it answers, proved before the
+/// refusal (a later failure does not undo an earlier proof: each leg starts from the set
+/// proved at the stop before it, [spec eq. (5.16)](crate::spec::enclosure)).
+pub fn flow_at_certified_in<I: Ival>(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    times: &[f64],
+    opts: &FlowOptions,
+) -> Result<Vec<FlowEnclosure<I>>, Refused<I>> {
+    let none = |error| Refused {
+        at: Vec::new(),
+        error,
+    };
+    let t = first_time(times).map_err(none)?;
+    let x = flow_query(model, q, u, t).map_err(none)?;
     flow_from(model, &LohnerSet::<I>::point(&x), times, opts)
+}
+
+/// [`flow_at_certified_in`] in the answers' intervals (f64).
+pub fn flow_at_certified(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    times: &[f64],
+    opts: &FlowOptions,
+) -> Result<Vec<FlowEnclosure>, Refused> {
+    flow_at_certified_in::<inari::Interval>(model, q, u, times, opts)
+        .map(|at| at.into_iter().map(answer).collect())
+        .map_err(|r| Refused {
+            at: r.at.into_iter().map(|(t, e)| (t, answer(e))).collect(),
+            error: r.error,
+        })
 }
 
 /// [`flow_at_in`] from every state in the boxes `q`, `u` (of `I`'s precision: e.g. decimals
@@ -130,6 +179,35 @@ pub fn flow_boxes_in<I: Ival>(
     times: &[f64],
     opts: &FlowOptions,
 ) -> Result<Vec<FlowEnclosure<I>>, Error> {
+    flow_boxes_certified_in(model, q, u, times, opts).map_err(|r| r.error)
+}
+
+/// [`flow_boxes_in`], keeping on a refusal the stops proved before it ([`Refused`]).
+///
+/// # Containment
+/// As [`flow_boxes_in`] and [`flow_at_certified_in`].
+pub fn flow_boxes_certified_in<I: Ival>(
+    model: &Model,
+    q: &[I],
+    u: &[I],
+    times: &[f64],
+    opts: &FlowOptions,
+) -> Result<Vec<FlowEnclosure<I>>, Refused<I>> {
+    let start = boxes_start(model, q, u, times).map_err(|error| Refused {
+        at: Vec::new(),
+        error,
+    })?;
+    flow_from(model, &start, times, opts)
+}
+
+/// The initial set of [`flow_boxes_in`], after its checks: the query's (at the boxes'
+/// midpoints), finite boxes, and the scene on the boxes ([spec eq. (3.17)](crate::spec::scenes)).
+fn boxes_start<I: Ival>(
+    model: &Model,
+    q: &[I],
+    u: &[I],
+    times: &[f64],
+) -> Result<LohnerSet<I>, Error> {
     let mid = |x: &[I]| x.iter().map(|v| v.mid()).collect::<Vec<f64>>();
     let t = first_time(times)?;
     flow_query(model, &mid(q), &mid(u), t)?;
@@ -145,7 +223,7 @@ pub fn flow_boxes_in<I: Ival>(
             .collect::<Vec<_>>(),
     )?;
     let x: Vec<I> = q.iter().chain(u).copied().collect();
-    flow_from(model, &LohnerSet::from_box(&x), times, opts)
+    Ok(LohnerSet::from_box(&x))
 }
 
 fn first_time(times: &[f64]) -> Result<f64, Error> {
@@ -161,10 +239,14 @@ fn flow_from<I: Ival>(
     start: &LohnerSet<I>,
     times: &[f64],
     opts: &FlowOptions,
-) -> Result<Vec<FlowEnclosure<I>>, Error> {
+) -> Result<Vec<FlowEnclosure<I>>, Refused<I>> {
+    let none = |error| Refused {
+        at: Vec::new(),
+        error,
+    };
     for (i, w) in times.windows(2).enumerate() {
         if !w[1].is_finite() || w[1] <= w[0] {
-            return Err(Error::input_at(
+            return Err(none(Error::input_at(
                 InputKind::Times,
                 format!(
                     "times must be finite and strictly increasing (t_{} = {}, t_{} = {})",
@@ -173,7 +255,7 @@ fn flow_from<I: Ival>(
                     i + 2,
                     w[1]
                 ),
-            ));
+            )));
         }
     }
     // times below 0 backward (by the reversed field, nearest first), the others forward
@@ -181,8 +263,19 @@ fn flow_from<I: Ival>(
     let back: Vec<f64> = times[..split].iter().rev().map(|t| -t).collect();
     let mut out = Vec::with_capacity(times.len());
     let mut steps = 0;
+    // a refusal keeps the stops proved before it, with their times (contract E25)
+    let refused = |done: Vec<FlowEnclosure<I>>, at: &[f64], error| Refused {
+        at: at.iter().copied().zip(done).collect(),
+        error,
+    };
     if !back.is_empty() {
-        let (mut e, s) = carry::<I>(model, model.reversed(), -1.0, start.clone(), &back, opts)?;
+        let (mut e, s) = carry::<I>(model, model.reversed(), -1.0, start.clone(), &back, opts)
+            .map_err(|(mut done, error)| {
+                let at: Vec<f64> = times[..split].iter().rev().copied().collect();
+                let mut r = refused(std::mem::take(&mut done), &at, error);
+                r.at.reverse();
+                r
+            })?;
         e.reverse();
         out.extend(e);
         steps = s;
@@ -192,20 +285,28 @@ fn flow_from<I: Ival>(
             max_taylor_steps: opts.max_taylor_steps.saturating_sub(steps),
             ..opts.clone()
         };
-        out.extend(
-            carry::<I>(
-                model,
-                &model.dynamics,
-                1.0,
-                start.clone(),
-                &times[split..],
-                &rest,
-            )?
-            .0,
+        let forward = carry::<I>(
+            model,
+            &model.dynamics,
+            1.0,
+            start.clone(),
+            &times[split..],
+            &rest,
         );
+        match forward {
+            Ok((e, _)) => out.extend(e),
+            Err((done, error)) => {
+                out.extend(done);
+                return Err(refused(out, times, error));
+            }
+        }
     }
     Ok(out)
 }
+
+/// What [`carry`] hands back: the enclosures at the times and the steps taken, or on a
+/// refusal the enclosures proved before it and the refusal.
+type Carried<I> = Result<(Vec<FlowEnclosure<I>>, usize), (Vec<FlowEnclosure<I>>, Error)>;
 
 /// The enclosures at the increasing times `times >= 0` of the flow of `sys` from the set
 /// `set`: the model's field (`sign` 1) or the reversed one (`sign` -1, the times then measured
@@ -217,10 +318,13 @@ fn carry<I: Ival>(
     mut set: LohnerSet<I>,
     times: &[f64],
     opts: &FlowOptions,
-) -> Result<(Vec<FlowEnclosure<I>>, usize), Error> {
-    let last = *times
-        .last()
-        .ok_or_else(|| Error::input("no time given: at least one is needed"))?;
+) -> Carried<I> {
+    let last = *times.last().ok_or_else(|| {
+        (
+            Vec::new(),
+            Error::input("no time given: at least one is needed"),
+        )
+    })?;
     let mut total = FlowStats::default();
     let mut out = Vec::with_capacity(times.len());
     let mut from = 0.0;
@@ -241,14 +345,17 @@ fn carry<I: Ival>(
             max_taylor_steps: opts.max_taylor_steps.saturating_sub(total.steps),
             ..opts.clone()
         };
-        // why the steps collapsed, if the scene's data say so
+        // why the steps collapsed, if the scene's data say so; the leg's start (its centre)
+        // for the float motion that tells a box grown too wide from the motion's own failure
+        let start: Vec<f64> = set.m.iter().map(|x| I::pt_f64(*x)).collect();
         let explain = |x: &[inari::Interval], h: f64, done: f64| {
-            explained(model, x, h, sign * (point(from) + point(done)).inf())
+            let at = sign * (point(from) + point(done)).inf();
+            explained(model, x, h, at).map(|e| widened(model, sys, x, (&start, t - from), e))
         };
         // the exact span t - from, enclosed (exact when Sterbenz's lemma applies)
         let span = I::cst(t) - I::cst(from);
-        let (next, stats) = flow_set_span_memo(sys, set, span, &leg, &mut memo, Some(&explain))
-            .map_err(|e| {
+        let flown =
+            flow_set_span_memo(sys, set, span, &leg, &mut memo, Some(&explain)).map_err(|e| {
                 match &e {
                     // proved up to `from` and then up to `reached` into the leg
                     Error::Uncertified(r) => {
@@ -263,7 +370,11 @@ fn carry<I: Ival>(
                     }
                     _ => e,
                 }
-            })?;
+            });
+        let (next, stats) = match flown {
+            Ok(x) => x,
+            Err(e) => return Err((out, e)),
+        };
         set = next;
         total = FlowStats {
             order: stats.order,
@@ -278,16 +389,48 @@ fn carry<I: Ival>(
             },
             h_max: total.h_max.max(stats.h_max),
         };
-        out.push(finish(model, &set, total.clone())?);
+        match finish(model, &set, total.clone()) {
+            Ok(e) => out.push(e),
+            Err(e) => return Err((out, e.reached(sign * t))),
+        }
         from = t;
     }
     Ok((out, total.steps))
 }
 
+/// The refusal `e` of the scene's data on the box `x` reached by a leg from `start` (the
+/// centre of its initial set) over the time `span`, with the cause `width` when the box grew
+/// too wide while the motion stays where the data hold ([spec (5.18')](crate::spec::enclosure)):
+/// some coordinate of the box is wider than `2^-6 (1 + |q_i|)` (the widest box
+/// [`Model::explain_stop`] trusts its checks on), and the float motion of `sys` from `start`
+/// (not rigorous: it only words the refusal) is carried over the whole `span`, with finite
+/// values and within the step limit. Otherwise the cause stays the data's.
+fn widened(
+    model: &Model,
+    sys: &crate::enclosure::System,
+    x: &[inari::Interval],
+    (start, span): (&[f64], f64),
+    e: Error,
+) -> Error {
+    let wide = x
+        .iter()
+        .take(model.n)
+        .any(|q| q.wid().is_nan() || q.wid() > crate::model::WIDEST * (1.0 + q.mag()));
+    let opts = FlowOptions::default();
+    if !wide || crate::enclosure::float_flow_counted(sys, start, span, &opts).is_none() {
+        return e;
+    }
+    e.with_cause(crate::Cause::Width).with_more(
+        "; the enclosure grew too wide before the motion came near where the scene fails (a \
+         float solution is regular up to the time asked): a higher precision (--precision \
+         106) may answer",
+    )
+}
+
 /// The refusal of a flow stopped at time `at` in the state box `x` with steps of size `h`
 /// (0: none taken), when the scene's data say why ([spec (5.18)](crate::spec::enclosure)).
 fn explained(model: &Model, x: &[inari::Interval], h: f64, at: f64) -> Option<Error> {
-    let why = model.explain_stop(x, h)?;
+    let (cause, why) = model.explain_stop(x, h)?;
     // (+ 0.0: a start backward is at t = 0, not -0)
     let at = at + 0.0;
     let steps = if h > 0.0 {
@@ -295,10 +438,13 @@ fn explained(model: &Model, x: &[inari::Interval], h: f64, at: f64) -> Option<Er
     } else {
         "no step taken".to_string()
     };
-    Some(Error::refused(
-        Reason::Undefined,
-        format!("the flow cannot be carried on at t = {at} ({steps}): {why}"),
-    ))
+    Some(
+        Error::refused(
+            Reason::Undefined,
+            format!("the flow cannot be carried on at t = {at} ({steps}): {why}"),
+        )
+        .with_cause(cause),
+    )
 }
 
 /// The initial state `x = (q, u)` of a flow query, after the checks every flow makes: the
@@ -407,7 +553,7 @@ pub fn flow_c1_in<I: Ival>(
     t: f64,
     opts: &FlowOptions,
 ) -> Result<(FlowEnclosure<I>, Vec<Vec<I>>), Error> {
-    let x = flow_query(model, q, u, t)?;
+    let x0 = flow_query(model, q, u, t)?;
     // backward: the reversed field over |t| (spec (5.17)), whose derivative is that of the
     // flow over t
     let (sys, sign) = if t < 0.0 {
@@ -415,10 +561,12 @@ pub fn flow_c1_in<I: Ival>(
     } else {
         (&model.dynamics, 1.0)
     };
-    let explain = |x: &[inari::Interval], h: f64, done: f64| explained(model, x, h, sign * done);
+    let explain = |x: &[inari::Interval], h: f64, done: f64| {
+        explained(model, x, h, sign * done).map(|e| widened(model, sys, x, (&x0, t.abs()), e))
+    };
     let (set, jac, stats) = flow_set_jacobian_explained(
         sys,
-        LohnerSet::<I>::point(&x),
+        LohnerSet::<I>::point(&x0),
         t.abs(),
         opts,
         Some(&explain),

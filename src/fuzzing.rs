@@ -501,6 +501,19 @@ fn check_answer(line: &Line, answer: &BatchAnswer) -> Tally {
             assert!(e["message"].is_string());
             assert!(answer.answered.is_none());
             assert_ne!(e["reason"], "internal", "internal fault: {e}");
+            // a refusal has one documented cause (contract E23); code 2 objects none
+            if code == Some(3) {
+                let cause = e["cause"].as_str().unwrap_or("");
+                assert!(
+                    crate::Cause::ALL.iter().any(|c| c.name() == cause),
+                    "cause `{cause}` not documented: {e}"
+                );
+            } else {
+                assert!(
+                    e.get("cause").is_none(),
+                    "a code-2 object with a cause: {e}"
+                );
+            }
             match (code, e["reason"].as_str()) {
                 (Some(2), _) => Tally::input(),
                 (_, Some("budget")) => Tally {
@@ -658,7 +671,7 @@ fn used_exactly(given: &Value, q: &Query) {
             );
             (
                 "check",
-                ["h", "t", "q", "tol", "defect_tol", "pairs"].as_slice(),
+                ["h", "t", "q", "tol", "defect_tol", "pairs", "precision"].as_slice(),
             )
         }
         Query::Order {
@@ -689,18 +702,38 @@ fn used_exactly(given: &Value, q: &Query) {
                 ["scheme", "q", "u", "h", "rungs", "precision"].as_slice(),
             )
         }
+        Query::Scenes { scene } => {
+            if let Some(s) = scene {
+                scene_of(s);
+            }
+            ("scenes", [].as_slice())
+        }
         Query::Precise {
             precision, query, ..
         } => {
             assert_eq!(asked, Some(u64::from(*precision)));
             assert!(*precision > 53);
-            return used_exactly(given, query);
+            // the query inside, checked against the line without the key it consumed
+            let mut inner = given.clone();
+            if let Some(o) = inner.as_object_mut() {
+                o.remove("precision");
+            }
+            return used_exactly(&inner, query);
         }
     };
     assert_eq!(o["cmd"].as_str(), Some(cmd));
     for k in o.keys() {
         assert!(
-            ["id", "cmd", "scene", "params", "deadline"].contains(&k.as_str())
+            [
+                "id",
+                "cmd",
+                "scene",
+                "params",
+                "deadline",
+                "work",
+                "max_steps"
+            ]
+            .contains(&k.as_str())
                 || keys.contains(&k.as_str()),
             "key `{k}` of the line was ignored by `{cmd}`"
         );

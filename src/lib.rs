@@ -130,7 +130,9 @@ mod readable;
 
 pub use enclosure::Ival;
 pub use enclosure::{Basis, FlowOptions, FlowStats};
-pub use error::{Error, InputError, InputKind, InternalError, Invariant, Limit, Reason, Refusal};
+pub use error::{
+    Cause, Error, InputError, InputKind, InternalError, Invariant, Limit, Reason, Refusal,
+};
 pub use flow::{flow, flow_at_in, FlowEnclosure};
 pub use interval::{DecimalInterval, Interval, OutwardDecimal};
 pub use model::Model;

@@ -7,7 +7,7 @@ use crate::enclosure::System;
 use crate::scalar::{point, Scalar};
 use crate::scene::{derived_basis, det, Description, Mat, Scene};
 use crate::tape::{finite, Tape, Tracer};
-use crate::{Error, InputKind};
+use crate::{Cause, Error, InputKind};
 use inari::Interval;
 
 /// The reduced field with the Lagrangian appended ([spec eq. (6.8)](crate::spec::exact_discrete)).
@@ -65,7 +65,7 @@ impl std::fmt::Debug for Model {
     }
 }
 /// The widest box [`Model::explain_stop`] looks at, relative to `1 + |q_i|`.
-const WIDEST: f64 = 1.0 / 64.0;
+pub(crate) const WIDEST: f64 = 1.0 / 64.0;
 
 /// Largest number of coordinates a scene may have.
 pub const MAX_DIM: usize = 64;
@@ -401,7 +401,7 @@ impl CompiledScene {
         for p in 0..n {
             let d = l[p * n + p];
             if !(finite(d) && d.inf() > 0.0) {
-                return Some(Violation::Input(format!(
+                return Some(Violation::Indefinite(format!(
                     "the mass matrix is not proved positive definite at q = {at} (pivot {} of \
                      its Cholesky factorization is [{:e}, {:e}])",
                     p + 1,
@@ -489,6 +489,9 @@ impl CompiledScene {
 enum Violation {
     /// A property the scene must have (exit 2).
     Input(String),
+    /// The mass matrix not proved positive definite (exit 2 at a query's start, [spec eq.
+    /// (3.17)](crate::spec::scenes); cause `mass` along a motion).
+    Indefinite(String),
     /// Data not proved defined (exit 3).
     Undefined(String),
     /// Rank not proved (exit 3).
@@ -683,14 +686,19 @@ impl Model {
         let name = &self.scene.description.name;
         match self.scene.violation_at(q, &mirror, true) {
             None => Ok(()),
-            Some(Violation::Input(m)) => Err(Error::input_at(
+            Some(Violation::Input(m) | Violation::Indefinite(m)) => Err(Error::input_at(
                 InputKind::Scene(name.clone()),
                 format!("scene `{name}`: {m}"),
             )),
-            Some(Violation::Undefined(m) | Violation::Rank(m)) => Err(Error::refused(
+            Some(Violation::Undefined(m)) => Err(Error::refused(
                 crate::Reason::Undefined,
                 format!("scene `{name}`: {m}"),
             )),
+            Some(Violation::Rank(m)) => Err(Error::refused(
+                crate::Reason::Undefined,
+                format!("scene `{name}`: {m}"),
+            )
+            .with_cause(Cause::Basis)),
         }
     }
 
@@ -702,7 +710,7 @@ impl Model {
     /// not proved defined or regular ([spec eqs. (3.17)](crate::spec::scenes), (5.18)), in words; `None` when they
     /// are on all of them. Only a diagnosis for a refusal's message: nothing is proved or
     /// answered with it.
-    pub(crate) fn explain_stop(&self, x: &[Interval], h: f64) -> Option<String> {
+    pub(crate) fn explain_stop(&self, x: &[Interval], h: f64) -> Option<(Cause, String)> {
         let n = self.n;
         let q = x.get(..n)?;
         let v = self.velocity.eval_checked(x);
@@ -733,9 +741,11 @@ impl Model {
                 .collect();
             match self.scene.violation_at(&b, &[], true) {
                 None => continue,
-                Some(Violation::Input(m) | Violation::Undefined(m) | Violation::Rank(m)) => {
-                    return Some(m)
+                Some(Violation::Input(m) | Violation::Undefined(m)) => {
+                    return Some((Cause::Domain, m))
                 }
+                Some(Violation::Indefinite(m)) => return Some((Cause::Mass, m)),
+                Some(Violation::Rank(m)) => return Some((Cause::Basis, m)),
             }
         }
         None

@@ -11,7 +11,12 @@ use std::collections::BTreeMap;
 use std::io::{BufReader, BufWriter, Write};
 use std::sync::{mpsc, Arc, Mutex};
 
-pub fn run(jobs: &str, deadline: Option<&str>, work: Option<&str>) -> Result<(), Error> {
+pub fn run(
+    jobs: &str,
+    deadline: Option<&str>,
+    work: Option<&str>,
+    max_steps: Option<&str>,
+) -> Result<(), Error> {
     let jobs: usize = match jobs.trim().parse() {
         Ok(j) if (1..=256).contains(&j) => j,
         _ => {
@@ -26,10 +31,14 @@ pub fn run(jobs: &str, deadline: Option<&str>, work: Option<&str>) -> Result<(),
     let work = work
         .map(|w| protocol::parse_work("--work", w))
         .transpose()?;
+    let max_steps = max_steps
+        .map(|n| protocol::parse_max_steps("--max-steps", n))
+        .transpose()?;
     let session = move || {
         let mut s = Session::default();
         s.deadline = deadline;
         s.work = work;
+        s.max_steps = max_steps;
         s
     };
     let stdin = std::io::stdin();

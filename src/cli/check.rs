@@ -26,7 +26,7 @@ pub fn run(
     scene: &SceneArgs,
     h: Option<&str>,
     file: &str,
-    (deadline, work): (Option<&str>, Option<&str>),
+    (deadline, work, max_steps): (Option<&str>, Option<&str>, Option<&str>),
     tols: (Option<&str>, Option<&str>),
     no_pairs: bool,
     precision: Option<&str>,
@@ -72,6 +72,9 @@ pub fn run(
     };
     if let Some(w) = work {
         opts.flow = opts.flow.allow_work(w);
+    }
+    if let Some(n) = max_steps {
+        opts.flow.max_taylor_steps = protocol::parse_max_steps("--max-steps", n)?;
     }
     let mut bar = Bar::new();
     let table = CheckRows::new(as_json);

@@ -85,6 +85,8 @@ pub(crate) struct PairArgs {
     pub deadline: Option<String>,
     #[arg(long, allow_hyphen_values = true, help = WORK_HELP)]
     pub work: Option<String>,
+    #[arg(long = "max-steps", allow_hyphen_values = true, help = MAX_STEPS_HELP)]
+    pub max_steps: Option<String>,
     #[arg(long, allow_hyphen_values = true, help = PRECISION_HELP)]
     pub precision: Option<String>,
     #[arg(long = "exact-decimals", help = EXACT_DECIMALS_HELP)]
@@ -93,6 +95,10 @@ pub(crate) struct PairArgs {
     #[arg(long)]
     pub json: bool,
 }
+
+const MAX_STEPS_HELP: &str = "Step limit of the validated flows (an integer >= 1, default \
+     20000): a flow that would need more accepted Taylor steps is refused with exit 3 (cause \
+     `steps`); a retraction's work is a multiple of it";
 
 const PRECISION_HELP: &str = "Significand bits to compute with: 53 (default, f64 intervals), \
      54..106 (double-double intervals, 106 bits) or 107..512 (exactly that many); above 53 each \
@@ -184,6 +190,8 @@ pub(crate) enum Cmd {
         deadline: Option<String>,
         #[arg(long, allow_hyphen_values = true, help = WORK_HELP)]
         work: Option<String>,
+        #[arg(long = "max-steps", allow_hyphen_values = true, help = MAX_STEPS_HELP)]
+        max_steps: Option<String>,
         /// Print one JSON object
         #[arg(long)]
         json: bool,
@@ -232,6 +240,8 @@ pub(crate) enum Cmd {
         /// Skip the per-pair defects and energies (faster)
         #[arg(long)]
         no_pairs: bool,
+        #[arg(long = "max-steps", allow_hyphen_values = true, help = MAX_STEPS_HELP)]
+        max_steps: Option<String>,
         #[arg(long, allow_hyphen_values = true, help = CHECK_PRECISION_HELP)]
         precision: Option<String>,
         /// Print one JSON object
@@ -311,6 +321,10 @@ pub(crate) enum Cmd {
         /// step, lagrangian and each row of check; none for flow and integrate)
         #[arg(long, allow_hyphen_values = true)]
         work: Option<String>,
+        /// Step limit of the validated flows of every query without a `max_steps` key
+        /// (default 20000)
+        #[arg(long = "max-steps", allow_hyphen_values = true)]
+        max_steps: Option<String>,
         /// Accepted for uniformity: batch output is always JSON
         #[arg(long)]
         json: bool,
@@ -392,8 +406,15 @@ pub(crate) fn run(args: Vec<String>) -> i32 {
             jobs,
             deadline,
             work,
+            max_steps,
             ..
-        }) => batch::run(&jobs, deadline.as_deref(), work.as_deref()).map(|()| None),
+        }) => batch::run(
+            &jobs,
+            deadline.as_deref(),
+            work.as_deref(),
+            max_steps.as_deref(),
+        )
+        .map(|()| None),
         Some(Cmd::Check {
             scene,
             h,
@@ -403,13 +424,14 @@ pub(crate) fn run(args: Vec<String>) -> i32 {
             tol,
             defect_tol,
             no_pairs,
+            max_steps,
             precision,
             json,
         }) => match check::run(
             &scene,
             h.as_deref(),
             &trajectory,
-            (deadline.as_deref(), work.as_deref()),
+            (deadline.as_deref(), work.as_deref(), max_steps.as_deref()),
             (tol.as_deref(), defect_tol.as_deref()),
             no_pairs,
             precision.as_deref(),
@@ -462,17 +484,28 @@ pub(crate) fn scene_spec(s: &SceneArgs) -> Result<SceneSpec, Error> {
         .map(|p| protocol::parse_param(p))
         .collect::<Result<_, _>>()?;
     match (&s.scene, &s.scene_file) {
-        (_, Some(path)) => {
-            let file = crate::scene::SceneFile::read(std::path::Path::new(path))?;
-            Ok(SceneSpec::defined(file, params))
-        }
+        (_, Some(path)) => Ok(SceneSpec::defined(read_scene_file(path)?, params)),
         (Some(name), None) => Ok(SceneSpec::named(name, params)),
         (None, None) => Err(Error::input("give --scene NAME or --scene-file PATH")),
     }
 }
 
-/// `--deadline` and `--work`, read when given.
-fn budget(deadline: &Option<String>, work: &Option<String>) -> Result<protocol::Budget, Error> {
+/// The scene file at `path`: JSON when its extension is `.json`, else TOML (contract E26).
+pub(crate) fn read_scene_file(path: &str) -> Result<crate::scene::SceneFile, Error> {
+    let path = std::path::Path::new(path);
+    if crate::scene::SceneFile::is_json_path(path) {
+        crate::scene::SceneFile::read_json(path, protocol::parse_json)
+    } else {
+        crate::scene::SceneFile::read(path)
+    }
+}
+
+/// `--deadline`, `--work` and `--max-steps`, read when given.
+fn budget(
+    deadline: &Option<String>,
+    work: &Option<String>,
+    max_steps: &Option<String>,
+) -> Result<protocol::Budget, Error> {
     Ok(protocol::Budget {
         deadline: deadline
             .as_deref()
@@ -482,11 +515,15 @@ fn budget(deadline: &Option<String>, work: &Option<String>) -> Result<protocol::
             .as_deref()
             .map(|s| protocol::parse_work("--work", s))
             .transpose()?,
+        max_steps: max_steps
+            .as_deref()
+            .map(|s| protocol::parse_max_steps("--max-steps", s))
+            .transpose()?,
     })
 }
 
 fn pair_budget(a: &PairArgs) -> Result<protocol::Budget, Error> {
-    budget(&a.deadline, &a.work)
+    budget(&a.deadline, &a.work, &a.max_steps)
 }
 
 fn pair(a: &PairArgs) -> Result<Pair, Error> {
@@ -514,6 +551,7 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
             exact_decimals,
             deadline,
             work,
+            max_steps,
             json,
         } => {
             let t = match (t, times) {
@@ -531,7 +569,7 @@ fn execute(cmd: Cmd) -> Result<Option<String>, Error> {
             };
             let exact = exact_decimals.then_some([q.as_str(), u.as_str()]);
             let query = precise(query, precision.as_deref(), exact)?;
-            (query, budget(&deadline, &work)?, json)
+            (query, budget(&deadline, &work, &max_steps)?, json)
         }
         Cmd::Retract(a) => (
             precise(Query::Retract(pair(&a)?), a.precision.as_deref(), exact(&a))?,

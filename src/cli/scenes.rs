@@ -24,8 +24,7 @@ pub fn run(file: Option<&str>, params: &[String], as_json: bool) -> Result<Strin
                 .iter()
                 .map(|p| protocol::parse_param(p))
                 .collect::<Result<_, _>>()?;
-            let file =
-                crate::scene::SceneFile::read(std::path::Path::new(path))?.with_params(&params)?;
+            let file = super::read_scene_file(path)?.with_params(&params)?;
             let model = crate::Model::new(&file)?;
             Answer::Scenes(vec![model.scene.description()])
         }

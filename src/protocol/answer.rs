@@ -4,6 +4,7 @@
 //! `integrate` and `check` are in `rows.rs` beside this file, and the whole answers render
 //! through them.
 
+pub use super::rows::{interval, intervals};
 use super::rows::{CheckRows, IntegrateRows};
 use super::Tolerances;
 use crate::exact::{ExactStep, Retraction};
@@ -122,6 +123,26 @@ pub enum Answer {
         /// one is proved exceeded ([spec (8.3)](crate::spec::oracle), (8.5)).
         passed: bool,
     },
+    /// `check` computed at `precision` bits (batch `precision`, contract E28): the figures
+    /// of [`Answer::Check`]'s verdict, each rounded outward to an f64 interval.
+    CheckWide {
+        /// The bits used (106 for 54..=106).
+        precision: u32,
+        /// `∋ |q_k - q^e_k|_inf` for each row.
+        distance: Vec<Interval>,
+        /// `∋ max_k |q_k - q^e_k|_inf`.
+        max_distance: Interval,
+        /// Each pair's defect `s_k` (with pair figures).
+        defect: Vec<Vec<Interval>>,
+        /// `∋ max_k |s_k|_inf` (with pair figures).
+        max_defect: Option<Interval>,
+        /// Each pair's energy error (with pair figures).
+        energy_error: Vec<Interval>,
+        /// The tolerances given (none, one or both).
+        tolerances: Tolerances,
+        /// As [`Answer::Check`]'s.
+        passed: bool,
+    },
     /// `integrate`: the float trajectory of a scheme.
     Integrate(Trajectory),
     /// `scenes`: the descriptions of the scenes listed.
@@ -216,6 +237,27 @@ impl Answer {
             Answer::Check {
                 verdict: v, passed, ..
             } => verdict(v, *passed),
+            Answer::CheckWide {
+                precision,
+                distance,
+                max_distance,
+                defect,
+                max_defect,
+                energy_error,
+                passed,
+                ..
+            } => {
+                let mut v = value(CheckView {
+                    distance,
+                    max_distance: *max_distance,
+                    defect,
+                    energy_error,
+                    passed: *passed,
+                    max_defect: *max_defect,
+                });
+                v["precision"] = (*precision).into();
+                v
+            }
             Answer::Integrate(t) => trajectory(t),
             Answer::Scenes(list) => {
                 let list: Vec<Value> = list.iter().map(description).collect();
@@ -275,6 +317,34 @@ impl Answer {
                         tolerances,
                         *passed,
                         None,
+                        |i, w| w.write_all(&parts[i]),
+                    )
+                })
+            }
+            Answer::CheckWide {
+                precision,
+                distance,
+                max_distance,
+                defect,
+                max_defect,
+                energy_error,
+                tolerances,
+                passed,
+            } => {
+                let rows = CheckRows::new(false);
+                let mut parts = vec![Vec::new(); rows.parts()];
+                written(|w| {
+                    for (k, d) in distance.iter().enumerate() {
+                        let pair = defect.get(k).zip(energy_error.get(k));
+                        rows.row(&mut parts, k, *d, pair.map(|(s, e)| (s.as_slice(), *e)))?;
+                    }
+                    rows.finish(
+                        w,
+                        *max_distance,
+                        *max_defect,
+                        tolerances,
+                        *passed,
+                        Some(*precision),
                         |i, w| w.write_all(&parts[i]),
                     )
                 })
@@ -425,16 +495,6 @@ pub(crate) fn value(x: impl Serialize) -> Value {
     serde_json::to_value(x).unwrap_or(Value::Null)
 }
 
-/// `[lo, hi]`; serde_json prints f64 in shortest round-trip form.
-pub fn interval(x: Interval) -> Value {
-    value(x)
-}
-
-/// The intervals as a JSON array of `[lo, hi]`.
-pub fn intervals(x: &[Interval]) -> Value {
-    value(x)
-}
-
 /// The object `stats` of a flow answer: `order`, `steps`, `rejected`, `h_min`, `h_max`.
 pub fn stats(s: &FlowStats) -> Value {
     value(s)
@@ -460,11 +520,15 @@ pub fn error_object(e: &Error) -> Value {
     match e {
         Error::Uncertified(r) => {
             o["reason"] = json!(r.reason.name());
+            o["cause"] = json!(r.cause.name());
             if let Some(t) = r.reached {
                 o["reached"] = json!(t);
             }
         }
-        Error::Internal(_) => o["reason"] = json!("internal"),
+        Error::Internal(_) => {
+            o["reason"] = json!("internal");
+            o["cause"] = json!("internal");
+        }
         Error::Input(_) => {}
     }
     o

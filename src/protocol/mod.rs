@@ -17,9 +17,10 @@ pub use answer::{
     Answer,
 };
 pub use parse::{
-    check_keys, deadline_from_json, json_number, json_numbers, parse_json, parse_num, parse_order,
-    parse_param, parse_precision, parse_seconds, parse_steps, parse_vec, parse_work, query_keys,
-    scene_spec_from_json, work_from_json, Line, LineReader, MAX_LINE_BYTES, MAX_PRECISION,
+    check_keys, deadline_from_json, json_number, json_numbers, max_steps_from_json, parse_json,
+    parse_max_steps, parse_num, parse_order, parse_param, parse_precision, parse_seconds,
+    parse_steps, parse_vec, parse_work, query_keys, scene_spec_from_json, work_from_json, Line,
+    LineReader, MAX_LINE_BYTES, MAX_PRECISION, MAX_STEP_LIMIT,
 };
 pub use rows::{CheckRows, IntegrateRows};
 
@@ -148,6 +149,12 @@ pub enum Query {
         /// The rungs of the local ladder, 2 to 12.
         rungs: usize,
     },
+    /// `scenes` (contract E27): the description of one scene as compiled (a name or a
+    /// user's definition, with its parameters), or of every built-in scene (`None`).
+    Scenes {
+        /// The scene, or `None` for every built-in one.
+        scene: Option<SceneSpec>,
+    },
 }
 
 /// The times of a `flow` query.
@@ -193,6 +200,12 @@ pub struct Session {
     /// without a budget of its own gets [`default_work`]. Unlike a deadline a work limit
     /// replays the same on every machine.
     pub work: Option<u64>,
+    /// The step limit of every query that names none (`batch --max-steps`, contract E24):
+    /// replaces `flow.max_taylor_steps` when given.
+    pub max_steps: Option<usize>,
+    /// The stops of a `flow` with `times` proved before its refusal (contract E25), left by
+    /// the last query answered; taken by the batch protocol's error object.
+    certified: Option<Answer>,
 }
 
 /// A summary: the scenes compiled so far (by key) and the settings.
@@ -206,6 +219,7 @@ impl std::fmt::Debug for Session {
             .field("max_integrate_steps", &self.max_integrate_steps)
             .field("deadline", &self.deadline)
             .field("work", &self.work)
+            .field("max_steps", &self.max_steps)
             .finish_non_exhaustive()
     }
 }
@@ -231,6 +245,10 @@ pub struct Budget {
     pub deadline: Option<f64>,
     /// Work terms (> 0), or `None`.
     pub work: Option<u64>,
+    /// The step limit of the validated flows (`--max-steps`, the `max_steps` key, contract
+    /// E24): at most this many accepted Taylor steps; `None`, the session's or
+    /// [`crate::FlowOptions::max_taylor_steps`]'s default (20000).
+    pub max_steps: Option<usize>,
 }
 
 /// The documented default budget of a query that names none, in work: [`STEP_WORK`] for
@@ -240,7 +258,10 @@ pub fn default_work(q: &Query) -> Option<u64> {
     match q {
         Query::Retract(_) | Query::Step(_) | Query::Lagrangian(_) => Some(STEP_WORK),
         Query::Check { q, .. } => Some(STEP_WORK.saturating_mul(q.len().max(1) as u64)),
-        Query::Flow { .. } | Query::Integrate { .. } | Query::Order { .. } => None,
+        Query::Flow { .. }
+        | Query::Integrate { .. }
+        | Query::Order { .. }
+        | Query::Scenes { .. } => None,
         Query::Precise { query, .. } => default_work(query),
     }
 }
@@ -318,7 +339,7 @@ impl Session {
             q,
             Budget {
                 deadline: seconds,
-                work: None,
+                ..Budget::default()
             },
         )
     }
@@ -329,11 +350,12 @@ impl Session {
         let b = Budget {
             deadline: own.deadline.or(self.deadline),
             work: own.work.or(self.work),
+            max_steps: own.max_steps.or(self.max_steps),
         };
         if b.deadline.is_none() && b.work.is_none() {
             Budget {
-                deadline: None,
                 work: default_work(q),
+                ..b
             }
         } else {
             b
@@ -348,6 +370,9 @@ impl Session {
         if let Some(w) = b.work {
             opts = opts.allow_work(w);
         }
+        if let Some(n) = b.max_steps {
+            opts.max_taylor_steps = n;
+        }
         opts
     }
 
@@ -355,6 +380,7 @@ impl Session {
     /// `work` keys or flags; [`Session::budget_of`] says which applies). Past the budget:
     /// exit 3 with reason `budget`, never a partial answer.
     pub fn answer_with(&mut self, q: &Query, own: Budget) -> Result<Answer, Error> {
+        self.certified = None;
         let opts = self.options(self.budget_of(q, own));
         match q {
             Query::Flow {
@@ -379,11 +405,18 @@ impl Session {
                                 "`jacobian` is given only at one time `t`, not with `times`",
                             ));
                         }
-                        let enclosures = crate::flow::flow_at(&model, q, u, times, &o)?;
-                        return Ok(Answer::FlowAt {
-                            times: times.clone(),
-                            enclosures,
-                        });
+                        return match crate::flow::flow_at_certified(&model, q, u, times, &o) {
+                            Ok(enclosures) => Ok(Answer::FlowAt {
+                                times: times.clone(),
+                                enclosures,
+                            }),
+                            Err(r) => {
+                                // the stops proved before the refusal (contract E25)
+                                let (times, enclosures) = r.at.into_iter().unzip();
+                                self.certified = Some(Answer::FlowAt { times, enclosures });
+                                Err(r.error)
+                            }
+                        };
                     }
                 };
                 let (enclosure, jacobian) = if *jacobian {
@@ -403,7 +436,17 @@ impl Session {
                 decimals,
             } => {
                 let model = self.model(precise::scene(query)?)?;
-                precise::answer(*precision, &model, query, decimals.as_deref(), &opts)
+                let mut certified = None;
+                let a = precise::answer(
+                    *precision,
+                    &model,
+                    query,
+                    decimals.as_deref(),
+                    &opts,
+                    &mut certified,
+                );
+                self.certified = certified;
+                a
             }
             Query::Retract(p) => {
                 let model = self.model(&p.scene)?;
@@ -461,6 +504,13 @@ impl Session {
                 let a = order::answer(&model, &mut s, q, u, *h, *rungs, &opts, None)?;
                 Ok(Answer::Order(a))
             }
+            Query::Scenes { scene } => Ok(Answer::Scenes(match scene {
+                None => crate::scene::SCENES
+                    .iter()
+                    .map(|s| s.description())
+                    .collect(),
+                Some(s) => vec![self.model(s)?.scene.description()],
+            })),
             Query::Integrate {
                 pair,
                 scheme,
@@ -501,7 +551,7 @@ impl Session {
     ) -> Result<f64, Error> {
         let own = Budget {
             deadline: seconds,
-            work: None,
+            ..Budget::default()
         };
         self.integrate_each_with(pair, scheme, steps, own, row)
     }
@@ -529,6 +579,7 @@ impl Session {
         let budget = self.options(Budget {
             deadline: own.deadline.or(self.deadline),
             work: own.work.or(self.work),
+            max_steps: None,
         });
         // the scene's structure at both start configurations (spec (3.17))
         let model = self.model(&pair.scene)?;
@@ -603,6 +654,7 @@ impl Session {
                             let own = Budget {
                                 deadline: deadline_from_json(&v)?,
                                 work: work_from_json(&v)?,
+                                max_steps: max_steps_from_json(&v)?,
                             };
                             let a = self.answer_with(&q, own)?;
                             answered = Some(q);
@@ -615,7 +667,14 @@ impl Session {
         };
         let out = match result {
             Ok(ok) => json!({"id": id, "ok": ok}),
-            Err(e) => json!({"id": id, "error": error_object(&e)}),
+            Err(e) => {
+                let mut o = error_object(&e);
+                // a `flow` with `times` refused after some stops: those stops (E25)
+                if let Some(a) = self.certified.take().filter(|_| exit_code(&e) == 3) {
+                    o["at"] = a.to_json()["at"].take();
+                }
+                json!({"id": id, "error": o})
+            }
         };
         Some(BatchAnswer {
             text: out.to_string(),

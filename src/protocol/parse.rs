@@ -180,6 +180,22 @@ pub fn parse_work(name: &str, s: &str) -> Result<u64, Error> {
     }
 }
 
+/// The largest step limit accepted (`--max-steps`, the `max_steps` key): 10^9 accepted
+/// steps, far beyond what any deadline or work budget lets a flow take.
+pub const MAX_STEP_LIMIT: usize = 1_000_000_000;
+
+/// `--max-steps`: the step limit of the validated flows (contract E24), an integer in
+/// `1..=MAX_STEP_LIMIT`.
+pub fn parse_max_steps(name: &str, s: &str) -> Result<usize, Error> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if (1..=MAX_STEP_LIMIT).contains(&n) => Ok(n),
+        _ => Err(Error::input_key(
+            name.trim_start_matches('-'),
+            format!("{name}: a step limit must be an integer in 1..={MAX_STEP_LIMIT} (got `{s}`)"),
+        )),
+    }
+}
+
 /// A JSON text, read strictly: a key repeated in an object is refused (serde_json would
 /// keep the last one silently), numbers are the nearest f64 (`float_roundtrip`), and a
 /// number out of the f64 range is refused.
@@ -435,11 +451,30 @@ const COMMON_KEYS: [&str; 6] = ["id", "cmd", "scene", "params", "deadline", "wor
 /// The keys of a query of command `cmd` (`None` for an unknown command).
 pub fn query_keys(cmd: &str) -> Option<Vec<&'static str>> {
     let own: &[&str] = match cmd {
-        "flow" => &["q", "u", "t", "times", "order", "jacobian", "precision"],
-        "retract" | "step" | "lagrangian" => &["q0", "q1", "h", "precision"],
+        "flow" => &[
+            "q",
+            "u",
+            "t",
+            "times",
+            "order",
+            "jacobian",
+            "precision",
+            "max_steps",
+        ],
+        "retract" | "step" | "lagrangian" => &["q0", "q1", "h", "precision", "max_steps"],
         "integrate" => &["q0", "q1", "h", "scheme", "steps"],
-        "check" => &["h", "t", "q", "tol", "defect_tol", "pairs"],
-        "order" => &["scheme", "q", "u", "h", "rungs", "precision"],
+        "check" => &[
+            "h",
+            "t",
+            "q",
+            "tol",
+            "defect_tol",
+            "pairs",
+            "precision",
+            "max_steps",
+        ],
+        "order" => &["scheme", "q", "u", "h", "rungs", "precision", "max_steps"],
+        "scenes" => &[],
         _ => return None,
     };
     Some(COMMON_KEYS.iter().chain(own).copied().collect())
@@ -450,6 +485,27 @@ pub fn deadline_from_json(v: &Value) -> Result<Option<f64>, Error> {
     match v.get("deadline") {
         None => Ok(None),
         Some(d) => check_seconds("`deadline`", json_number("`deadline`", d)?).map(Some),
+    }
+}
+
+/// The `max_steps` key of a batch query (an integer in `1..=MAX_STEP_LIMIT`, contract
+/// E24), if any.
+pub fn max_steps_from_json(v: &Value) -> Result<Option<usize>, Error> {
+    match v.get("max_steps") {
+        None => Ok(None),
+        Some(n) => match n.as_u64() {
+            Some(k) if (1..=MAX_STEP_LIMIT as u64).contains(&k) => Ok(Some(k as usize)),
+            _ => Err(Error::input_key(
+                "max_steps",
+                format!(
+                    "`max_steps` must be an integer in 1..={MAX_STEP_LIMIT}, got {}",
+                    match n {
+                        Value::Number(x) => x.to_string(),
+                        other => kind(other).to_string(),
+                    }
+                ),
+            )),
+        },
     }
 }
 
@@ -515,13 +571,29 @@ impl Query {
             Error::input_key(
                 "cmd",
                 format!(
-                    "unknown cmd `{cmd}` (known: flow, retract, step, integrate, lagrangian, check, order)"
+                    "unknown cmd `{cmd}` (known: flow, retract, step, integrate, lagrangian, check, order, scenes)"
                 ),
             )
         })?;
         check_keys(o, &keys, &format!("a `{cmd}` query"))?;
         deadline_from_json(v)?;
         work_from_json(v)?;
+        max_steps_from_json(v)?;
+        if cmd == "scenes" {
+            // every built-in scene without `scene` (contract E27)
+            if o.get("scene").is_none() {
+                if o.contains_key("params") {
+                    return Err(Error::input_key(
+                        "params",
+                        "`params` goes with `scene` (the scene whose parameters they are)",
+                    ));
+                }
+                return Ok(Query::Scenes { scene: None });
+            }
+            return Ok(Query::Scenes {
+                scene: Some(scene_spec_from_json(o)?),
+            });
+        }
         let scene = scene_spec_from_json(o)?;
         let pair = |scene: SceneSpec| -> Result<Pair, Error> {
             Ok(Pair {

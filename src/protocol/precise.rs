@@ -3,14 +3,17 @@
 //! [`crate::exact::retract_in`], ...) compute in it, and the ends are printed as decimals
 //! rounded outward ([`crate::OutwardDecimal`]).
 
-use super::{Answer, At, Query, SceneSpec};
+use super::{Answer, At, Query, SceneSpec, Steps, Tolerances};
 use crate::enclosure::{FlowOptions, Ival};
 use crate::exact::{
     discrete_lagrangian_box_in, discrete_lagrangian_in, retract_box_in, retract_in, step_box_in,
     step_in,
 };
-use crate::flow::{flow_at_in, flow_boxes_in, flow_c1_in, FlowEnclosure};
+use crate::flow::{
+    flow_at_certified_in, flow_boxes_certified_in, flow_c1_in, FlowEnclosure, Refused,
+};
 use crate::model::Model;
+use crate::oracle::{check_rows_in, CheckOptions};
 use crate::precision::dd::DdInterval;
 use crate::precision::wide::{self, WideInterval};
 use crate::{DecimalInterval, Error, OutwardDecimal};
@@ -18,7 +21,9 @@ use crate::{DecimalInterval, Error, OutwardDecimal};
 /// The scene of a query that reads `precision`; an input error for the others.
 pub(super) fn scene(query: &Query) -> Result<&SceneSpec, Error> {
     match query {
-        Query::Flow { scene, .. } | Query::Order { scene, .. } => Ok(scene),
+        Query::Flow { scene, .. } | Query::Order { scene, .. } | Query::Check { scene, .. } => {
+            Ok(scene)
+        }
         Query::Retract(p) | Query::Step(p) | Query::Lagrangian(p) => Ok(&p.scene),
         _ => Err(not_read()),
     }
@@ -27,7 +32,7 @@ pub(super) fn scene(query: &Query) -> Result<&SceneSpec, Error> {
 fn not_read() -> Error {
     Error::input_key(
         "precision",
-        "`precision` is read by flow, retract, step, lagrangian and order only",
+        "`precision` is read by flow, retract, step, lagrangian, order and check only",
     )
 }
 
@@ -39,11 +44,12 @@ pub(crate) fn answer(
     query: &Query,
     decimals: Option<&[Vec<String>]>,
     opts: &FlowOptions,
+    certified: &mut Option<Answer>,
 ) -> Result<Answer, Error> {
     match bits {
-        54..=106 => answer_in::<DdInterval>(106, model, query, decimals, opts),
+        54..=106 => answer_in::<DdInterval>(106, model, query, decimals, opts, certified),
         wide::MIN_BITS..=wide::MAX_BITS => wide::with_bits(bits, || {
-            answer_in::<WideInterval>(bits, model, query, decimals, opts)
+            answer_in::<WideInterval>(bits, model, query, decimals, opts, certified)
         }),
         _ => Err(above(bits)),
     }
@@ -87,6 +93,7 @@ fn answer_exact<I>(
     query: &Query,
     decimals: &[Vec<String>],
     opts: &FlowOptions,
+    certified: &mut Option<Answer>,
 ) -> Result<Answer, Error>
 where
     I: Ival + OutwardDecimal,
@@ -107,7 +114,7 @@ where
                 order: (*order > 0).then_some(*order),
                 ..opts.clone()
             };
-            flow_in::<I>(bits, model, Start::Boxes(a, b), t, *jacobian, &o)
+            flow_in::<I>(bits, model, Start::Boxes(a, b), t, *jacobian, &o, certified)
         }
         Query::Retract(p) => {
             retract_answer::<I>(bits, retract_box_in::<I>(model, a, b, p.h, opts)?)
@@ -175,13 +182,14 @@ fn answer_in<I>(
     query: &Query,
     decimals: Option<&[Vec<String>]>,
     opts: &FlowOptions,
+    certified: &mut Option<Answer>,
 ) -> Result<Answer, Error>
 where
     I: Ival + OutwardDecimal,
     I::Public: OutwardDecimal,
 {
     if let Some(d) = decimals {
-        return answer_exact::<I>(bits, model, query, d, opts);
+        return answer_exact::<I>(bits, model, query, d, opts, certified);
     }
     match query {
         Query::Flow {
@@ -196,7 +204,15 @@ where
                 order: (*order > 0).then_some(*order),
                 ..opts.clone()
             };
-            flow_in::<I>(bits, model, Start::Points(q, u), t, *jacobian, &o)
+            flow_in::<I>(
+                bits,
+                model,
+                Start::Points(q, u),
+                t,
+                *jacobian,
+                &o,
+                certified,
+            )
         }
         Query::Retract(p) => {
             retract_answer::<I>(bits, retract_in::<I>(model, &p.q0, &p.q1, p.h, opts)?)
@@ -221,8 +237,76 @@ where
                 order: a,
             })
         }
+        Query::Check {
+            steps,
+            q,
+            tol,
+            defect_tol,
+            pairs,
+            ..
+        } => check_in::<I>(bits, model, steps, q, (*tol, *defect_tol), *pairs, opts),
         _ => Err(not_read()),
     }
+}
+
+/// A batch `check` at `bits` (contract E28): the exact discrete flow, the retractions and
+/// the energies computed in `I` by [`check_rows_in`], every figure rounded outward to an f64
+/// interval, as `check --precision` (E21) computes them.
+fn check_in<I: Ival>(
+    bits: u32,
+    model: &Model,
+    steps: &Steps,
+    q: &[Vec<f64>],
+    (tol, defect_tol): (Option<f64>, Option<f64>),
+    pairs: bool,
+    opts: &FlowOptions,
+) -> Result<Answer, Error> {
+    let tolerances = Tolerances { tol, defect_tol };
+    tolerances.require_pairs(pairs)?;
+    let o = CheckOptions {
+        pairs,
+        flow: opts.clone(),
+    };
+    let (h, times) = match steps {
+        Steps::Uniform(h) => (Some(*h), None),
+        Steps::Times(t) => {
+            if t.len() != q.len() {
+                return Err(Error::input_at(
+                    crate::InputKind::Times,
+                    format!(
+                        "{} times for {} rows: give one time per row",
+                        t.len(),
+                        q.len()
+                    ),
+                ));
+            }
+            (None, Some(t))
+        }
+    };
+    let rows = q
+        .iter()
+        .enumerate()
+        .map(|(k, r)| Ok::<_, Error>((times.map(|t| t[k]), r.clone())));
+    let (mut distance, mut defect, mut energy_error) = (Vec::new(), Vec::new(), Vec::new());
+    let summary = check_rows_in::<I>(model, h, rows, &o, |row| {
+        distance.push(row.distance);
+        if let Some(p) = row.pair {
+            defect.push(p.defect);
+            energy_error.push(p.energy_error);
+        }
+        Ok(())
+    })?;
+    let passed = tolerances.passes(summary.max_distance, summary.max_defect)?;
+    Ok(Answer::CheckWide {
+        precision: bits,
+        distance,
+        max_distance: summary.max_distance,
+        defect,
+        max_defect: summary.max_defect,
+        energy_error,
+        tolerances,
+        passed,
+    })
 }
 
 /// Where a flow starts: the query's f64 point `(q, u)`, or boxes (exact decimals, E22).
@@ -237,10 +321,10 @@ impl<I: Ival> Start<'_, I> {
         model: &Model,
         times: &[f64],
         opts: &FlowOptions,
-    ) -> Result<Vec<FlowEnclosure<I>>, Error> {
+    ) -> Result<Vec<FlowEnclosure<I>>, Refused<I>> {
         match self {
-            Start::Points(q, u) => flow_at_in::<I>(model, q, u, times, opts),
-            Start::Boxes(q, u) => flow_boxes_in::<I>(model, q, u, times, opts),
+            Start::Points(q, u) => flow_at_certified_in::<I>(model, q, u, times, opts),
+            Start::Boxes(q, u) => flow_boxes_certified_in::<I>(model, q, u, times, opts),
         }
     }
 }
@@ -252,6 +336,7 @@ fn flow_in<I>(
     t: &At,
     jacobian: bool,
     opts: &FlowOptions,
+    certified: &mut Option<Answer>,
 ) -> Result<Answer, Error>
 where
     I: Ival + OutwardDecimal,
@@ -270,7 +355,17 @@ where
                     "`jacobian` is given only at one time `t`, not with `times`",
                 ));
             }
-            let enclosures = start.flow(model, times, opts)?;
+            let enclosures = start.flow(model, times, opts).map_err(|r| {
+                // the stops proved before the refusal (contract E25)
+                let (times, enclosures): (Vec<f64>, Vec<_>) =
+                    r.at.into_iter().map(|(t, e)| (t, dec(e))).unzip();
+                *certified = Some(Answer::FlowAtWide {
+                    precision: bits,
+                    times,
+                    enclosures,
+                });
+                r.error
+            })?;
             Ok(Answer::FlowAtWide {
                 precision: bits,
                 times: times.clone(),
@@ -288,7 +383,7 @@ where
                 let (e, j) = flow_c1_in::<I>(model, q, u, *t, opts)?;
                 (e, Some(j.iter().map(|r| decimals_of(r)).collect()))
             } else {
-                let mut e = start.flow(model, &[*t], opts)?;
+                let mut e = start.flow(model, &[*t], opts).map_err(|r| r.error)?;
                 let e = e.pop().ok_or_else(|| {
                     Error::internal_at(crate::Invariant::Missing, "flow_at_in answered no time")
                 })?;

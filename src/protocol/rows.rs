@@ -6,11 +6,24 @@
 //! [`super::Answer::to_text`] or [`super::Answer::to_json`] of the same answer, and a
 //! newline.
 
-use super::answer::{interval, intervals};
 use super::Tolerances;
 use crate::schemes::Row;
 use crate::Interval;
+use serde_json::Value;
 use std::io::{self, Write};
+
+// The rows are the lower layer: `answer.rs` renders whole answers with them and re-exports
+// these two, and nothing here imports from `answer.rs` (issue 47).
+
+/// `[lo, hi]`; serde_json prints f64 in shortest round-trip form.
+pub fn interval(x: Interval) -> Value {
+    serde_json::to_value(x).unwrap_or(Value::Null)
+}
+
+/// The intervals as a JSON array of `[lo, hi]`.
+pub fn intervals(x: &[Interval]) -> Value {
+    serde_json::to_value(x).unwrap_or(Value::Null)
+}
 
 /// One f64 as serde_json prints it (shortest round-trip form), as the JSON answers do.
 fn num(w: &mut impl Write, x: f64) -> io::Result<()> {

@@ -716,10 +716,66 @@ impl SceneFile {
             .map_err(|e| Error::input(format!("{shown_path}: {}", e.message())))
     }
 
+    /// Read the JSON scene file at `path` with the reader `parse` of JSON texts (the
+    /// protocol's strict one: no repeated key); its name defaults to the file's stem, and
+    /// every message starts with the path (contract E26).
+    pub fn read_json(
+        path: &Path,
+        parse: impl FnOnce(&str) -> Result<serde_json::Value, Error>,
+    ) -> Result<SceneFile, Error> {
+        let shown_path = shown(&path.display().to_string(), 400);
+        let text = std::fs::read(path)
+            .map_err(|e| {
+                Error::input(format!(
+                    "{shown_path}: cannot read the scene file: {}",
+                    shown(&e.to_string(), 200)
+                ))
+            })
+            .and_then(|b| {
+                String::from_utf8(b).map_err(|e| {
+                    Error::input(format!(
+                        "{shown_path}: the scene file is not UTF-8 text (invalid byte at offset {})",
+                        e.utf8_error().valid_up_to()
+                    ))
+                })
+            })?;
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let v = parse(&text).map_err(|e| {
+            Error::input(format!(
+                "{shown_path}: JSON syntax error: {}",
+                shown(e.message(), 200)
+            ))
+        })?;
+        if !v.is_object() {
+            return Err(Error::input(format!(
+                "{shown_path}: a JSON scene file holds one object with the keys of a scene file"
+            )));
+        }
+        SceneFile::from_json_named(&v, &stem)
+            .map_err(|e| Error::input(format!("{shown_path}: {}", e.message())))
+    }
+
     /// Read a scene from a JSON object with the keys of the file format (the batch
     /// protocol's inline scenes); its name defaults to `"inline"`.
     pub fn from_json(v: &serde_json::Value) -> Result<SceneFile, Error> {
-        build(&Val::from_json(v, 0), INLINE_NAME).map_err(Error::input)
+        SceneFile::from_json_named(v, INLINE_NAME)
+    }
+
+    /// Read a scene from a JSON object with the keys of the file format; `default_name`
+    /// is its name when the object has no `name` (a `.json` scene file's stem, contract
+    /// E26).
+    pub fn from_json_named(v: &serde_json::Value, default_name: &str) -> Result<SceneFile, Error> {
+        build(&Val::from_json(v, 0), default_name).map_err(Error::input)
+    }
+
+    /// Whether `path` names a JSON scene file (its extension is `json`, in any case):
+    /// read as JSON, anything else as TOML (contract E26).
+    pub fn is_json_path(path: &Path) -> bool {
+        path.extension()
+            .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case("json"))
     }
 
     /// The scene with the parameter values `given` (name, exact f64; the last one given

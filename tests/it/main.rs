@@ -37,6 +37,7 @@ mod public_types;
 mod readme_commands;
 mod readme_own_scheme;
 mod readme_proptest;
+mod refusal_causes;
 mod reversibility;
 mod scene_file_cli;
 mod scene_files;

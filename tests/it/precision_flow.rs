@@ -184,7 +184,8 @@ fn the_command_line_answers_at_106_bits_with_decimal_ends() {
 }
 
 /// Retract, step and lagrangian at 106 bits through `batch`, with an f64 query beside them;
-/// `precision` on a query that does not read it, and out of range, is an input error.
+/// `precision` out of range, and on a query that does not read it (`integrate`; `check` reads
+/// it since contract E28), is an input error.
 #[test]
 fn batch_reads_precision_where_it_applies_and_refuses_it_elsewhere() {
     let pair = r#""scene":"particle","q0":[0,0,0],"q1":[0.4,0.4,0],"h":0.5"#;
@@ -194,7 +195,8 @@ fn batch_reads_precision_where_it_applies_and_refuses_it_elsewhere() {
         format!(r#"{{"id":3,"cmd":"lagrangian",{pair},"precision":106}}"#),
         format!(r#"{{"id":4,"cmd":"step",{pair},"precision":53}}"#),
         format!(r#"{{"id":5,"cmd":"step",{pair},"precision":52}}"#),
-        r#"{"id":6,"cmd":"check","scene":"particle","h":0.5,"q":[[0,0,0],[0.4,0.4,0]],"precision":106}"#
+        format!(r#"{{"id":6,"cmd":"integrate",{pair},"scheme":"dla","steps":2,"precision":106}}"#),
+        r#"{"id":7,"cmd":"check","scene":"particle","h":0.5,"q":[[0,0,0],[0.4,0.4,0]],"precision":106}"#
             .to_string(),
     ]
     .join("\n");
@@ -222,6 +224,7 @@ fn batch_reads_precision_where_it_applies_and_refuses_it_elsewhere() {
             .unwrap()
             .contains("precision"));
     }
+    assert_eq!(a[6]["ok"]["precision"], 106, "{}", a[6]);
 }
 
 /// A float implementation of the exact discrete step checked to its last bits: the particle's

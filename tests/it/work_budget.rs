@@ -168,18 +168,21 @@ fn the_default_budget_is_work_unless_a_budget_is_named() {
         s.budget_of(&q, none),
         Budget {
             deadline: None,
-            work: Some(STEP_WORK)
+            work: Some(STEP_WORK),
+            ..Budget::default()
         }
     );
     assert_eq!(default_work(&q), Some(STEP_WORK));
     let d = Budget {
         deadline: Some(2.0),
         work: None,
+        ..Budget::default()
     };
     assert_eq!(s.budget_of(&q, d), d);
     let w = Budget {
         deadline: None,
         work: Some(5),
+        ..Budget::default()
     };
     assert_eq!(s.budget_of(&q, w), w);
     let mut s = Session::default();
@@ -188,7 +191,8 @@ fn the_default_budget_is_work_unless_a_budget_is_named() {
         s.budget_of(&q, none),
         Budget {
             deadline: Some(3.0),
-            work: None
+            work: None,
+            ..Budget::default()
         }
     );
     let mut s = Session::default();
@@ -197,7 +201,8 @@ fn the_default_budget_is_work_unless_a_budget_is_named() {
         s.budget_of(&q, none),
         Budget {
             deadline: None,
-            work: Some(7)
+            work: Some(7),
+            ..Budget::default()
         }
     );
     // a check: STEP_WORK per row; flow and integrate: none (their step counts bound them)

@@ -26,10 +26,24 @@ impl Parser<'_> {
     }
     fn unexpected(&self) -> ExprError {
         match self.toks.get(self.pos) {
-            Some((t, at)) => ExprError {
-                what: format!("unexpected {}", describe(t)),
-                at: Some(*at),
-            },
+            Some((t, at)) => {
+                // `**` (Python's power): say how powers are written (issue 49)
+                let star = Tok::Op('*');
+                let power = *t == star
+                    && self.pos > 0
+                    && self.toks.get(self.pos - 1) == Some(&(star, at.wrapping_sub(1)));
+                ExprError {
+                    what: if power {
+                        format!(
+                            "unexpected {}: powers are written `^` (`x^2`), not `**`",
+                            describe(t)
+                        )
+                    } else {
+                        format!("unexpected {}", describe(t))
+                    },
+                    at: Some(*at),
+                }
+            }
             None => ExprError {
                 what: "unexpected end of the expression".into(),
                 at: Some(self.end),
