@@ -2,12 +2,10 @@
 budgets (a small `work` is refused with reason "budget", the same on every run), the
 pipelined queries (`submit`) and `order`."""
 
-import json
-import subprocess
 
 import pytest
 
-from dalembert import Interval, Oracle, Uncertified, find_binary, to_array
+from dalembert import Interval, Oracle, Uncertified, to_array
 
 np = pytest.importorskip("numpy")
 
@@ -50,13 +48,7 @@ def test_submit_pipelines_and_keeps_order(oracle):
 
 
 def test_order_answers_intervals_or_none():
-    # the batch `order` query (contract E7 through batch) where the binary has it
-    probe = subprocess.run([find_binary(), "batch"], capture_output=True, text=True,
-                           input=json.dumps({"id": 1, "cmd": "order", "scene": "particle",
-                                             "scheme": "dla", "q": [0, 0, 0],
-                                             "u": [0.8, 0.8], "rungs": 3}) + "\n")
-    if '"unknown cmd' in probe.stdout:
-        pytest.skip("this binary has no batch `order` query")
+    # the batch `order` query (contract E16)
     with Oracle(scene="particle") as o:
         a = o.order([0, 0, 0], [0.8, 0.8], "dla", rungs=3)
         assert len(a.local.error) == 3

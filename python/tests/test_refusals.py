@@ -13,17 +13,6 @@ from dalembert import CAUSES, Oracle, Uncertified
 np = pytest.importorskip("numpy")
 
 
-@pytest.fixture(autouse=True, scope="module")
-def binary_with_causes():
-    # as test_order_answers_intervals_or_none: a binary from before contract E23-E28 (the
-    # branch that adds them is merged separately) skips these tests, any later one runs them
-    with Oracle() as o:
-        try:
-            o.flow([0.0, 0.0, 1.3], [0.1, 0.5], 1.0, scene=UNICYCLE)
-        except Uncertified as e:
-            if e.cause is None:
-                pytest.skip("this binary names no refusal cause (contract E23)")
-
 # the unicycle with free x, theta: its derived basis e1 = (1, tan theta, 0) is singular at
 # theta = pi/2, which the motion from theta = 1.3 at w = 0.5 reaches at t = 0.5416
 UNICYCLE = {"coordinates": ["x", "y", "theta"], "parameters": {"m": 2.0, "J": 0.75},
