@@ -2,7 +2,6 @@
 budgets (a small `work` is refused with reason "budget", the same on every run), the
 pipelined queries (`submit`) and `order`."""
 
-
 import pytest
 
 from dalembert import Interval, Oracle, Uncertified, to_array
