@@ -145,16 +145,16 @@ impl Ival for Interval {
         f64::EPSILON
     }
     fn order() -> usize {
-        super::DEFAULT_ORDER
+        super::orders::DEFAULT_ORDER
     }
     fn short_order() -> usize {
-        super::control::SHORT_ORDER
+        super::orders::SHORT_ORDER
     }
     fn jac_orders() -> &'static [usize] {
-        &super::step::JAC_ORDERS
+        &super::orders::JAC_ORDERS
     }
     fn low_orders() -> &'static [usize] {
-        &super::control::LOW_ORDERS
+        &super::orders::LOW_ORDERS
     }
     fn pt(x: f64) -> Self {
         crate::scalar::point(x)

@@ -1,10 +1,11 @@
 //! One step of the method ([spec eqs. (5.3)-(5.6)](crate::spec::enclosure), (5.9)-(5.12)): the a priori enclosure, the
 //! Taylor polynomial and its remainder, the derivative factor and Lohner's update.
 
-use super::linalg::{self, IMat};
-use super::set::*;
-use super::*;
 use super::ival::Ival;
+use super::linalg::{self, IMat};
+use super::options::{Basis, FlowOptions};
+use super::set::*;
+use super::system::System;
 use crate::tape::{Coeffs, Rows};
 use nalgebra::DMatrix;
 
@@ -249,9 +250,6 @@ pub(super) fn choose_basis<I: Ival>(am: DMatrix<f64>, basis: Basis) -> (DMatrix<
     }
 }
 
-/// The orders tried for the Taylor series of the variational equation ([spec eq. (5.6)](crate::spec::enclosure)),
-/// lowest first.
-pub(super) const JAC_ORDERS: [usize; 6] = [3, 5, 8, 12, 16, 20];
 
 /// Steps taken over the whole set (5.6'') without trying (5.6a) after no order of
 /// JAC_ORDERS gave the precise derivative (then the highest order is tried again).
