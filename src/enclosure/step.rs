@@ -492,11 +492,17 @@ pub(super) fn step_jacobian<I: Ival>(
     order: &mut usize,
 ) -> Option<IMat<I>> {
     let d = xbox.len();
+    // The ladder of orders and the highest one tried: for the precise derivative, the
+    // precise ladder to its top when the interval type has one (Theorem 5.3)
+    let (orders, cap) = match I::precise_jac_orders().filter(|_| precise) {
+        Some(o) => (o, o[o.len() - 1].max(p)),
+        None => (I::jac_orders(), p.max(I::jac_orders()[0])),
+    };
     // After no order qualified for the precise derivative, the next SKIP steps go straight
     // to the step over the whole set (the order index counts them down above the ladder).
-    if *order >= I::jac_orders().len() {
+    if *order >= orders.len() {
         *order -= 1;
-        if *order >= I::jac_orders().len() {
+        if *order >= orders.len() {
             return None;
         }
     }
@@ -507,15 +513,29 @@ pub(super) fn step_jacobian<I: Ival>(
     // every trajectory on [0, h], so the Lagrange remainder of any order may use it. At a
     // low order the test converges slowly for components whose range is nearly a point
     // (e.g. D u1 / D u1 = 1 for the knife): widen generously.
-    let q0 = I::jac_orders()[0];
+    let q0 = orders[0];
     let w0 = sys.field_var.ode_taylor(&seed, q0)?;
     let (y_ext, t0) = a_priori(&sys.field_var, w0.rows(), h, q0, 4.0).ok()?;
-    let mut k = (*order).min(I::jac_orders().len() - 1);
+    let mut k = (*order).min(orders.len() - 1);
+    // the last two (order, ratio) tried, for the orders above the state's (5.6)
+    let mut tried: [Option<(usize, f64)>; 2] = [None, None];
     loop {
-        let q = I::jac_orders()[k];
-        if q > p.max(q0) {
+        let q = orders[k];
+        // An order above the state's is tried only when the last two ratios, extrapolated
+        // geometrically in the order, reach 1 by the top of the ladder (a choice: it saves
+        // the two costliest series where they would not do)
+        let hopeless = q > p.max(q0)
+            && match tried {
+                [Some((q1, r1)), Some((q2, r2))] => {
+                    let per_order = (r2 / r1).powf(1.0 / (q2 - q1) as f64);
+                    let at_top = r2 * per_order.powi((cap - q2) as i32);
+                    at_top.is_nan() || at_top > 1.0
+                }
+                _ => false,
+            };
+        if q > cap || hopeless {
             if precise {
-                *order = I::jac_orders().len() + SKIP;
+                *order = orders.len() + SKIP;
             }
             return None;
         }
@@ -543,9 +563,13 @@ pub(super) fn step_jacobian<I: Ival>(
                 0.0
             };
             let ratio = share.max(own);
+            tried = [tried[1], Some((q, ratio))];
             if ratio <= 1.0 {
                 // next step: the same order, or one lower when this one had a wide margin
-                *order = if ratio < 1e-4 { k.saturating_sub(1) } else { k };
+                // (above the state's order, one lower only with a margin of 1e-8: a
+                // series tried in vain costs more there)
+                let margin = if q > p { 1e-8 } else { 1e-4 };
+                *order = if ratio < margin { k.saturating_sub(1) } else { k };
                 for (x, r) in jac.entries_mut().iter_mut().zip(&rem) {
                     *x = *x + *r;
                 }
@@ -553,9 +577,9 @@ pub(super) fn step_jacobian<I: Ival>(
             }
         }
         k += 1;
-        if k == I::jac_orders().len() {
+        if k == orders.len() {
             if precise {
-                *order = I::jac_orders().len() + SKIP;
+                *order = orders.len() + SKIP;
             }
             return None;
         }
