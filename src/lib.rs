@@ -126,7 +126,6 @@ internal! {
 
 mod dot;
 mod error;
-mod readable;
 
 pub use enclosure::Ival;
 pub use enclosure::{Basis, FlowOptions, FlowStats};

@@ -2,11 +2,12 @@
 //! carries a set over a span of time, choosing each step before trying it and the last
 //! step's order.
 
+use super::ival::Ival;
 use super::linalg::{self, IMat};
+use super::options::{FlowOptions, FlowStats};
 use super::set::*;
 use super::step::*;
-use super::*;
-use super::ival::Ival;
+use super::system::System;
 use crate::tape::{Coeffs, Rows};
 use crate::{Error, Reason};
 
@@ -290,8 +291,6 @@ fn hull_f64<I: Ival>(x: &[I]) -> Vec<inari::Interval> {
 /// sliced.
 pub(super) const SHORT_REST: f64 = 3.0;
 
-/// (5.8) (e): the order of a span that takes at most SHORT_REST steps at DEFAULT_ORDER.
-pub(super) const SHORT_ORDER: usize = 28;
 
 /// (5.8) (d): whether a rest of length `rest` takes at most SHORT_REST steps of size `h`.
 pub(super) fn within_short_rest(rest: f64, h: f64) -> bool {
@@ -304,8 +303,6 @@ pub(super) fn short_span(lo: f64, hi: f64, h: f64) -> bool {
     h < lo && within_short_rest(hi, h)
 }
 
-/// The lower orders a last step may take instead of the flow's order ([spec (5.8')](crate::spec::enclosure)).
-pub(super) const LOW_ORDERS: [usize; 5] = [6, 8, 10, 12, 15];
 
 /// The remainder's width, relative to REMAINDER_TOL, that the step rule (5.8) aims at: the
 /// remainder varies along a trajectory (about 20 times on the knife between steps of the

@@ -2,7 +2,9 @@
 //! equation. Not rigorous; used only to choose points (Newton guesses).
 
 use super::control::*;
-use super::*;
+use super::options::FlowOptions;
+use super::orders::{DEFAULT_ORDER, SHORT_ORDER};
+use super::system::System;
 use crate::tape::Rows;
 use nalgebra::DMatrix;
 

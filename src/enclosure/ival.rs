@@ -41,6 +41,12 @@ pub trait Ival: Coef + PartialEq + Debug + Send + Sync {
     fn short_order() -> usize;
     /// The orders tried for the variational equation, lowest first ([spec eq. (5.6)](crate::spec::enclosure)).
     fn jac_orders() -> &'static [usize];
+    /// The orders tried for the variational equation when the derivative is asked to the
+    /// rounding level, up to the last one whatever the state's order (spec (5.6), Theorem
+    /// 5.3); `None`: [`Ival::jac_orders`] up to the state's order, as for the state.
+    fn precise_jac_orders() -> Option<&'static [usize]> {
+        None
+    }
     /// The lower orders a last step may take instead of the flow's ([spec (5.8')](crate::spec::enclosure)).
     fn low_orders() -> &'static [usize];
     /// The degenerate interval of a point.
@@ -145,16 +151,19 @@ impl Ival for Interval {
         f64::EPSILON
     }
     fn order() -> usize {
-        super::DEFAULT_ORDER
+        super::orders::DEFAULT_ORDER
     }
     fn short_order() -> usize {
-        super::control::SHORT_ORDER
+        super::orders::SHORT_ORDER
     }
     fn jac_orders() -> &'static [usize] {
-        &super::step::JAC_ORDERS
+        &super::orders::JAC_ORDERS
+    }
+    fn precise_jac_orders() -> Option<&'static [usize]> {
+        Some(&super::orders::PRECISE_JAC_ORDERS)
     }
     fn low_orders() -> &'static [usize] {
-        &super::control::LOW_ORDERS
+        &super::orders::LOW_ORDERS
     }
     fn pt(x: f64) -> Self {
         crate::scalar::point(x)

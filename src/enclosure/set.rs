@@ -34,7 +34,7 @@ pub struct LohnerSet<I: Ival = Interval> {
 
 impl<I: Ival> std::fmt::Debug for LohnerSet<I> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        use crate::readable::Show;
+        use super::show::Show;
         f.debug_struct("LohnerSet")
             .field("m", &self.m)
             .field("c", &self.c)
@@ -60,7 +60,7 @@ pub struct SubSet<I = Interval> {
 
 impl<I: Ival> std::fmt::Debug for SubSet<I> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        use crate::readable::Show;
+        use super::show::Show;
         f.debug_struct("SubSet")
             .field("r0", &Show(&self.r0))
             .field("r", &Show(&self.r))

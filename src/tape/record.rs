@@ -14,7 +14,7 @@
 #![allow(clippy::redundant_guards)]
 
 use super::program::{key, Op};
-use super::{simplify, Tape};
+use super::Tape;
 use crate::scalar::{point, Scalar};
 use inari::Interval;
 use std::cell::{Cell, RefCell};
@@ -75,13 +75,13 @@ static NEXT_ID: AtomicU32 = AtomicU32::new(1);
 /// panic unwinds out of the recording closure (the stack then stays that of the enclosing
 /// recordings). Guards are local to one function call, so they close in the reverse order
 /// they opened; not `Send`, since the stack is the thread's.
-struct Open {
+pub(super) struct Open {
     id: u32,
     _thread: PhantomData<*const ()>,
 }
 
 impl Open {
-    fn new() -> Open {
+    pub(super) fn new() -> Open {
         let id = loop {
             let id = NEXT_ID.fetch_add(1, Ordering::Relaxed);
             if id != 0 {
@@ -102,7 +102,7 @@ impl Open {
     }
 
     /// The operations recorded; the recording is closed.
-    fn close(self) -> Vec<Op> {
+    pub(super) fn close(self) -> Vec<Op> {
         OPEN.with(|r| {
             let mut r = r.borrow_mut();
             let top = r.last_mut().filter(|t| t.id == self.id);
@@ -346,45 +346,6 @@ impl Tape {
             outputs,
         }
         .without_dead_code()
-    }
-
-    /// [`Tape::record`], then simplified exactly ([spec (2.13)](crate::spec::taylor)): the cancelling sums are
-    /// replaced by their normal forms. Used for the vector fields the validated integrator
-    /// carries sets through, where the cancelled terms' widths cap the steps; the float
-    /// schemes' tapes are recorded as written (an expanded normal form can round worse in
-    /// f64 near overflow).
-    pub fn record_simplified(n_inputs: usize, f: impl FnOnce(&[Tracer]) -> Vec<Tracer>) -> Tape {
-        Tape::record(n_inputs, f).simplified()
-    }
-
-    /// This program with its cancelling sums replaced by their normal forms ([spec (2.13)](crate::spec::taylor)).
-    fn simplified(self) -> Tape {
-        #[cfg(test)]
-        if !simplify::ENABLED.with(|e| e.get()) {
-            return self;
-        }
-        let record = |fold_zeros: bool| {
-            let open = Open::new();
-            let (new, divisors) = simplify::rerecord(&self.ops, fold_zeros);
-            let tape = Tape {
-                ops: open.close(),
-                n_inputs: self.n_inputs,
-                outputs: self.outputs.iter().map(|o| new[*o as usize].index()).collect(),
-            };
-            (tape, divisors)
-        };
-        // With the nodes that are 0 folded, kept if every folded quotient's domain check is
-        // still made by a quotient by the same divisor that the outputs depend on (an
-        // evaluation fails as a whole when any check fails, (2.8)); otherwise without.
-        let (tape, divisors) = record(true);
-        let live = tape.live();
-        let checked = |d: &u32| {
-            (tape.ops.iter().zip(&live)).any(|(op, l)| *l && matches!(op, Op::Div(_, b) if b == d))
-        };
-        if divisors.iter().all(checked) {
-            return tape.without_dead_code();
-        }
-        record(false).0.without_dead_code()
     }
 
     /// Record `f` and its Jacobian by forward-mode duals: the outputs are `f` and then

@@ -19,7 +19,8 @@
 //!   check of the original tape is still made (a tape never becomes defined where it was not).
 
 use super::program::{args, remap, Op};
-use super::record::{constant_of, push, Tracer};
+use super::record::{constant_of, push, Open, Tracer};
+use super::Tape;
 use crate::scalar::{point, Scalar};
 use std::collections::BTreeMap;
 
@@ -31,6 +32,47 @@ thread_local! {
 
 /// The largest number of terms of a normal form that is carried.
 pub(super) const MAX_TERMS: usize = 8;
+
+impl Tape {
+    /// [`Tape::record`], then simplified exactly ([spec (2.13)](crate::spec::taylor)): the cancelling sums are
+    /// replaced by their normal forms. Used for the vector fields the validated integrator
+    /// carries sets through, where the cancelled terms' widths cap the steps; the float
+    /// schemes' tapes are recorded as written (an expanded normal form can round worse in
+    /// f64 near overflow).
+    pub fn record_simplified(n_inputs: usize, f: impl FnOnce(&[Tracer]) -> Vec<Tracer>) -> Tape {
+        Tape::record(n_inputs, f).simplified()
+    }
+
+    /// This program with its cancelling sums replaced by their normal forms ([spec (2.13)](crate::spec::taylor)).
+    fn simplified(self) -> Tape {
+        #[cfg(test)]
+        if !ENABLED.with(|e| e.get()) {
+            return self;
+        }
+        let record = |fold_zeros: bool| {
+            let open = Open::new();
+            let (new, divisors) = rerecord(&self.ops, fold_zeros);
+            let tape = Tape {
+                ops: open.close(),
+                n_inputs: self.n_inputs,
+                outputs: self.outputs.iter().map(|o| new[*o as usize].index()).collect(),
+            };
+            (tape, divisors)
+        };
+        // With the nodes that are 0 folded, kept if every folded quotient's domain check is
+        // still made by a quotient by the same divisor that the outputs depend on (an
+        // evaluation fails as a whole when any check fails, (2.8)); otherwise without.
+        let (tape, divisors) = record(true);
+        let live = tape.live();
+        let checked = |d: &u32| {
+            (tape.ops.iter().zip(&live)).any(|(op, l)| *l && matches!(op, Op::Div(_, b) if b == d))
+        };
+        if divisors.iter().all(checked) {
+            return tape.without_dead_code();
+        }
+        record(false).0.without_dead_code()
+    }
+}
 
 /// An atom of a normal form: a node of the new recording, or a constant (a positive f64,
 /// by its bits). Constants order after nodes and by value, so that a normal form is emitted

@@ -104,3 +104,88 @@ fn the_long_particle_derivative_stays_narrow() {
         .fold(0.0, f64::max);
     assert!(widest < 4e-9, "widest entry {widest:e}");
 }
+
+/// The particle's derivative in closed form, by hand from its flow (paper Example 2.1):
+/// with `s(y) = sqrt(1 + y^2)`, `y = y0 + u2 t`, `K = u1 s(y0)`, `A = asinh y - asinh y0`,
+/// `S = s(y) - s(y0)`: `x = x0 + K A / u2`, `z = z0 + K S / u2`, `u1(t) = K / s(y)`, so
+/// (columns x0, y0, z0, u1, u2; `K' = dK/dy0 = u1 y0 / s(y0)`)
+/// - x row: `(1, (K' A + K (1/s - 1/s0)) / u2, 0, s0 A / u2, K (u2 t / s - A) / u2^2)`,
+/// - z row: `(0, (K' S + K (y/s - y0/s0)) / u2, 1, s0 S / u2, K (u2 t y / s - S) / u2^2)`,
+/// - u1 row: `(0, K' / s - K y / s^3, 0, s0 / s, -K y t / s^3)`,
+///
+/// and the y and u2 rows of [`has_exact_rows`]. In outward-rounded intervals (inari and the
+/// crate's interval `asinh`, none of the flow's code), for `u2 != 0`.
+fn particle_jacobian_closed_form(q: [f64; 3], u: [f64; 2], t: f64) -> Vec<Vec<inari::Interval>> {
+    use dalembert::elementary::asinh;
+    use inari::{const_interval, Interval};
+    let p = |x: f64| Interval::try_from((x, x)).unwrap();
+    let (one, zero) = (const_interval!(1.0, 1.0), const_interval!(0.0, 0.0));
+    let (y0, u1, u2, tt) = (p(q[1]), p(u[0]), p(u[1]), p(t));
+    let y = y0 + u2 * tt;
+    let (s0, s) = ((one + y0.sqr()).sqrt(), (one + y.sqr()).sqrt());
+    let k = u1 * s0;
+    let dk = u1 * y0 / s0;
+    let a = asinh(y) - asinh(y0);
+    let big_s = s - s0;
+    let s3 = s * s.sqr();
+    vec![
+        vec![
+            one,
+            (dk * a + k * (one / s - one / s0)) / u2,
+            zero,
+            s0 * a / u2,
+            k * (u2 * tt / s - a) / u2.sqr(),
+        ],
+        vec![zero, one, zero, zero, tt],
+        vec![
+            zero,
+            (dk * big_s + k * (y / s - y0 / s0)) / u2,
+            one,
+            s0 * big_s / u2,
+            k * (u2 * tt * y / s - big_s) / u2.sqr(),
+        ],
+        vec![zero, dk / s - k * y / s3, zero, s0 / s, -(k * y * tt / s3)],
+        vec![zero, zero, zero, zero, one],
+    ]
+}
+
+/// Every entry of the particle's derivative at T = 10, 50 and 600 from (0, 0, 0),
+/// (0.8, 0.8) and at T = 7 from (0.1, 0.2, 0.3), (0.8, -0.4) meets the closed form (both
+/// contain the exact value), and at T = 10, 50, 600 the widest entry is at most CAPD's
+/// C1Rect2Set's (1.36e-12, 2.47e-11, 8.81e-10, issue 48; spec (5.6)).
+#[test]
+fn the_particle_jacobian_meets_its_closed_form() {
+    let cases: [([f64; 3], [f64; 2], f64, f64); 4] = [
+        ([0.0, 0.0, 0.0], [0.8, 0.8], 10.0, 1.36e-12),
+        ([0.0, 0.0, 0.0], [0.8, 0.8], 50.0, 2.47e-11),
+        ([0.0, 0.0, 0.0], [0.8, 0.8], 600.0, 8.81e-10),
+        ([0.1, 0.2, 0.3], [0.8, -0.4], 7.0, 1e-9),
+    ];
+    for (q, u, t, most) in cases {
+        let show = |v: &[f64]| {
+            v.iter()
+                .map(|x| x.to_string())
+                .collect::<Vec<_>>()
+                .join(",")
+        };
+        let v = particle_flow(&show(&q), &show(&u), &t.to_string(), &["--jacobian"]);
+        let j = v["jacobian"].as_array().unwrap();
+        let exact = particle_jacobian_closed_form(q, u, t);
+        let mut widest = 0.0f64;
+        for (r, row) in j.iter().enumerate() {
+            for (c, e) in row.as_array().unwrap().iter().enumerate() {
+                let (lo, hi) = (e[0].as_f64().unwrap(), e[1].as_f64().unwrap());
+                let x = exact[r][c];
+                assert!(
+                    lo <= x.sup() && x.inf() <= hi,
+                    "T = {t}, entry ({r}, {c}): [{lo}, {hi}] misses the closed form {x:?}"
+                );
+                widest = widest.max(hi - lo);
+            }
+        }
+        assert!(
+            widest <= most,
+            "T = {t}: widest entry {widest:e} > {most:e}"
+        );
+    }
+}

@@ -3,7 +3,7 @@
 //! `Debug` shows its SIMD representation (`__m128d(-lo, hi)`), which no reader should have
 //! to decode.
 
-use crate::enclosure::Ival;
+use super::ival::Ival;
 #[cfg(test)]
 use inari::Interval;
 use std::fmt;
