@@ -348,9 +348,12 @@ fn carry<I: Ival>(
         // why the steps collapsed, if the scene's data say so; the leg's start (its centre)
         // for the float motion that tells a box grown too wide from the motion's own failure
         let start: Vec<f64> = set.m.iter().map(|x| I::pt_f64(*x)).collect();
-        let explain = |x: &[inari::Interval], h: f64, done: f64| {
+        let explain = |x: &[inari::Interval], h: f64, done: f64, spent: Option<&Error>| {
             let at = sign * (point(from) + point(done)).inf();
-            explained(model, x, h, at).map(|e| widened(model, sys, x, (&start, t - from), e))
+            let motion = (&start[..], t - from);
+            explained(model, x, h, at)
+                .map(|e| widened(model, sys, x, motion, e))
+                .or_else(|| spent.and_then(|e| outgrown(sys, motion, e)))
         };
         // the exact span t - from, enclosed (exact when Sterbenz's lemma applies)
         let span = I::cst(t) - I::cst(from);
@@ -362,7 +365,12 @@ fn carry<I: Ival>(
                         let reached = (point(from) + point(r.reached.unwrap_or(0.0))).inf();
                         // the step limit is the whole integration's: say so with its end
                         let e = if r.limit == Some(Limit::TaylorSteps) {
-                            too_many(opts.max_taylor_steps, sign * last)
+                            let whole = too_many(opts.max_taylor_steps, sign * last);
+                            if r.message.ends_with(OUTGROWN) {
+                                whole.with_cause(r.cause).with_more(OUTGROWN)
+                            } else {
+                                whole
+                            }
                         } else {
                             e
                         };
@@ -426,6 +434,31 @@ fn widened(
          106) may answer",
     )
 }
+
+/// The step budget's refusal `e` of a leg from `start` over the time `span` whose steps
+/// collapsed while the scene's data hold near the state, with the cause `width` when the
+/// float motion of `sys` from `start` (not rigorous: it only words the refusal) is carried
+/// over the whole `span`, with finite values and within the step limit: the enclosure grew
+/// too fast for any step, not the motion ([spec (5.18')](crate::spec::enclosure)). `None`
+/// otherwise (the refusal stays the budget's, cause `steps`). The reason stays `budget`
+/// (contract E17: no cause was found near the state).
+fn outgrown(
+    sys: &crate::enclosure::System,
+    (start, span): (&[f64], f64),
+    e: &Error,
+) -> Option<Error> {
+    crate::enclosure::float_flow_counted(sys, start, span, &FlowOptions::default())?;
+    Some(
+        e.clone()
+            .with_cause(crate::Cause::Width)
+            .with_more(OUTGROWN),
+    )
+}
+
+/// The end of the message of [`outgrown`]'s refusal.
+const OUTGROWN: &str = "; its steps collapsed while the scene's data hold near the state and a \
+                        float solution is regular up to the time asked: the enclosure grew too \
+                        fast for any step, and a higher precision (--precision 106) may answer";
 
 /// The refusal of a flow stopped at time `at` in the state box `x` with steps of size `h`
 /// (0: none taken), when the scene's data say why ([spec (5.18)](crate::spec::enclosure)).
@@ -561,8 +594,11 @@ pub fn flow_c1_in<I: Ival>(
     } else {
         (&model.dynamics, 1.0)
     };
-    let explain = |x: &[inari::Interval], h: f64, done: f64| {
-        explained(model, x, h, sign * done).map(|e| widened(model, sys, x, (&x0, t.abs()), e))
+    let explain = |x: &[inari::Interval], h: f64, done: f64, spent: Option<&Error>| {
+        let motion = (&x0[..], t.abs());
+        explained(model, x, h, sign * done)
+            .map(|e| widened(model, sys, x, motion, e))
+            .or_else(|| spent.and_then(|e| outgrown(sys, motion, e)))
     };
     let (set, jac, stats) = flow_set_jacobian_explained(
         sys,

@@ -71,9 +71,11 @@ pub(super) fn flow_set_general<I: Ival>(
     let stop = |fallback: Error, set: &LohnerSet<I>, h: f64, done: I, stats: &FlowStats| {
         let collapsed = h * 64.0 < stats.h_max;
         let budget = fallback.reason() == Some(Reason::Budget);
+        // the budget's refusal, handed to `explain` when the steps collapsed on the way to it
+        let spent = (collapsed && budget).then_some(&fallback);
         let cause = explain
             .filter(|_| collapsed || !budget)
-            .and_then(|f| f(&hull_f64(&set.hull()), h, done.inf()));
+            .and_then(|f| f(&hull_f64(&set.hull()), h, done.inf(), spent));
         cause.unwrap_or(fallback).reached(done.inf())
     };
     // the last accepted step (0 before the first)
@@ -277,10 +279,12 @@ pub(super) fn flow_set_general<I: Ival>(
 }
 
 /// Asked why a flow cannot go on, with the state's hull at the stop, the size of the steps
-/// there and the time done: a refusal naming the cause (the system's data not proved
-/// regular near the state, say), or `None` when it sees none. It only words the refusal:
-/// what is proved does not depend on it.
-pub(crate) type Explain<'a> = &'a dyn Fn(&[inari::Interval], f64, f64) -> Option<Error>;
+/// there, the time done and, when the steps collapsed on the way to the step budget, that
+/// budget's refusal: a refusal naming the cause (the system's data not proved regular near
+/// the state, say), or `None` when it sees none. It only words the refusal: what is proved
+/// does not depend on it.
+pub(crate) type Explain<'a> =
+    &'a dyn Fn(&[inari::Interval], f64, f64, Option<&Error>) -> Option<Error>;
 
 /// A box of f64 intervals containing `x` (for [`Explain`], which only words a refusal).
 fn hull_f64<I: Ival>(x: &[I]) -> Vec<inari::Interval> {
