@@ -141,6 +141,45 @@ impl<const N: usize> Nat<N> {
         r
     }
 
+    /// `self <- floor(self / 2^k)`, in place.
+    pub(crate) fn shr_assign(&mut self, k: u64) {
+        let (w, b) = ((k / 64) as usize, (k % 64) as u32);
+        if w >= self.len {
+            self.d[..self.len].fill(0);
+            self.len = 0;
+            return;
+        }
+        let n = self.len - w;
+        if b == 0 {
+            self.d.copy_within(w..self.len, 0);
+        } else {
+            for i in 0..n {
+                let hi = if i + w + 1 < self.len {
+                    self.d[i + w + 1] << (64 - b)
+                } else {
+                    0
+                };
+                self.d[i] = (self.d[i + w] >> b) | hi;
+            }
+        }
+        self.d[n..self.len].fill(0);
+        self.len = n;
+        self.trim();
+    }
+
+    /// `self <- self + 1`, in place (must fit).
+    pub(crate) fn add_one_assign(&mut self) {
+        for i in 0..self.len {
+            let (s, c) = self.d[i].overflowing_add(1);
+            self.d[i] = s;
+            if !c {
+                return;
+            }
+        }
+        self.d[self.len] = 1;
+        self.len += 1;
+    }
+
     /// `self + y` (must fit).
     pub(crate) fn add(&self, y: &Nat<N>) -> Nat<N> {
         let n = self.len.max(y.len);
@@ -384,6 +423,12 @@ mod tests {
             let k = s % 130;
             assert_eq!(big(&a.shl(k)), &ba << k);
             assert_eq!(big(&a.shr(k)), &ba >> k);
+            let mut c = a;
+            c.shr_assign(k);
+            assert_eq!(c, a.shr(k));
+            let mut c = a;
+            c.add_one_assign();
+            assert_eq!(big(&c), &ba + 1u32);
             assert_eq!(a.bits(), ba.bits());
             assert_eq!(a.trailing_zeros(), ba.trailing_zeros().unwrap_or(0));
             if !b.is_zero() {

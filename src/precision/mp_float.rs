@@ -51,6 +51,29 @@ const WORK: usize = 2 * LIMBS + 4;
 type Man = Nat<LIMBS>;
 type Work = Nat<WORK>;
 
+/// Calls `$f::<N>(args)` with the smallest work size `N` of at least `$need` limbs: the same
+/// exact arithmetic (12.2.0) in a smaller array when the operands are short, so that a
+/// 160-bit operation does not clear and copy arrays sized for 1,536 bits.
+macro_rules! with_work {
+    ($need:expr, $f:ident($($a:expr),*)) => {{
+        let need: usize = $need;
+        if need <= 8 {
+            $f::<8>($($a),*)
+        } else if need <= 14 {
+            $f::<14>($($a),*)
+        } else if need <= 24 {
+            $f::<24>($($a),*)
+        } else {
+            $f::<WORK>($($a),*)
+        }
+    }};
+}
+
+/// The limbs of an intermediate of `bits` bits, with one to spare (carries, algorithm D).
+fn limbs_for(bits: u64) -> usize {
+    bits.div_ceil(64) as usize + 2
+}
+
 /// An arbitrary precision binary floating-point number, or an infinity (see the module doc).
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Mp {
@@ -67,9 +90,9 @@ fn clamp_prec(prec: u64) -> u64 {
 /// Rounds `(-1)^neg * man * 2^exp` (exact) to at most `prec` significant bits, at an exponent
 /// of at least `emin`, in direction `mode`; a result at or beyond `2^emax` in magnitude
 /// overflows (12.2.1).
-fn round_parts(
+fn round_parts<const N: usize>(
     neg: bool,
-    mut man: Work,
+    mut man: Nat<N>,
     mut exp: i64,
     prec: u64,
     emin: i64,
@@ -94,11 +117,7 @@ fn round_parts(
             let above_half = half && tz < k - 1;
             (inexact, half, above_half)
         };
-        man = if k >= bits {
-            Work::ZERO
-        } else {
-            man.shr(k as u64)
-        };
+        man.shr_assign(k as u64);
         exp += k;
         if inexact {
             let away = match mode {
@@ -107,7 +126,7 @@ fn round_parts(
                 Round::Near => above_half || (half && man.bit(0)),
             };
             if away {
-                man = man.add_one();
+                man.add_one_assign();
             }
         }
     }
@@ -116,7 +135,7 @@ fn round_parts(
     }
     let tz = man.trailing_zeros();
     if tz > 0 {
-        man = man.shr(tz);
+        man.shr_assign(tz);
         exp += tz as i64;
     }
     if exp + man.bits() as i64 > emax {
@@ -222,7 +241,7 @@ impl Mp {
 
     /// The exact value of the integer `i`.
     pub fn from_i64(i: i64) -> Mp {
-        let man = Work::from_u64(i.unsigned_abs());
+        let man = Nat::<8>::from_u64(i.unsigned_abs());
         round_parts(i < 0, man, 0, 64, -EXP_LIMIT, EXP_LIMIT, Round::Near)
     }
 
@@ -245,7 +264,7 @@ impl Mp {
         };
         Some(round_parts(
             neg,
-            Work::from_u64(man),
+            Nat::<8>::from_u64(man),
             exp,
             64,
             -EXP_LIMIT,
@@ -264,7 +283,7 @@ impl Mp {
                 f64::INFINITY
             };
         }
-        let r = round_parts(self.neg, self.work(), self.exp, 53, -1074, 1024, mode);
+        let r = with_work!(self.man.limbs().len() + 1, to_f64_grid(self, mode));
         if r.inf {
             return if r.neg {
                 f64::NEG_INFINITY
@@ -298,7 +317,7 @@ impl Mp {
         }
     }
 
-    fn work(&self) -> Work {
+    fn work<const N: usize>(&self) -> Nat<N> {
         self.man.resize()
     }
 
@@ -364,15 +383,7 @@ impl Mp {
             return *self;
         }
         let k = k.clamp(-4 * EXP_LIMIT, 4 * EXP_LIMIT);
-        round_parts(
-            self.neg,
-            self.work(),
-            self.exp + k,
-            self.man.bits().max(1),
-            -EXP_LIMIT,
-            EXP_LIMIT,
-            mode,
-        )
+        with_work!(self.man.limbs().len() + 1, ldexp_in(self, k, mode))
     }
 
     /// This number rounded to `prec` bits in direction `mode`.
@@ -380,15 +391,7 @@ impl Mp {
         if self.inf || (self.man.bits() <= prec as u64) {
             return *self;
         }
-        round_parts(
-            self.neg,
-            self.work(),
-            self.exp,
-            prec as u64,
-            -EXP_LIMIT,
-            EXP_LIMIT,
-            mode,
-        )
+        with_work!(self.man.limbs().len() + 1, round_in(self, prec, mode))
     }
 
     /// `x + y` rounded to `prec` bits; `inf + (-inf)` is `None` (12.2.1).
@@ -414,25 +417,13 @@ impl Mp {
         // far apart: b is replaced by a nonzero number of its sign below every rounding
         // breakpoint near a (12.2.1)
         let l = (a.man.bits().max(prec + 2) + 1) as i64;
-        let (bman, bexp) = if a.top() - b.top() > l {
-            (Work::from_u64(1), a.top() - l - 1)
-        } else {
-            (b.work(), b.exp)
-        };
+        let far = a.top() - b.top() > l;
+        let bexp = if far { a.top() - l - 1 } else { b.exp };
         let e = a.exp.min(bexp);
-        let am = a.work().shl((a.exp - e) as u64);
-        let bm = bman.shl((bexp - e) as u64);
-        let (neg, man) = if a.neg == b.neg {
-            (a.neg, am.add(&bm))
-        } else if am >= bm {
-            (a.neg, am.sub(&bm))
-        } else {
-            (b.neg, bm.sub(&am))
-        };
-        if man.is_zero() {
-            return Some(Mp::zero());
-        }
-        Some(round_parts(neg, man, e, prec, -EXP_LIMIT, EXP_LIMIT, mode))
+        Some(with_work!(
+            limbs_for((a.top() - e) as u64 + 1),
+            add_in(a, b, far, bexp, e, prec, mode)
+        ))
     }
 
     /// `x - y` rounded to `prec` bits; `None` for `inf - inf` of one sign.
@@ -450,14 +441,9 @@ impl Mp {
         if self.inf || y.inf {
             return Mp::infinity(neg);
         }
-        round_parts(
-            neg,
-            self.work().mul(&y.work()),
-            self.exp + y.exp,
-            prec as u64,
-            -EXP_LIMIT,
-            EXP_LIMIT,
-            mode,
+        with_work!(
+            self.man.limbs().len() + y.man.limbs().len() + 1,
+            mul_in(self, y, neg, prec as u64, mode)
         )
     }
 
@@ -478,10 +464,10 @@ impl Mp {
         // q = floor(man_x 2^s / man_y) has at least prec + 2 bits; a nonzero remainder is
         // kept as a sticky bit below q
         let s = (prec as i64 + 2 + y.man.bits() as i64 - self.man.bits() as i64).max(0) as u64;
-        let num = self.work().shl(s);
-        let (q, exact) = num.div_exact(&y.work());
-        let e = self.exp - y.exp - s as i64;
-        Some(sticky_round(neg, q, exact, e, prec, mode))
+        Some(with_work!(
+            limbs_for(self.man.bits() + s),
+            div_in(self, y, neg, s, prec, mode)
+        ))
     }
 
     /// `x / d` for a positive integer `d`, rounded to `prec` bits (the quotient of (12.2.1)
@@ -496,9 +482,10 @@ impl Mp {
         let prec = clamp_prec(prec as u64);
         // q = floor(man 2^s / d) has at least prec + 2 bits (d < 2^64)
         let s = (prec as i64 + 2 + 64 - self.man.bits() as i64).max(0) as u64;
-        let (q, r) = self.work().shl(s).divrem_u64(d);
-        let e = self.exp - s as i64;
-        Some(sticky_round(self.neg, q, r == 0, e, prec, mode))
+        Some(with_work!(
+            limbs_for(self.man.bits() + s),
+            div_u64_in(self, d, s, prec, mode)
+        ))
     }
 
     /// `sqrt(x)` rounded to `prec` bits; `None` for `x < 0` (12.2.1).
@@ -516,9 +503,10 @@ impl Mp {
         if (self.exp - s).rem_euclid(2) != 0 {
             s += 1;
         }
-        let (r, exact) = self.work().shl(s as u64).sqrt_exact();
-        let e = (self.exp - s) / 2;
-        Some(sticky_round(false, r, exact, e, prec, mode))
+        Some(with_work!(
+            limbs_for(self.man.bits() + s as u64),
+            sqrt_in(self, s as u64, prec, mode)
+        ))
     }
 
     /// The smaller of two numbers.
@@ -553,21 +541,7 @@ impl Mp {
         if self.inf || self.exp >= 0 {
             return *self;
         }
-        let k = (-self.exp) as u64;
-        let t = self.work().shr(k);
-        // self is not an integer (man odd, exp < 0): its magnitude lies in (t, t + 1)
-        let away = if up { !self.neg } else { self.neg };
-        let t = if away { t.add_one() } else { t };
-        // at most MAX_PREC bits: t < |x| < 2^MAX_PREC, and t + 1 <= 2^MAX_PREC is one bit
-        round_parts(
-            self.neg,
-            t,
-            0,
-            MAX_PREC as u64,
-            -EXP_LIMIT,
-            EXP_LIMIT,
-            Round::Near,
-        )
+        with_work!(self.man.limbs().len() + 1, integer_in(self, up))
     }
 
     /// For an integer-valued `x`, `x mod 4` in `0..4`.
@@ -596,7 +570,14 @@ impl Mp {
 
 /// `q 2^e` when `exact`, else a number strictly between `q 2^e` and `(q + 1) 2^e` (the sticky
 /// bit `(2q + 1) 2^(e-1)`), rounded: `q` has at least `prec + 2` bits, so both round alike.
-fn sticky_round(neg: bool, q: Work, exact: bool, e: i64, prec: u64, mode: Round) -> Mp {
+fn sticky_round<const N: usize>(
+    neg: bool,
+    q: Nat<N>,
+    exact: bool,
+    e: i64,
+    prec: u64,
+    mode: Round,
+) -> Mp {
     if exact {
         round_parts(neg, q, e, prec, -EXP_LIMIT, EXP_LIMIT, mode)
     } else {
@@ -610,6 +591,125 @@ fn sticky_round(neg: bool, q: Work, exact: bool, e: i64, prec: u64, mode: Round)
             mode,
         )
     }
+}
+
+// The bodies of the operations in a work array of `N` limbs (`with_work!`), each exact until
+// its one `round_parts` (12.2.1).
+
+fn to_f64_grid<const N: usize>(x: &Mp, mode: Round) -> Mp {
+    round_parts::<N>(x.neg, x.work(), x.exp, 53, -1074, 1024, mode)
+}
+
+fn ldexp_in<const N: usize>(x: &Mp, k: i64, mode: Round) -> Mp {
+    round_parts::<N>(
+        x.neg,
+        x.work(),
+        x.exp + k,
+        x.man.bits().max(1),
+        -EXP_LIMIT,
+        EXP_LIMIT,
+        mode,
+    )
+}
+
+fn round_in<const N: usize>(x: &Mp, prec: u32, mode: Round) -> Mp {
+    round_parts::<N>(
+        x.neg,
+        x.work(),
+        x.exp,
+        prec as u64,
+        -EXP_LIMIT,
+        EXP_LIMIT,
+        mode,
+    )
+}
+
+/// `a + b` (`|a| >= |b|` by top) aligned at exponent `e`; `far`: `b` replaced by
+/// `sign(b) 2^bexp` (12.2.1).
+fn add_in<const N: usize>(
+    a: &Mp,
+    b: &Mp,
+    far: bool,
+    bexp: i64,
+    e: i64,
+    prec: u64,
+    mode: Round,
+) -> Mp {
+    // one of the two shifts is zero (e is one of the exponents)
+    let mut am: Nat<N> = a.work();
+    if a.exp > e {
+        am = am.shl((a.exp - e) as u64);
+    }
+    let mut bm: Nat<N> = if far { Nat::from_u64(1) } else { b.work() };
+    if bexp > e {
+        bm = bm.shl((bexp - e) as u64);
+    }
+    let (neg, man) = if a.neg == b.neg {
+        (a.neg, am.add(&bm))
+    } else if am >= bm {
+        (a.neg, am.sub(&bm))
+    } else {
+        (b.neg, bm.sub(&am))
+    };
+    if man.is_zero() {
+        return Mp::zero();
+    }
+    round_parts(neg, man, e, prec, -EXP_LIMIT, EXP_LIMIT, mode)
+}
+
+fn mul_in<const N: usize>(x: &Mp, y: &Mp, neg: bool, prec: u64, mode: Round) -> Mp {
+    round_parts::<N>(
+        neg,
+        x.work().mul(&y.work()),
+        x.exp + y.exp,
+        prec,
+        -EXP_LIMIT,
+        EXP_LIMIT,
+        mode,
+    )
+}
+
+fn div_in<const N: usize>(x: &Mp, y: &Mp, neg: bool, s: u64, prec: u64, mode: Round) -> Mp {
+    let (q, exact) = x.work::<N>().shl(s).div_exact(&y.work());
+    sticky_round(neg, q, exact, x.exp - y.exp - s as i64, prec, mode)
+}
+
+fn div_u64_in<const N: usize>(x: &Mp, d: u64, s: u64, prec: u64, mode: Round) -> Mp {
+    let (q, r) = x.work::<N>().shl(s).divrem_u64(d);
+    sticky_round(x.neg, q, r == 0, x.exp - s as i64, prec, mode)
+}
+
+fn sqrt_in<const N: usize>(x: &Mp, s: u64, prec: u64, mode: Round) -> Mp {
+    let (r, exact) = x.work::<N>().shl(s).sqrt_exact();
+    sticky_round(false, r, exact, (x.exp - s as i64) / 2, prec, mode)
+}
+
+/// `floor` (`up = false`) or `ceil` of a finite non-integer `x` (`exp < 0`).
+fn integer_in<const N: usize>(x: &Mp, up: bool) -> Mp {
+    let k = (-x.exp) as u64;
+    let t = x.work::<N>().shr(k);
+    // x is not an integer (man odd, exp < 0): its magnitude lies in (t, t + 1)
+    let away = if up { !x.neg } else { x.neg };
+    let t = if away { t.add_one() } else { t };
+    // at most MAX_PREC bits: t < |x| < 2^MAX_PREC, and t + 1 <= 2^MAX_PREC is one bit
+    round_parts(
+        x.neg,
+        t,
+        0,
+        MAX_PREC as u64,
+        -EXP_LIMIT,
+        EXP_LIMIT,
+        Round::Near,
+    )
+}
+
+/// `|x|` against `|y|` for finite nonzero numbers of equal tops (the shifts are below
+/// `MAX_PREC` bits).
+fn cmp_mag_in<const N: usize>(x: &Mp, y: &Mp) -> Ordering {
+    let e = x.exp.min(y.exp);
+    let a = x.work::<N>().shl((x.exp - e) as u64);
+    let b = y.work::<N>().shl((y.exp - e) as u64);
+    a.cmp(&b)
 }
 
 impl PartialOrd for Mp {
@@ -638,10 +738,8 @@ impl Ord for Mp {
                     tx.cmp(&ty)
                 } else {
                     // equal tops: the shifts are below MAX_PREC bits
-                    let e = self.exp.min(y.exp);
-                    let a = self.work().shl((self.exp - e) as u64);
-                    let b = y.work().shl((y.exp - e) as u64);
-                    a.cmp(&b)
+                    let need = limbs_for(self.man.bits().max(y.man.bits()));
+                    with_work!(need, cmp_mag_in(self, y))
                 }
             }
         };

@@ -103,7 +103,7 @@ impl Gen {
             }
         };
         let e = (self.next() % (2 * exp_span as u64 + 1)) as i64 - exp_span;
-        Mp::from_parts(self.next() % 2 == 0, man, e, prec, Round::Near)
+        Mp::from_parts(self.next().is_multiple_of(2), man, e, prec, Round::Near)
     }
 }
 
