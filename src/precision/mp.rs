@@ -7,6 +7,7 @@
 //! larger of their precisions. The empty interval is stored as `[+inf, -inf]`; otherwise
 //! `lo <= hi`, `lo < +inf`, `hi > -inf`.
 
+use super::dd::{Dd, DdInterval};
 use super::mp_float::{decimal_to_mp, parse_decimal, to_decimal};
 pub use super::mp_float::{Mp, Round};
 use core::fmt;
@@ -90,6 +91,23 @@ impl MpInterval {
             hi.round(prec, Round::Up),
             prec,
         ))
+    }
+
+    /// The set of a double-double interval: each end, the exact sum `hi + lo` of its two
+    /// doubles, rounded once outward to `prec` bits (12.2.1's sum; exact whenever it fits).
+    pub fn from_dd(x: DdInterval, prec: u32) -> MpInterval {
+        if x.is_empty() {
+            return MpInterval::empty(prec);
+        }
+        let end = |d: Dd, mode: Round| {
+            Mp::from_f64(d.hi())?.add(&Mp::from_f64(d.lo())?, prec.max(MIN_PREC), mode)
+        };
+        match (end(x.inf(), Round::Down), end(x.sup(), Round::Up)) {
+            (Some(lo), Some(hi)) => {
+                MpInterval::new(&lo, &hi, prec).unwrap_or(MpInterval::entire(prec))
+            }
+            _ => MpInterval::entire(prec),
+        }
     }
 
     /// `[lo, hi]` from two doubles (ends exact for `prec >= 53`); `None` unless `lo <= hi`

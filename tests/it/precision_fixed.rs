@@ -345,3 +345,31 @@ fn precisions_above_the_limbs_round_at_the_limit_on_their_side() {
         "1/3",
     );
 }
+
+/// Double-double intervals convert with each end `hi + lo` rounded once outward: exact when it
+/// fits, else adjacent numbers around it (a trailing double far below, subnormal, negative).
+#[test]
+fn double_double_conversions_are_outward_and_tight() {
+    use dalembert::precision::dd::{Dd, DdInterval};
+    use dalembert::precision::mp::MpInterval;
+    let dds = [
+        (1.0, 2f64.powi(-200)),
+        (1.0, -2f64.powi(-200)),
+        (-3.0, 5e-324),
+        (0.1, 0.1 * 2f64.powi(-54)),
+        (1e300, -1e283),
+        (2f64.powi(-1000), 2f64.powi(-1060)),
+        (f64::MAX, 0.0),
+    ];
+    for &p in &[107u32, 160, 256, 1024] {
+        for &(h, l) in &dds {
+            let d = Dd::new(h, l);
+            let x = MpInterval::from_dd(DdInterval::new(d, d).unwrap(), p);
+            let exact = add(&f64_exact(d.hi()), &f64_exact(d.lo()));
+            check(x.inf(), x.sup(), p, |v| cmp(v, &exact), "from_dd");
+        }
+    }
+    let wide = DdInterval::from_f64_pair(-1.0, 2.0).unwrap();
+    let x = MpInterval::from_dd(wide, 160);
+    assert_eq!(x, MpInterval::from_f64_pair(-1.0, 2.0, 160).unwrap());
+}
