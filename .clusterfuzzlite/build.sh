@@ -4,7 +4,7 @@
 # WORKDIR). Locally, without a sanitizer toolchain:
 #   SANITIZER=none OUT=/tmp/cflite-out .clusterfuzzlite/build.sh
 # tests/clusterfuzzlite.rs checks that TARGETS is exactly the [[bin]] list of fuzz/Cargo.toml.
-TARGETS=(newton_step retraction batch_line scenes_step scene_file precision_step)
+TARGETS=(newton_step retraction batch_line scenes_step scene_file precision_step precision_wide_step)
 
 # inari needs AVX2/FMA (haswell, not native: the binaries may run on other runners than the
 # one that built them). cargo-fuzz sets RUSTFLAGS itself, which hides the flag of

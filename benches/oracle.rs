@@ -1,5 +1,5 @@
 //! Cost of the certified objects and of the float schemes (criterion).
-//! `cargo bench --bench oracle` (add `-- NAME` to filter).
+//! `cargo bench --bench oracle` (add `-- NAME` to filter, e.g. `-- precision`).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use dalembert::protocol::Session;
@@ -96,9 +96,43 @@ fn batch(c: &mut Criterion) {
     });
 }
 
+/// The knife flow to T = 50 (as `dalembert figures`' precision figure) at 106 bits
+/// (double-double) and at 160, 256 and 512 bits (`WideInterval`), and the interval multiply-add
+/// of the Taylor convolutions at those precisions (issue 46: the cost per extra bit).
+fn precision(c: &mut Criterion) {
+    use dalembert::precision::dd::DdInterval;
+    use dalembert::precision::wide::{self, WideInterval};
+    let m = model("knife");
+    let opts = FlowOptions::default();
+    let (q, u) = ([0.0; 3], [0.8, 0.8]);
+    let mut g = c.benchmark_group("precision");
+    g.sample_size(10);
+    g.bench_function("knife t=50/106", |b| {
+        b.iter(|| dalembert::flow_at_in::<DdInterval>(&m, black_box(&q), &u, &[50.0], &opts))
+    });
+    for bits in [160u32, 256, 512] {
+        g.bench_function(format!("knife t=50/{bits}"), |b| {
+            wide::with_bits(bits, || {
+                b.iter(|| {
+                    dalembert::flow_at_in::<WideInterval>(&m, black_box(&q), &u, &[50.0], &opts)
+                })
+            })
+        });
+        g.bench_function(format!("mul_acc/{bits}"), |b| {
+            wide::with_bits(bits, || {
+                let x = WideInterval::from_f64(1.0) / WideInterval::from_f64(3.0);
+                let y = WideInterval::from_f64(2.0) / WideInterval::from_f64(7.0);
+                let acc = WideInterval::from_f64(0.5);
+                b.iter(|| black_box(acc).mul_acc(black_box(&x), black_box(&y)))
+            })
+        });
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(3));
-    targets = certified, files, schemes, batch
+    targets = certified, files, schemes, batch, precision
 }
 criterion_main!(benches);

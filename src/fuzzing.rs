@@ -408,6 +408,64 @@ pub fn precision_step(data: &[u8]) -> Tally {
     .unwrap_or_else(Tally::input)
 }
 
+/// Invariant: the exact step at 256 bits ([`WideInterval`](crate::precision::wide::WideInterval))
+/// and at 106 bits (double-double) on the same pair (read as [`retraction`] reads it) never
+/// panic; when both are answered, every component of the two (q1, q2, the momenta, the
+/// defect) meets, each end compared exactly as the decimals both print rounded outward (both
+/// contain the exact value: spec (12.0.2)), and the 256-bit one is no wider than the 106-bit
+/// one, up to `2^-90` of the component's size.
+pub fn precision_wide_step(data: &[u8]) -> Tally {
+    let mut u = Unstructured::new(data);
+    let Ok(scene) = u.int_in_range(0..=1 + EPS.len()) else {
+        return Tally::input();
+    };
+    let Some(Ok((q0, q1, h))) = with_model(scene, |model, _, _| pair(&mut u, model)) else {
+        return Tally::input();
+    };
+    with_model(scene, |model, _, _| {
+        use crate::precision::dd::DdInterval;
+        use crate::precision::mp::MpInterval;
+        use crate::precision::wide::{self, WideInterval};
+        use crate::OutwardDecimal;
+        let read = |x: &dyn OutwardDecimal| {
+            let d = x.decimal();
+            let lo = MpInterval::from_decimal(&d.0, 1024).expect("a decimal");
+            let hi = MpInterval::from_decimal(&d.1, 1024).expect("a decimal");
+            lo.hull(&hi)
+        };
+        let wide = wide::with_bits(256, || {
+            exact::step_in::<WideInterval>(model, &q0, &q1, h, &budget())
+        });
+        let narrow = exact::step_in::<DdInterval>(model, &q0, &q1, h, &budget());
+        match (wide, narrow) {
+            (Err(Error::Internal(m)), _) | (_, Err(Error::Internal(m))) => {
+                panic!("internal fault: {m}")
+            }
+            (Ok(w), Ok(n)) => {
+                let w_all = w.q1.iter().chain(&w.q2).chain(&w.p_minus).chain(&w.p_plus);
+                let n_all = n.q1.iter().chain(&n.q2).chain(&n.p_minus).chain(&n.p_plus);
+                let w_all = w_all.chain(&w.retraction.s);
+                let n_all = n_all.chain(&n.retraction.s);
+                for (k, (a, b)) in w_all.zip(n_all).enumerate() {
+                    let (ma, mb) = (read(a), read(b));
+                    assert!(
+                        !ma.disjoint(&mb),
+                        "component {k}: {ma} and {mb} are disjoint"
+                    );
+                    let slack = f64::powi(2.0, -90) * b.mag_up().max(1.0);
+                    assert!(
+                        a.wid_up() <= b.wid_up() + slack,
+                        "component {k}: {ma} is wider than {mb}"
+                    );
+                }
+                Tally::answered()
+            }
+            (Err(e), _) | (_, Err(e)) => Tally::one(&e),
+        }
+    })
+    .unwrap_or_else(Tally::input)
+}
+
 /// Invariant: on the newer scenes (two constraints, a mass matrix depending on q, a
 /// one-form in L), the invariants of [`newton_step`] and, when asked, of [`retraction`].
 pub fn scenes_step(data: &[u8]) -> Tally {

@@ -7,13 +7,14 @@
 //! larger of their precisions. The empty interval is stored as `[+inf, -inf]`; otherwise
 //! `lo <= hi`, `lo < +inf`, `hi > -inf`.
 
+use super::dd::{Dd, DdInterval};
 use super::mp_float::{decimal_to_mp, parse_decimal, to_decimal};
 pub use super::mp_float::{Mp, Round};
 use core::fmt;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
 /// An interval with arbitrary precision ends (see the module doc).
-#[derive(Clone, PartialEq, Eq)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub struct MpInterval {
     pub(crate) lo: Mp,
     pub(crate) hi: Mp,
@@ -67,9 +68,9 @@ impl MpInterval {
                 Mp::max_value(prec)
             };
             return if x.is_negative() {
-                MpInterval::raw(x.clone(), max, prec)
+                MpInterval::raw(*x, max, prec)
             } else {
-                MpInterval::raw(max, x.clone(), prec)
+                MpInterval::raw(max, *x, prec)
             };
         }
         MpInterval::raw(x.round(prec, Round::Down), x.round(prec, Round::Up), prec)
@@ -90,6 +91,23 @@ impl MpInterval {
             hi.round(prec, Round::Up),
             prec,
         ))
+    }
+
+    /// The set of a double-double interval: each end, the exact sum `hi + lo` of its two
+    /// doubles, rounded once outward to `prec` bits (12.2.1's sum; exact whenever it fits).
+    pub fn from_dd(x: DdInterval, prec: u32) -> MpInterval {
+        if x.is_empty() {
+            return MpInterval::empty(prec);
+        }
+        let end = |d: Dd, mode: Round| {
+            Mp::from_f64(d.hi())?.add(&Mp::from_f64(d.lo())?, prec.max(MIN_PREC), mode)
+        };
+        match (end(x.inf(), Round::Down), end(x.sup(), Round::Up)) {
+            (Some(lo), Some(hi)) => {
+                MpInterval::new(&lo, &hi, prec).unwrap_or(MpInterval::entire(prec))
+            }
+            _ => MpInterval::entire(prec),
+        }
     }
 
     /// `[lo, hi]` from two doubles (ends exact for `prec >= 53`); `None` unless `lo <= hi`
@@ -158,8 +176,8 @@ impl MpInterval {
         }
         match (self.lo.is_infinite(), self.hi.is_infinite()) {
             (true, true) => Mp::zero(),
-            (true, false) => self.hi.clone().min(Mp::max_value(self.prec).neg()),
-            (false, true) => self.lo.clone().max(Mp::max_value(self.prec)),
+            (true, false) => self.hi.min(Mp::max_value(self.prec).neg()),
+            (false, true) => self.lo.max(Mp::max_value(self.prec)),
             (false, false) => {
                 let p = (self.prec as u64)
                     .max(self.lo.significant_bits())
@@ -174,8 +192,8 @@ impl MpInterval {
                 // hi + hi to hi, so the result lies in [lo, hi]
                 s.ldexp(-1, Round::Near)
                     .round(p, Round::Near)
-                    .max(self.lo.clone())
-                    .min(self.hi.clone())
+                    .max(self.lo)
+                    .min(self.hi)
             }
         }
     }
@@ -278,11 +296,7 @@ impl MpInterval {
         if other.is_empty() {
             return self.with_prec(p);
         }
-        MpInterval::raw(
-            self.lo.clone().min(other.lo.clone()),
-            self.hi.clone().max(other.hi.clone()),
-            p,
-        )
+        MpInterval::raw(self.lo.min(other.lo), self.hi.max(other.hi), p)
     }
 
     /// The common part (empty if disjoint).
@@ -291,17 +305,13 @@ impl MpInterval {
         if self.disjoint(other) {
             return MpInterval::empty(p);
         }
-        MpInterval::raw(
-            self.lo.clone().max(other.lo.clone()),
-            self.hi.clone().min(other.hi.clone()),
-            p,
-        )
+        MpInterval::raw(self.lo.max(other.lo), self.hi.min(other.hi), p)
     }
 
     /// `-x` (exact).
     pub fn neg(&self) -> MpInterval {
         if self.is_empty() {
-            return self.clone();
+            return *self;
         }
         MpInterval::raw(self.hi.neg(), self.lo.neg(), self.prec)
     }
@@ -309,7 +319,7 @@ impl MpInterval {
     /// `|x|`: the range of the absolute value (exact).
     pub fn abs(&self) -> MpInterval {
         if self.is_empty() {
-            return self.clone();
+            return *self;
         }
         MpInterval::raw(self.mig(), self.mag(), self.prec)
     }
@@ -432,7 +442,7 @@ impl MpInterval {
     /// `x^2`: the range of the square (nonnegative), rounded outward.
     pub fn sqr(&self) -> MpInterval {
         if self.is_empty() {
-            return self.clone();
+            return *self;
         }
         let (mig, mag) = (self.mig(), self.mag());
         MpInterval::raw(
@@ -447,7 +457,7 @@ impl MpInterval {
     pub fn powi(&self, n: i32) -> MpInterval {
         let p = self.prec;
         if self.is_empty() {
-            return self.clone();
+            return *self;
         }
         if n == 0 {
             return MpInterval::from_f64(1.0, p);
@@ -490,7 +500,7 @@ impl MpInterval {
     /// Multiplication by `2^k`, exact unless it leaves the exponent range (then outward).
     pub fn ldexp(&self, k: i64) -> MpInterval {
         if self.is_empty() {
-            return self.clone();
+            return *self;
         }
         MpInterval::raw(
             self.lo.ldexp(k, Round::Down),
@@ -520,7 +530,7 @@ impl MpInterval {
 /// lower (upper) bound.
 fn pow_mag(x: &Mp, n: u32, p: u32, mode: Round) -> Mp {
     let mut result = Mp::from_i64(1);
-    let mut base = x.clone();
+    let mut base = *x;
     let mut n = n;
     while n > 0 {
         if n & 1 == 1 {
@@ -635,7 +645,7 @@ mod tests {
         assert_eq!(m, MpInterval::from_f64_pair(-12.0, 8.0, P).unwrap());
         let e = MpInterval::entire(P);
         assert_eq!(e.mul_ref(&iv(0.0)), iv(0.0));
-        assert!((e.clone() + iv(1.0)).lo.is_infinite());
+        assert!((e + iv(1.0)).lo.is_infinite());
         assert!(MpInterval::empty(P).add_ref(&iv(1.0)).is_empty());
     }
 

@@ -57,8 +57,8 @@ fn mag_le_pow2(x: &MpInterval, e: i64) -> bool {
 /// `R = |t|^(2N+3)/(2N+3)` (12.2.4).
 fn atan_series(t: &MpInterval, w: u32) -> MpInterval {
     let t2 = t.sqr();
-    let mut pw = t.clone();
-    let mut sum = t.clone();
+    let mut pw = *t;
+    let mut sum = *t;
     let tiny = pow2(-(w as i64) - 8);
     let mut n: i64 = 0;
     loop {
@@ -81,8 +81,8 @@ fn atan_series(t: &MpInterval, w: u32) -> MpInterval {
 /// (the tail is at most its first term over `1 - z^2 >= 3/4`) (12.2.4).
 fn atanh_series(z: &MpInterval, w: u32) -> MpInterval {
     let z2 = z.sqr();
-    let mut pw = z.clone();
-    let mut sum = z.clone();
+    let mut pw = *z;
+    let mut sum = *z;
     let tiny = pow2(-(w as i64) - 8);
     let mut n: i64 = 0;
     loop {
@@ -125,11 +125,7 @@ fn consts(w: u32) -> (MpInterval, MpInterval) {
         .with_prec(key);
     if let Ok(mut v) = cache.lock() {
         if v.len() < 64 {
-            v.push(Consts {
-                prec: key,
-                pi: pi.clone(),
-                ln2: ln2.clone(),
-            });
+            v.push(Consts { prec: key, pi, ln2 });
         }
     }
     (pi.with_prec(w), ln2.with_prec(w))
@@ -305,8 +301,8 @@ fn sin_cos_kernel(
     let tiny = pow2(-(w2 as i64) - 8);
     // sin r = sum (-1)^n r^(2n+1)/(2n+1)!, |remainder| <= |r|^(2N+3)/(2N+3)! (Lagrange)
     let s = if need_sin_r {
-        let mut s = r.clone();
-        let mut term = r.clone();
+        let mut s = r;
+        let mut term = r;
         let mut n: i64 = 0;
         loop {
             n += 1;
@@ -321,7 +317,7 @@ fn sin_cos_kernel(
             };
         }
     } else {
-        unit.clone()
+        unit
     };
     // cos r = sum (-1)^n r^(2n)/(2n)!, |remainder| <= |r|^(2N+2)/(2N+2)!
     let co = if need_cos_r {
@@ -341,7 +337,7 @@ fn sin_cos_kernel(
             };
         }
     } else {
-        unit.clone()
+        unit
     };
     let (s, co) = match q {
         0 => (s, co),
@@ -369,8 +365,8 @@ fn sinh_kernel(x: &MpInterval, w: u32) -> MpInterval {
         let x = x.with_prec(w2);
         let x2 = x.sqr();
         let tiny = pow2(-(w2 as i64) - 8);
-        let mut s = x.clone();
-        let mut term = x.clone();
+        let mut s = x;
+        let mut term = x;
         let mut n: i64 = 0;
         loop {
             n += 1;
@@ -389,11 +385,7 @@ fn sinh_kernel(x: &MpInterval, w: u32) -> MpInterval {
 /// cosh over a narrow interval with finite ends of one sign (12.2.4).
 fn cosh_kernel(x: &MpInterval, w: u32) -> MpInterval {
     let w2 = w + 16;
-    let x = if x.sup().is_negative() {
-        x.neg()
-    } else {
-        x.clone()
-    };
+    let x = if x.sup().is_negative() { x.neg() } else { *x };
     let e = exp_kernel(&x.with_prec(w2), w2);
     let one = c(1.0, w);
     e.add_ref(&e.recip()).ldexp(-1).with_prec(w).intersection(
@@ -439,8 +431,8 @@ fn asinh_kernel(x: &MpInterval, w: u32) -> MpInterval {
         // decreasing terms for |x| < 1, so the remainder is at most the first omitted term
         let x2 = xx.sqr();
         let tiny = pow2(-(w2 as i64) - 8);
-        let mut s = xx.clone();
-        let mut p = xx.clone(); // a_n x^(2n+1)
+        let mut s = xx;
+        let mut p = xx; // a_n x^(2n+1)
         let mut n: i64 = 0;
         loop {
             n += 1;
@@ -487,7 +479,7 @@ fn increasing(
 ) -> MpInterval {
     let p = x.prec();
     if x.is_empty() {
-        return x.clone();
+        return *x;
     }
     let w = p + GUARD;
     if x.inf() == x.sup() {
@@ -497,12 +489,12 @@ fn increasing(
     let lo = if x.inf().is_infinite() {
         at_minus_inf
     } else {
-        kern(&MpInterval::point(x.inf(), w), w).inf().clone()
+        *kern(&MpInterval::point(x.inf(), w), w).inf()
     };
     let hi = if x.sup().is_infinite() {
         at_plus_inf
     } else {
-        kern(&MpInterval::point(x.sup(), w), w).sup().clone()
+        *kern(&MpInterval::point(x.sup(), w), w).sup()
     };
     MpInterval::new(&lo, &hi, p).unwrap_or(MpInterval::entire(p))
 }
@@ -571,7 +563,7 @@ impl MpInterval {
         if self.is_empty() || self.sup().is_negative() {
             return MpInterval::empty(p);
         }
-        let lo = self.inf().clone().max(Mp::zero());
+        let lo = (*self.inf()).max(Mp::zero());
         let lo = lo.sqrt(p, Round::Down).unwrap_or_else(Mp::zero);
         let hi = self.sup().sqrt(p, Round::Up).unwrap_or(Mp::infinity(false));
         MpInterval::new(&lo, &hi, p).unwrap_or(MpInterval::entire(p))
@@ -606,9 +598,7 @@ impl MpInterval {
                 Mp::infinity(false)
             } else {
                 let w = p + GUARD;
-                ln_kernel(&MpInterval::point(self.sup(), w), w)
-                    .sup()
-                    .clone()
+                *ln_kernel(&MpInterval::point(self.sup(), w), w).sup()
             };
             return MpInterval::new(&Mp::infinity(true), &hi, p)
                 .unwrap_or_else(|| MpInterval::entire(p));
@@ -628,12 +618,7 @@ impl MpInterval {
     pub fn atan(&self) -> MpInterval {
         let p = self.prec();
         let half_pi = MpInterval::pi(p + GUARD).ldexp(-1);
-        let y = increasing(
-            self,
-            atan_kernel,
-            half_pi.sup().neg(),
-            half_pi.sup().clone(),
-        );
+        let y = increasing(self, atan_kernel, half_pi.sup().neg(), *half_pi.sup());
         same_sign(self, y)
     }
 
@@ -665,7 +650,7 @@ impl MpInterval {
     pub fn cosh(&self) -> MpInterval {
         let p = self.prec();
         if self.is_empty() {
-            return self.clone();
+            return *self;
         }
         let w = p + GUARD;
         let at = |v: &Mp| -> MpInterval {
@@ -677,12 +662,12 @@ impl MpInterval {
             }
         };
         let (lo, hi) = if !self.inf().is_negative() {
-            (at(self.inf()).inf().clone(), at(self.sup()).sup().clone())
+            (*at(self.inf()).inf(), *at(self.sup()).sup())
         } else if !self.sup().is_positive() {
-            (at(self.sup()).inf().clone(), at(self.inf()).sup().clone())
+            (*at(self.sup()).inf(), *at(self.inf()).sup())
         } else {
             let m = self.inf().abs().max(self.sup().abs());
-            (Mp::from_i64(1), at(&m).sup().clone())
+            (Mp::from_i64(1), *at(&m).sup())
         };
         MpInterval::new(&lo, &hi, p).unwrap_or(MpInterval::entire(p))
     }
@@ -702,7 +687,7 @@ impl MpInterval {
         let p = self.prec();
         let unit = MpInterval::from_f64_pair(-1.0, 1.0, p).unwrap_or_else(|| MpInterval::entire(p));
         if self.is_empty() {
-            return self.clone();
+            return *self;
         }
         if !self.is_finite() || self.mag().top() > REDUCTION_LIMIT {
             return unit;
@@ -752,7 +737,7 @@ impl MpInterval {
     pub fn tan(&self) -> MpInterval {
         let p = self.prec();
         if self.is_empty() {
-            return self.clone();
+            return *self;
         }
         if !self.is_finite() || self.mag().top() > REDUCTION_LIMIT {
             return MpInterval::entire(p);
@@ -840,7 +825,7 @@ mod tests {
         let ch = x.cosh();
         let sh = x.sinh();
         assert!((ch.sqr() - sh.sqr()).contains_f64(1.0));
-        assert!(!(sh.clone() / ch).disjoint(&x.tanh()));
+        assert!(!(sh / ch).disjoint(&x.tanh()));
         // asinh(sinh x) = x, ln(exp x) = x
         assert!(sh.asinh().contains_f64(0.75));
         assert!(iv(-3.5).exp().ln().contains_f64(-3.5));

@@ -1,18 +1,24 @@
-//! `Mp`: a binary floating-point number of any precision (the ends of
-//! [`MpInterval`](super::mp::MpInterval)), with every operation rounded in a chosen direction.
+//! `Mp`: a binary floating-point number of up to [`MAX_PREC`] bits (the ends of
+//! [`MpInterval`](super::mp::MpInterval) and of [`WideInterval`](super::wide::WideInterval)),
+//! with every operation rounded in a chosen direction.
 //!
-//! A finite `Mp` is `(-1)^neg * man * 2^exp` with `man` an unbounded natural number
-//! (`num_bigint::BigUint`, 64-bit limbs) and `exp` an `i64`; `man` is odd or zero (canonical
+//! A finite `Mp` is `(-1)^neg * man * 2^exp` with `man` a natural number of at most
+//! [`MAX_PREC`] bits held in a fixed array of [`LIMBS`] 64-bit limbs ([`Nat`], so `Mp` is
+//! `Copy` and no operation allocates) and `exp` an `i64`; `man` is odd or zero (canonical
 //! form, so equal values have equal representations). The precision is not stored in the
-//! number: each operation takes the number of significand bits of its result and a direction
-//! ([`Round`]). Every operation computes the exact result (or an exact stand-in that provably
-//! rounds the same way) and rounds it once: [spec (12.2.1)](crate::spec::precision).
-//! Exponents are kept within `[-EXP_LIMIT, EXP_LIMIT]`: beyond, a result overflows to an
-//! infinity or to the largest finite number, or underflows to 0 or the smallest positive
-//! number, as the direction says (12.2.1).
+//! number: each operation takes the number of significand bits of its result (clamped to
+//! `1..=MAX_PREC`: a directed rounding to fewer bits is still a bound on its side) and a
+//! direction ([`Round`]). Every operation computes the exact result in a [`Nat`] of twice the
+//! limbs (or an exact stand-in that provably rounds the same way) and rounds it once:
+//! [spec (12.2.1)](crate::spec::precision). Exponents are kept within `[-EXP_LIMIT,
+//! EXP_LIMIT]`: beyond, a result overflows to an infinity or to the largest finite number, or
+//! underflows to 0 or the smallest positive number, as the direction says (12.2.1).
 
+use super::limbs::Nat;
 use core::cmp::Ordering;
 use num_bigint::BigUint;
+
+pub use super::mp_decimal::{decimal_to_mp, parse_decimal, to_decimal};
 
 /// Rounding direction of an [`Mp`] operation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -29,32 +35,72 @@ pub enum Round {
 /// 2^EXP_LIMIT`.
 pub const EXP_LIMIT: i64 = 1 << 40;
 
+/// The 64-bit limbs of an [`Mp`] significand.
+pub const LIMBS: usize = 24;
+
+/// The most significant bits an [`Mp`] holds (1,536: the 1,024 bits of the largest
+/// `--precision`, the guard bits of the elementary functions, and the extra bits of the
+/// argument reduction of sin and cos of every double at 256 bits, 12.2.0).
+pub const MAX_PREC: u32 = 64 * LIMBS as u32;
+
+/// The limbs of an exact intermediate result: a product of two significands, a sum of
+/// significands shifted apart by at most `MAX_PREC + 4` bits, a numerator or radicand of
+/// `2 MAX_PREC + 6` bits, with one limb to spare for Knuth's division (12.2.0).
+const WORK: usize = 2 * LIMBS + 4;
+
+type Man = Nat<LIMBS>;
+type Work = Nat<WORK>;
+
+/// Calls `$f::<N>(args)` with the smallest work size `N` of at least `$need` limbs: the same
+/// exact arithmetic (12.2.0) in a smaller array when the operands are short, so that a
+/// 160-bit operation does not clear and copy arrays sized for 1,536 bits.
+macro_rules! with_work {
+    ($need:expr, $f:ident($($a:expr),*)) => {{
+        let need: usize = $need;
+        if need <= 8 {
+            $f::<8>($($a),*)
+        } else if need <= 14 {
+            $f::<14>($($a),*)
+        } else if need <= 24 {
+            $f::<24>($($a),*)
+        } else {
+            $f::<WORK>($($a),*)
+        }
+    }};
+}
+
+/// The limbs of an intermediate of `bits` bits, with one to spare (carries, algorithm D).
+fn limbs_for(bits: u64) -> usize {
+    bits.div_ceil(64) as usize + 2
+}
+
 /// An arbitrary precision binary floating-point number, or an infinity (see the module doc).
-#[derive(Clone, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Mp {
     neg: bool,
     inf: bool,
-    man: BigUint,
+    man: Man,
     exp: i64,
 }
 
-fn is_zero(m: &BigUint) -> bool {
-    m.bits() == 0
+fn clamp_prec(prec: u64) -> u64 {
+    prec.clamp(1, MAX_PREC as u64)
 }
 
 /// Rounds `(-1)^neg * man * 2^exp` (exact) to at most `prec` significant bits, at an exponent
 /// of at least `emin`, in direction `mode`; a result at or beyond `2^emax` in magnitude
 /// overflows (12.2.1).
-fn round_parts(
+fn round_parts<const N: usize>(
     neg: bool,
-    mut man: BigUint,
+    mut man: Nat<N>,
     mut exp: i64,
     prec: u64,
     emin: i64,
     emax: i64,
     mode: Round,
 ) -> Mp {
-    if is_zero(&man) {
+    let prec = clamp_prec(prec);
+    if man.is_zero() {
         return Mp::zero();
     }
     let bits = man.bits() as i64;
@@ -64,18 +110,14 @@ fn round_parts(
         let (inexact, half, above_half) = if k > bits + 1 {
             (true, false, false)
         } else {
-            let tz = man.trailing_zeros().unwrap_or(0) as i64;
+            let tz = man.trailing_zeros() as i64;
             let inexact = tz < k;
             let half = man.bit((k - 1) as u64);
             // strictly above the half: the half bit set and some bit below it set
             let above_half = half && tz < k - 1;
             (inexact, half, above_half)
         };
-        man = if k >= bits {
-            BigUint::ZERO
-        } else {
-            man >> (k as u64)
-        };
+        man.shr_assign(k as u64);
         exp += k;
         if inexact {
             let away = match mode {
@@ -84,16 +126,16 @@ fn round_parts(
                 Round::Near => above_half || (half && man.bit(0)),
             };
             if away {
-                man += 1u32;
+                man.add_one_assign();
             }
         }
     }
-    if is_zero(&man) {
+    if man.is_zero() {
         return Mp::zero();
     }
-    let tz = man.trailing_zeros().unwrap_or(0);
+    let tz = man.trailing_zeros();
     if tz > 0 {
-        man >>= tz;
+        man.shr_assign(tz);
         exp += tz as i64;
     }
     if exp + man.bits() as i64 > emax {
@@ -112,39 +154,43 @@ fn round_parts(
     Mp {
         neg,
         inf: false,
-        man,
+        man: man.resize(),
         exp,
     }
 }
 
 impl Mp {
     /// Zero.
-    pub fn zero() -> Mp {
+    pub const fn zero() -> Mp {
         Mp {
             neg: false,
             inf: false,
-            man: BigUint::ZERO,
+            man: Man::ZERO,
             exp: 0,
         }
     }
 
     /// Plus (`neg = false`) or minus infinity.
-    pub fn infinity(neg: bool) -> Mp {
+    pub const fn infinity(neg: bool) -> Mp {
         Mp {
             neg,
             inf: true,
-            man: BigUint::ZERO,
+            man: Man::ZERO,
             exp: 0,
         }
     }
 
     /// The largest finite number of `prec` bits below `2^emax`, with sign `neg`.
     fn max_finite(neg: bool, prec: u64, emax: i64) -> Mp {
-        let man = (BigUint::from(1u32) << prec) - 1u32;
+        let prec = clamp_prec(prec);
+        let man = Man::from_u64(1)
+            .resize::<WORK>()
+            .shl(prec)
+            .sub(&Work::from_u64(1));
         Mp {
             neg,
             inf: false,
-            man,
+            man: man.resize(),
             exp: emax - prec as i64,
         }
     }
@@ -159,40 +205,43 @@ impl Mp {
         Mp {
             neg: false,
             inf: false,
-            man: BigUint::from(1u32),
+            man: Man::from_u64(1),
             exp: -EXP_LIMIT,
         }
     }
 
-    /// `(-1)^neg * man * 2^exp` rounded to `prec` bits in direction `mode`.
+    /// `(-1)^neg * man * 2^exp` rounded to `prec` bits in direction `mode`, for a big integer
+    /// `man` of any size: its bits below the `MAX_PREC + 2` leading ones are first folded into
+    /// one sticky bit, which rounds the same way in every direction (12.2.1).
     pub fn from_parts(neg: bool, man: BigUint, exp: i64, prec: u32, mode: Round) -> Mp {
-        round_parts(
-            neg,
-            man,
-            exp,
-            prec.max(1) as u64,
-            -EXP_LIMIT,
-            EXP_LIMIT,
-            mode,
-        )
+        let keep = MAX_PREC as u64 + 2;
+        let (man, exp) = if man.bits() > keep {
+            let k = man.bits() - keep;
+            let sticky = man.trailing_zeros().unwrap_or(0) < k;
+            let top = (&man >> k) << 1u32;
+            let top = if sticky { top + 1u32 } else { top };
+            (top, exp.saturating_add(k as i64 - 1))
+        } else {
+            (man, exp)
+        };
+        let man = Work::from_limbs(&man.to_u64_digits());
+        let exp = exp.clamp(-4 * EXP_LIMIT, 4 * EXP_LIMIT);
+        round_parts(neg, man, exp, prec as u64, -EXP_LIMIT, EXP_LIMIT, mode)
     }
 
-    /// `(-1)^neg * man * 2^exp` for a `man` already in canonical form (odd, or zero with
-    /// `exp = 0` and `neg = false`) and an `exp` in range: the number itself, no rounding
-    /// (the parts of another `Mp`, e.g. kept in [`super::wide::Wide`]).
-    pub(crate) fn from_canonical(neg: bool, man: BigUint, exp: i64) -> Mp {
-        debug_assert!(is_zero(&man) || man.bit(0));
-        Mp {
-            neg,
-            inf: false,
-            man,
-            exp,
+    /// The significand of the canonical form as a big integer (decimal output).
+    pub fn mantissa(&self) -> BigUint {
+        let mut words = Vec::with_capacity(2 * self.man.limbs().len());
+        for d in self.man.limbs() {
+            words.push(*d as u32);
+            words.push((*d >> 32) as u32);
         }
+        BigUint::new(words)
     }
 
     /// The exact value of the integer `i`.
     pub fn from_i64(i: i64) -> Mp {
-        let man = BigUint::from(i.unsigned_abs());
+        let man = Nat::<8>::from_u64(i.unsigned_abs());
         round_parts(i < 0, man, 0, 64, -EXP_LIMIT, EXP_LIMIT, Round::Near)
     }
 
@@ -215,7 +264,7 @@ impl Mp {
         };
         Some(round_parts(
             neg,
-            BigUint::from(man),
+            Nat::<8>::from_u64(man),
             exp,
             64,
             -EXP_LIMIT,
@@ -234,7 +283,7 @@ impl Mp {
                 f64::INFINITY
             };
         }
-        let r = round_parts(self.neg, self.man.clone(), self.exp, 53, -1074, 1024, mode);
+        let r = with_work!(self.man.limbs().len() + 1, to_f64_grid(self, mode));
         if r.inf {
             return if r.neg {
                 f64::NEG_INFINITY
@@ -246,9 +295,8 @@ impl Mp {
             return 0.0;
         }
         // r = m 2^e exactly, m < 2^53, e >= -1074, m 2^e < 2^1024
-        let m = r.man.iter_u64_digits().next().unwrap_or(0);
+        let mut m = r.man.low();
         let mut e = r.exp;
-        let mut m = m;
         let shift = 53 - (64 - m.leading_zeros() as i64);
         // normalize to 53 bits where the exponent allows (a normal double)
         let s = shift.min(e + 1074).max(0);
@@ -269,9 +317,13 @@ impl Mp {
         }
     }
 
+    fn work<const N: usize>(&self) -> Nat<N> {
+        self.man.resize()
+    }
+
     /// Whether this is zero.
     pub fn is_zero(&self) -> bool {
-        !self.inf && is_zero(&self.man)
+        !self.inf && self.man.is_zero()
     }
 
     /// Whether this is finite.
@@ -286,12 +338,12 @@ impl Mp {
 
     /// Whether this is strictly negative (minus infinity included).
     pub fn is_negative(&self) -> bool {
-        self.neg && (self.inf || !is_zero(&self.man))
+        self.neg && (self.inf || !self.man.is_zero())
     }
 
     /// Whether this is strictly positive (plus infinity included).
     pub fn is_positive(&self) -> bool {
-        !self.neg && (self.inf || !is_zero(&self.man))
+        !self.neg && (self.inf || !self.man.is_zero())
     }
 
     /// The number of significant bits of the (finite) significand.
@@ -309,15 +361,10 @@ impl Mp {
         self.exp
     }
 
-    /// The significand of the canonical form.
-    pub fn mantissa(&self) -> &BigUint {
-        &self.man
-    }
-
     /// `-x` (exact).
     pub fn neg(&self) -> Mp {
-        let mut r = self.clone();
-        if r.inf || !is_zero(&r.man) {
+        let mut r = *self;
+        if r.inf || !r.man.is_zero() {
             r.neg = !r.neg;
         }
         r
@@ -325,7 +372,7 @@ impl Mp {
 
     /// `|x|` (exact).
     pub fn abs(&self) -> Mp {
-        let mut r = self.clone();
+        let mut r = *self;
         r.neg = false;
         r
     }
@@ -333,58 +380,34 @@ impl Mp {
     /// `x 2^k` rounded (exact unless it leaves the exponent range).
     pub fn ldexp(&self, k: i64, mode: Round) -> Mp {
         if self.inf || self.is_zero() {
-            return self.clone();
+            return *self;
         }
         let k = k.clamp(-4 * EXP_LIMIT, 4 * EXP_LIMIT);
-        round_parts(
-            self.neg,
-            self.man.clone(),
-            self.exp + k,
-            self.man.bits().max(1),
-            -EXP_LIMIT,
-            EXP_LIMIT,
-            mode,
-        )
+        with_work!(self.man.limbs().len() + 1, ldexp_in(self, k, mode))
     }
 
     /// This number rounded to `prec` bits in direction `mode`.
     pub fn round(&self, prec: u32, mode: Round) -> Mp {
-        if self.inf {
-            return self.clone();
+        if self.inf || (self.man.bits() <= prec as u64) {
+            return *self;
         }
-        Mp::from_parts(self.neg, self.man.clone(), self.exp, prec, mode)
+        with_work!(self.man.limbs().len() + 1, round_in(self, prec, mode))
     }
 
     /// `x + y` rounded to `prec` bits; `inf + (-inf)` is `None` (12.2.1).
     pub fn add(&self, y: &Mp, prec: u32, mode: Round) -> Option<Mp> {
-        let prec = prec.max(1) as u64;
+        let prec = clamp_prec(prec as u64);
         if self.inf || y.inf {
             if self.inf && y.inf && self.neg != y.neg {
                 return None;
             }
-            return Some(if self.inf { self.clone() } else { y.clone() });
+            return Some(if self.inf { *self } else { *y });
         }
         if self.is_zero() {
-            return Some(round_parts(
-                y.neg,
-                y.man.clone(),
-                y.exp,
-                prec,
-                -EXP_LIMIT,
-                EXP_LIMIT,
-                mode,
-            ));
+            return Some(y.round(prec as u32, mode));
         }
         if y.is_zero() {
-            return Some(round_parts(
-                self.neg,
-                self.man.clone(),
-                self.exp,
-                prec,
-                -EXP_LIMIT,
-                EXP_LIMIT,
-                mode,
-            ));
+            return Some(self.round(prec as u32, mode));
         }
         let (a, b) = if self.top() >= y.top() {
             (self, y)
@@ -394,25 +417,13 @@ impl Mp {
         // far apart: b is replaced by a nonzero number of its sign below every rounding
         // breakpoint near a (12.2.1)
         let l = (a.man.bits().max(prec + 2) + 1) as i64;
-        let (bman, bexp) = if a.top() - b.top() > l {
-            (BigUint::from(1u32), a.top() - l - 1)
-        } else {
-            (b.man.clone(), b.exp)
-        };
+        let far = a.top() - b.top() > l;
+        let bexp = if far { a.top() - l - 1 } else { b.exp };
         let e = a.exp.min(bexp);
-        let am = &a.man << ((a.exp - e) as u64);
-        let bm = bman << ((bexp - e) as u64);
-        let (neg, man) = if a.neg == b.neg {
-            (a.neg, am + bm)
-        } else if am >= bm {
-            (a.neg, am - bm)
-        } else {
-            (b.neg, bm - am)
-        };
-        if is_zero(&man) {
-            return Some(Mp::zero());
-        }
-        Some(round_parts(neg, man, e, prec, -EXP_LIMIT, EXP_LIMIT, mode))
+        Some(with_work!(
+            limbs_for((a.top() - e) as u64 + 1),
+            add_in(a, b, far, bexp, e, prec, mode)
+        ))
     }
 
     /// `x - y` rounded to `prec` bits; `None` for `inf - inf` of one sign.
@@ -430,21 +441,16 @@ impl Mp {
         if self.inf || y.inf {
             return Mp::infinity(neg);
         }
-        round_parts(
-            neg,
-            &self.man * &y.man,
-            self.exp + y.exp,
-            prec.max(1) as u64,
-            -EXP_LIMIT,
-            EXP_LIMIT,
-            mode,
+        with_work!(
+            self.man.limbs().len() + y.man.limbs().len() + 1,
+            mul_in(self, y, neg, prec as u64, mode)
         )
     }
 
     /// `x / y` rounded to `prec` bits; `None` when `y = 0` or both are infinite;
     /// `finite / inf = 0` (12.2.1).
     pub fn div(&self, y: &Mp, prec: u32, mode: Round) -> Option<Mp> {
-        let prec = prec.max(1) as u64;
+        let prec = clamp_prec(prec as u64);
         if y.is_zero() || (self.inf && y.inf) {
             return None;
         }
@@ -458,23 +464,10 @@ impl Mp {
         // q = floor(man_x 2^s / man_y) has at least prec + 2 bits; a nonzero remainder is
         // kept as a sticky bit below q
         let s = (prec as i64 + 2 + y.man.bits() as i64 - self.man.bits() as i64).max(0) as u64;
-        let num = &self.man << s;
-        let q = &num / &y.man;
-        let exact = &q * &y.man == num;
-        let e = self.exp - y.exp - s as i64;
-        Some(if exact {
-            round_parts(neg, q, e, prec, -EXP_LIMIT, EXP_LIMIT, mode)
-        } else {
-            round_parts(
-                neg,
-                (q << 1u32) + 1u32,
-                e - 1,
-                prec,
-                -EXP_LIMIT,
-                EXP_LIMIT,
-                mode,
-            )
-        })
+        Some(with_work!(
+            limbs_for(self.man.bits() + s),
+            div_in(self, y, neg, s, prec, mode)
+        ))
     }
 
     /// `x / d` for a positive integer `d`, rounded to `prec` bits (the quotient of (12.2.1)
@@ -484,38 +477,25 @@ impl Mp {
             return None;
         }
         if self.inf || self.is_zero() {
-            return Some(self.clone());
+            return Some(*self);
         }
-        let prec = prec.max(1) as u64;
+        let prec = clamp_prec(prec as u64);
         // q = floor(man 2^s / d) has at least prec + 2 bits (d < 2^64)
         let s = (prec as i64 + 2 + 64 - self.man.bits() as i64).max(0) as u64;
-        let num = &self.man << s;
-        let q = &num / d;
-        let exact = is_zero(&(&num % d));
-        let e = self.exp - s as i64;
-        Some(if exact {
-            round_parts(self.neg, q, e, prec, -EXP_LIMIT, EXP_LIMIT, mode)
-        } else {
-            round_parts(
-                self.neg,
-                (q << 1u32) + 1u32,
-                e - 1,
-                prec,
-                -EXP_LIMIT,
-                EXP_LIMIT,
-                mode,
-            )
-        })
+        Some(with_work!(
+            limbs_for(self.man.bits() + s),
+            div_u64_in(self, d, s, prec, mode)
+        ))
     }
 
     /// `sqrt(x)` rounded to `prec` bits; `None` for `x < 0` (12.2.1).
     pub fn sqrt(&self, prec: u32, mode: Round) -> Option<Mp> {
-        let prec = prec.max(1) as u64;
+        let prec = clamp_prec(prec as u64);
         if self.is_negative() {
             return None;
         }
         if self.inf || self.is_zero() {
-            return Some(self.clone());
+            return Some(*self);
         }
         // m 2^e with e even and m of at least 2 prec + 4 bits; r = floor(sqrt(m)) has at least
         // prec + 2 bits; an inexact root keeps a sticky bit below r
@@ -523,23 +503,10 @@ impl Mp {
         if (self.exp - s).rem_euclid(2) != 0 {
             s += 1;
         }
-        let m = &self.man << (s as u64);
-        let r = m.sqrt();
-        let exact = &r * &r == m;
-        let e = (self.exp - s) / 2;
-        Some(if exact {
-            round_parts(false, r, e, prec, -EXP_LIMIT, EXP_LIMIT, mode)
-        } else {
-            round_parts(
-                false,
-                (r << 1u32) + 1u32,
-                e - 1,
-                prec,
-                -EXP_LIMIT,
-                EXP_LIMIT,
-                mode,
-            )
-        })
+        Some(with_work!(
+            limbs_for(self.man.bits() + s as u64),
+            sqrt_in(self, s as u64, prec, mode)
+        ))
     }
 
     /// The smaller of two numbers.
@@ -562,32 +529,19 @@ impl Mp {
 
     /// `floor(x)` for finite `x` (exact).
     pub fn floor(&self) -> Mp {
-        self.to_integer(false)
+        self.round_to_integer(false)
     }
 
     /// `ceil(x)` for finite `x` (exact).
     pub fn ceil(&self) -> Mp {
-        self.to_integer(true)
+        self.round_to_integer(true)
     }
 
-    fn to_integer(&self, up: bool) -> Mp {
+    fn round_to_integer(&self, up: bool) -> Mp {
         if self.inf || self.exp >= 0 {
-            return self.clone();
+            return *self;
         }
-        let k = (-self.exp) as u64;
-        let t = &self.man >> k;
-        // self is not an integer (man odd, exp < 0): its magnitude lies in (t, t + 1)
-        let away = if up { !self.neg } else { self.neg };
-        let t = if away { t + 1u32 } else { t };
-        round_parts(
-            self.neg,
-            t,
-            0,
-            u64::MAX >> 2,
-            -EXP_LIMIT,
-            EXP_LIMIT,
-            Round::Near,
-        )
+        with_work!(self.man.limbs().len() + 1, integer_in(self, up))
     }
 
     /// For an integer-valued `x`, `x mod 4` in `0..4`.
@@ -595,7 +549,7 @@ impl Mp {
         if self.is_zero() || self.inf || self.exp >= 2 {
             return 0;
         }
-        let low = self.man.iter_u64_digits().next().unwrap_or(0);
+        let low = self.man.low();
         let v = ((low << self.exp.max(0)) & 3) as u32;
         if self.neg {
             (4 - v) % 4
@@ -609,9 +563,153 @@ impl Mp {
         if self.inf || self.exp < 0 || self.top() > 62 {
             return None;
         }
-        let m = self.man.iter_u64_digits().next().unwrap_or(0) << self.exp;
+        let m = self.man.low() << self.exp;
         Some(if self.neg { -(m as i64) } else { m as i64 })
     }
+}
+
+/// `q 2^e` when `exact`, else a number strictly between `q 2^e` and `(q + 1) 2^e` (the sticky
+/// bit `(2q + 1) 2^(e-1)`), rounded: `q` has at least `prec + 2` bits, so both round alike.
+fn sticky_round<const N: usize>(
+    neg: bool,
+    q: Nat<N>,
+    exact: bool,
+    e: i64,
+    prec: u64,
+    mode: Round,
+) -> Mp {
+    if exact {
+        round_parts(neg, q, e, prec, -EXP_LIMIT, EXP_LIMIT, mode)
+    } else {
+        round_parts(
+            neg,
+            q.shl(1).add_one(),
+            e - 1,
+            prec,
+            -EXP_LIMIT,
+            EXP_LIMIT,
+            mode,
+        )
+    }
+}
+
+// The bodies of the operations in a work array of `N` limbs (`with_work!`), each exact until
+// its one `round_parts` (12.2.1).
+
+fn to_f64_grid<const N: usize>(x: &Mp, mode: Round) -> Mp {
+    round_parts::<N>(x.neg, x.work(), x.exp, 53, -1074, 1024, mode)
+}
+
+fn ldexp_in<const N: usize>(x: &Mp, k: i64, mode: Round) -> Mp {
+    round_parts::<N>(
+        x.neg,
+        x.work(),
+        x.exp + k,
+        x.man.bits().max(1),
+        -EXP_LIMIT,
+        EXP_LIMIT,
+        mode,
+    )
+}
+
+fn round_in<const N: usize>(x: &Mp, prec: u32, mode: Round) -> Mp {
+    round_parts::<N>(
+        x.neg,
+        x.work(),
+        x.exp,
+        prec as u64,
+        -EXP_LIMIT,
+        EXP_LIMIT,
+        mode,
+    )
+}
+
+/// `a + b` (`|a| >= |b|` by top) aligned at exponent `e`; `far`: `b` replaced by
+/// `sign(b) 2^bexp` (12.2.1).
+fn add_in<const N: usize>(
+    a: &Mp,
+    b: &Mp,
+    far: bool,
+    bexp: i64,
+    e: i64,
+    prec: u64,
+    mode: Round,
+) -> Mp {
+    // one of the two shifts is zero (e is one of the exponents)
+    let mut am: Nat<N> = a.work();
+    if a.exp > e {
+        am = am.shl((a.exp - e) as u64);
+    }
+    let mut bm: Nat<N> = if far { Nat::from_u64(1) } else { b.work() };
+    if bexp > e {
+        bm = bm.shl((bexp - e) as u64);
+    }
+    let (neg, man) = if a.neg == b.neg {
+        (a.neg, am.add(&bm))
+    } else if am >= bm {
+        (a.neg, am.sub(&bm))
+    } else {
+        (b.neg, bm.sub(&am))
+    };
+    if man.is_zero() {
+        return Mp::zero();
+    }
+    round_parts(neg, man, e, prec, -EXP_LIMIT, EXP_LIMIT, mode)
+}
+
+fn mul_in<const N: usize>(x: &Mp, y: &Mp, neg: bool, prec: u64, mode: Round) -> Mp {
+    round_parts::<N>(
+        neg,
+        x.work().mul(&y.work()),
+        x.exp + y.exp,
+        prec,
+        -EXP_LIMIT,
+        EXP_LIMIT,
+        mode,
+    )
+}
+
+fn div_in<const N: usize>(x: &Mp, y: &Mp, neg: bool, s: u64, prec: u64, mode: Round) -> Mp {
+    let (q, exact) = x.work::<N>().shl(s).div_exact(&y.work());
+    sticky_round(neg, q, exact, x.exp - y.exp - s as i64, prec, mode)
+}
+
+fn div_u64_in<const N: usize>(x: &Mp, d: u64, s: u64, prec: u64, mode: Round) -> Mp {
+    let (q, r) = x.work::<N>().shl(s).divrem_u64(d);
+    sticky_round(x.neg, q, r == 0, x.exp - s as i64, prec, mode)
+}
+
+fn sqrt_in<const N: usize>(x: &Mp, s: u64, prec: u64, mode: Round) -> Mp {
+    let (r, exact) = x.work::<N>().shl(s).sqrt_exact();
+    sticky_round(false, r, exact, (x.exp - s as i64) / 2, prec, mode)
+}
+
+/// `floor` (`up = false`) or `ceil` of a finite non-integer `x` (`exp < 0`).
+fn integer_in<const N: usize>(x: &Mp, up: bool) -> Mp {
+    let k = (-x.exp) as u64;
+    let t = x.work::<N>().shr(k);
+    // x is not an integer (man odd, exp < 0): its magnitude lies in (t, t + 1)
+    let away = if up { !x.neg } else { x.neg };
+    let t = if away { t.add_one() } else { t };
+    // at most MAX_PREC bits: t < |x| < 2^MAX_PREC, and t + 1 <= 2^MAX_PREC is one bit
+    round_parts(
+        x.neg,
+        t,
+        0,
+        MAX_PREC as u64,
+        -EXP_LIMIT,
+        EXP_LIMIT,
+        Round::Near,
+    )
+}
+
+/// `|x|` against `|y|` for finite nonzero numbers of equal tops (the shifts are below
+/// `MAX_PREC` bits).
+fn cmp_mag_in<const N: usize>(x: &Mp, y: &Mp) -> Ordering {
+    let e = x.exp.min(y.exp);
+    let a = x.work::<N>().shl((x.exp - e) as u64);
+    let b = y.work::<N>().shl((y.exp - e) as u64);
+    a.cmp(&b)
 }
 
 impl PartialOrd for Mp {
@@ -639,10 +737,9 @@ impl Ord for Mp {
                 if tx != ty {
                     tx.cmp(&ty)
                 } else {
-                    let e = self.exp.min(y.exp);
-                    let a = &self.man << ((self.exp - e) as u64);
-                    let b = &y.man << ((y.exp - e) as u64);
-                    a.cmp(&b)
+                    // equal tops: the shifts are below MAX_PREC bits
+                    let need = limbs_for(self.man.bits().max(y.man.bits()));
+                    with_work!(need, cmp_mag_in(self, y))
                 }
             }
         };
@@ -673,172 +770,9 @@ impl core::fmt::Debug for Mp {
             f,
             "{}{:#x}p{}",
             if self.neg { "-" } else { "" },
-            self.man,
+            self.mantissa(),
             self.exp
         )
-    }
-}
-
-// ---------------------------------------------------------------------------------------
-// Decimal conversion, exact on the dyadic value (12.2.6).
-
-/// The decimal number `(-1)^neg n 10^e` rounded to `prec` bits in direction `mode` (not
-/// `Near`); `e` limited to `|e| <= 10^6` by the caller.
-pub(crate) fn decimal_to_mp(neg: bool, n: &BigUint, e: i64, prec: u32, mode: Round) -> Mp {
-    if is_zero(n) {
-        return Mp::zero();
-    }
-    if e >= 0 {
-        let v = n * BigUint::from(10u32).pow(e as u32);
-        return Mp::from_parts(neg, v, 0, prec, mode);
-    }
-    let den = Mp::from_parts(
-        false,
-        BigUint::from(5u32).pow((-e) as u32),
-        0,
-        u32::MAX,
-        Round::Near,
-    );
-    let num = Mp::from_parts(neg, n.clone(), e, u32::MAX, Round::Near);
-    // n 10^e = (n 2^e) / 5^-e; both exact above (prec u32::MAX keeps every bit)
-    num.div(&den, prec, mode).unwrap_or_else(Mp::zero)
-}
-
-/// Parses a decimal `[+-]digits[.digits][(e|E)[+-]digits]` into sign, digits and exponent.
-pub(crate) fn parse_decimal(s: &str) -> Option<(bool, BigUint, i64)> {
-    let s = s.trim();
-    let (neg, rest) = match s.as_bytes().first()? {
-        b'-' => (true, &s[1..]),
-        b'+' => (false, &s[1..]),
-        _ => (false, s),
-    };
-    let (mant, exp) = match rest.find(['e', 'E']) {
-        Some(i) => (&rest[..i], Some(&rest[i + 1..])),
-        None => (rest, None),
-    };
-    let (ip, fp) = match mant.find('.') {
-        Some(i) => (&mant[..i], &mant[i + 1..]),
-        None => (mant, ""),
-    };
-    if ip.is_empty() && fp.is_empty() {
-        return None;
-    }
-    if !ip.bytes().chain(fp.bytes()).all(|c| c.is_ascii_digit()) {
-        return None;
-    }
-    let mut e: i64 = match exp {
-        Some(t) => {
-            let (eneg, digits) = match t.as_bytes().first()? {
-                b'-' => (true, &t[1..]),
-                b'+' => (false, &t[1..]),
-                _ => (false, t),
-            };
-            if digits.is_empty() || digits.len() > 8 || !digits.bytes().all(|c| c.is_ascii_digit())
-            {
-                return None;
-            }
-            let v: i64 = digits.parse().ok()?;
-            if eneg {
-                -v
-            } else {
-                v
-            }
-        }
-        None => 0,
-    };
-    let digits = format!("{ip}{fp}");
-    let digits = digits.trim_start_matches('0');
-    e -= fp.len() as i64;
-    let n = if digits.is_empty() {
-        BigUint::ZERO
-    } else {
-        if digits.len() > 100_000 {
-            return None;
-        }
-        BigUint::parse_bytes(digits.as_bytes(), 10)?
-    };
-    if e.abs() > 1_000_000 {
-        return None;
-    }
-    Some((neg, n, e))
-}
-
-/// `x` written with `digits` significant decimal digits, rounded down (`up = false`) or up,
-/// as `d.ddd...e±X` (12.2.6). Infinities print as `inf` / `-inf`, zero as `0`.
-pub fn to_decimal(x: &Mp, digits: usize, up: bool) -> String {
-    if x.inf {
-        return if x.neg { "-inf".into() } else { "inf".into() };
-    }
-    if x.is_zero() {
-        return "0".into();
-    }
-    let digits = digits.clamp(1, 100_000);
-    // round the magnitude away from zero when the direction and the sign agree
-    let away = up != x.neg;
-    let sign = if x.neg { "-" } else { "" };
-    // beyond 2^(±2^16) the exact expansion is too long: a power of ten on the safe side
-    // (2^(t-1) <= |x| < 2^t; log10 2 is taken 1e-12 wide of its value on each side)
-    if x.top() > 1 << 16 {
-        if away {
-            return format!("{sign}inf");
-        }
-        let k = ((x.top() - 1) as f64 * (core::f64::consts::LOG10_2 - 1e-12)).floor() as i64;
-        return format!("{sign}1e{}", k - 1);
-    }
-    if x.top() < -(1 << 16) {
-        if !away {
-            return "0".into();
-        }
-        let k = (x.top() as f64 * (core::f64::consts::LOG10_2 - 1e-12)).ceil() as i64;
-        return format!("{sign}1e{}", k + 1);
-    }
-    // first guess of the decimal exponent F with 10^(d-1) <= |x| 10^-F < 10^d
-    let mut f =
-        (((x.top() - 1) as f64) * core::f64::consts::LOG10_2).floor() as i64 - (digits as i64 - 1);
-    let lo = BigUint::from(10u32).pow(digits as u32 - 1);
-    let hi = &lo * 10u32;
-    loop {
-        // |x| 10^-F = man 2^exp 10^-F = num / den exactly
-        let mut num = x.man.clone();
-        let mut den = BigUint::from(1u32);
-        if x.exp >= 0 {
-            num <<= x.exp as u64;
-        } else {
-            den <<= (-x.exp) as u64;
-        }
-        if f >= 0 {
-            den *= BigUint::from(10u32).pow(f as u32);
-        } else {
-            num *= BigUint::from(10u32).pow((-f) as u32);
-        }
-        let q = &num / &den;
-        if q >= hi {
-            f += 1;
-            continue;
-        }
-        if q < lo {
-            f -= 1;
-            continue;
-        }
-        let exact = &q * &den == num;
-        let mut q = q;
-        if !exact && away {
-            q += 1u32;
-        }
-        if q == hi {
-            // 99..9 rounded up to 10^d: one digit fewer
-            q = lo.clone();
-            f += 1;
-        }
-        let s = q.to_str_radix(10);
-        let e10 = f + digits as i64 - 1;
-        let (head, tail) = s.split_at(1);
-        let tail = tail.trim_end_matches('0');
-        return if tail.is_empty() {
-            format!("{sign}{head}e{e10}")
-        } else {
-            format!("{sign}{head}.{tail}e{e10}")
-        };
     }
 }
 

@@ -1,29 +1,24 @@
-//! `WideInterval`: intervals of more than 106 bits that the validated integrator can compute
+//! `WideInterval`: intervals of more than 106 bits that the validated integrator computes
 //! with ([spec (12.3)](crate::spec::precision)).
 //!
-//! The method copies intervals freely (its scalars are `Copy`), while [`MpInterval`] keeps its
-//! ends on the heap. A [`Wide`] holds the same number as an [`Mp`] — `(-1)^neg man 2^exp`,
-//! `man` odd or zero — with the significand in a fixed array of [`LIMBS`] 64-bit words, so it
-//! is `Copy`; it carries at most [`MAX_BITS`] significant bits. Every operation converts its
-//! operands to [`MpInterval`] exactly, computes there (one proved outward rounding per end,
-//! [spec (12.2)](crate::spec::precision)) and converts the result back exactly: the two types
-//! enclose the same sets, and every proof of 12.2 is a proof here.
+//! A `WideInterval` is an [`MpInterval`] at the precision in force on the thread: its ends
+//! are [`Mp`] numbers, whose significands are fixed arrays of 64-bit limbs (`Copy`, no heap
+//! in any arithmetic operation, [spec (12.2.0)](crate::spec::precision)), and every operation
+//! is the [`MpInterval`] one (one proved outward rounding per end, 12.2): every proof of 12.2
+//! is a proof here.
 //!
 //! The precision is chosen at run time, per thread: [`with_bits`] runs a computation with
-//! results rounded to that many bits ([`bits`], 256 unless set). Results carry no precision
-//! of their own: a result's ends have at most the number of bits in force when it was made.
+//! results rounded to that many bits ([`bits`], 256 unless set). Results carry the precision
+//! they were made at; a binary operation works at the larger of its operands' precisions.
 
 use super::mp::MpInterval;
 use super::mp_float::{Mp, Round};
-use num_bigint::BigUint;
-use std::cell::{Cell, RefCell};
+use std::cell::Cell;
 use std::fmt;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-/// The 64-bit words of a [`Wide`] significand.
-pub const LIMBS: usize = 8;
-/// The most significant bits a [`Wide`] holds, and the largest precision of [`with_bits`].
-pub const MAX_BITS: u32 = 64 * LIMBS as u32;
+/// The most significant bits of [`with_bits`] (E20, E29 of the contract).
+pub const MAX_BITS: u32 = 1024;
 /// The smallest precision of [`with_bits`] (below it the double-double type serves).
 pub const MIN_BITS: u32 = 107;
 /// The precision in force on a thread where [`with_bits`] was not called.
@@ -31,7 +26,7 @@ pub const DEFAULT_BITS: u32 = 256;
 
 thread_local! {
     static BITS: Cell<u32> = const { Cell::new(DEFAULT_BITS) };
-    static PI: RefCell<Option<(u32, WideInterval)>> = const { RefCell::new(None) };
+    static PI: Cell<Option<WideInterval>> = const { Cell::new(None) };
 }
 
 /// The precision of the [`WideInterval`] results computed on this thread.
@@ -52,248 +47,174 @@ pub fn with_bits<R>(bits: u32, f: impl FnOnce() -> R) -> R {
     f()
 }
 
-/// A binary floating-point number of at most [`MAX_BITS`] significant bits, or an infinity
-/// (the ends of a [`WideInterval`], and its points).
+/// A binary floating-point number (the ends of a [`WideInterval`], and its points): an
+/// [`Mp`].
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Wide {
-    neg: bool,
-    inf: bool,
-    exp: i64,
-    man: [u64; LIMBS],
-}
+pub struct Wide(Mp);
 
 impl Wide {
     /// Zero.
-    pub const ZERO: Wide = Wide {
-        neg: false,
-        inf: false,
-        exp: 0,
-        man: [0; LIMBS],
-    };
+    pub const ZERO: Wide = Wide(Mp::zero());
 
     /// Minus (`neg`) or plus infinity.
     pub fn infinity(neg: bool) -> Wide {
-        Wide {
-            neg,
-            inf: true,
-            ..Wide::ZERO
-        }
+        Wide(Mp::infinity(neg))
     }
 
-    /// The number `x` exactly, when it has at most [`MAX_BITS`] significant bits.
+    /// The number `x`.
     pub fn from_mp(x: &Mp) -> Option<Wide> {
-        if x.is_infinite() {
-            return Some(Wide::infinity(x.is_negative()));
-        }
-        let digits = x.mantissa().to_u64_digits();
-        if digits.len() > LIMBS {
-            return None;
-        }
-        let mut man = [0; LIMBS];
-        man[..digits.len()].copy_from_slice(&digits);
-        Some(Wide {
-            neg: x.is_negative(),
-            inf: false,
-            exp: if digits.is_empty() { 0 } else { x.exponent() },
-            man,
-        })
+        Some(Wide(*x))
     }
 
-    /// `x` rounded to [`MAX_BITS`] bits in direction `mode` (exact when it fits). Should the
-    /// rounded number still not fit (never: 12.2.1 rounds to at most `MAX_BITS` bits), the
-    /// infinity on the side of `mode` (an end rounded outward stays outward), or 0 for a point.
-    fn from_mp_round(x: &Mp, mode: Round) -> Wide {
-        Wide::from_mp(x)
-            .or_else(|| Wide::from_mp(&x.round(MAX_BITS, mode)))
-            .unwrap_or(match mode {
-                Round::Down => Wide::infinity(true),
-                Round::Up => Wide::infinity(false),
-                Round::Near => Wide::ZERO,
-            })
-    }
-
-    /// The same number as an [`Mp`] (exact).
+    /// The same number as an [`Mp`].
     pub fn to_mp(&self) -> Mp {
-        if self.inf {
-            return Mp::infinity(self.neg);
-        }
-        let top = self.man.iter().rposition(|&d| d != 0);
-        let Some(top) = top else {
-            return Mp::zero();
-        };
-        let mut words = Vec::with_capacity(2 * (top + 1));
-        for d in &self.man[..=top] {
-            words.push(*d as u32);
-            words.push((*d >> 32) as u32);
-        }
-        // the parts of the Mp this was made from (canonical: `man` odd)
-        Mp::from_canonical(self.neg, BigUint::new(words), self.exp)
+        self.0
     }
 
     /// The exact value of a finite double (`None` for NaN; infinities give infinities).
     pub fn from_f64(x: f64) -> Option<Wide> {
-        Mp::from_f64(x).and_then(|m| Wide::from_mp(&m))
+        Mp::from_f64(x).map(Wide)
     }
 
     /// The double nearest to this number.
     pub fn to_f64(&self) -> f64 {
-        self.to_mp().to_f64(Round::Near)
+        self.0.to_f64(Round::Near)
     }
 }
 
 impl fmt::Debug for Wide {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        fmt::Debug::fmt(&self.to_mp(), f)
+        fmt::Debug::fmt(&self.0, f)
     }
 }
 
-/// An interval with [`Wide`] ends, rounded outward to the precision in force ([`bits`]);
+/// An interval with [`Mp`] ends, rounded outward to the precision in force ([`bits`]);
 /// every operation returns a superset of the exact range ([spec (12.3)](crate::spec::precision)).
 /// The empty interval is `[+inf, -inf]`.
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
-pub struct WideInterval {
-    lo: Wide,
-    hi: Wide,
-}
+pub struct WideInterval(MpInterval);
 
 impl WideInterval {
-    /// The same set as an [`MpInterval`] at the precision in force (exact).
+    /// The same set as an [`MpInterval`].
     pub fn to_mp(&self) -> MpInterval {
-        MpInterval {
-            lo: self.lo.to_mp(),
-            hi: self.hi.to_mp(),
-            prec: bits(),
-        }
+        self.0
     }
 
-    /// The same set as `x`, or a superset when an end has more than [`MAX_BITS`] bits (that
-    /// end rounded outward).
+    /// The same set as `x`.
     pub fn from_mp(x: &MpInterval) -> WideInterval {
-        WideInterval {
-            lo: Wide::from_mp_round(&x.lo, Round::Down),
-            hi: Wide::from_mp_round(&x.hi, Round::Up),
-        }
+        WideInterval(*x)
     }
 
     /// `[x, x]`; the half-line beyond the largest number for an infinite `x`, as
     /// [`MpInterval::point`].
     pub fn point(x: Wide) -> WideInterval {
-        if x.inf {
-            return WideInterval::from_mp(&MpInterval::point(&x.to_mp(), bits()));
-        }
-        WideInterval { lo: x, hi: x }
+        WideInterval(MpInterval::point(&x.0, bits()))
     }
 
     /// `[x, x]` for a double (`x` exact; NaN gives the empty interval).
     pub fn from_f64(x: f64) -> WideInterval {
-        WideInterval::from_mp(&MpInterval::from_f64(x, bits()))
+        WideInterval(MpInterval::from_f64(x, bits()))
     }
 
     /// The whole line.
     pub fn entire() -> WideInterval {
-        WideInterval::from_mp(&MpInterval::entire(bits()))
+        WideInterval(MpInterval::entire(bits()))
     }
 
     /// The decimal string `s` (`[-]digits[.digits][e[-]digits]`) as the interval of its
     /// exact value rounded outward at the precision in force ([spec (12.2.6)](crate::spec::precision)).
     pub fn from_decimal(s: &str) -> Option<WideInterval> {
-        MpInterval::from_decimal(s, bits()).map(|x| WideInterval::from_mp(&x))
+        MpInterval::from_decimal(s, bits()).map(WideInterval)
     }
 
     /// The lower end.
     pub fn inf(&self) -> Wide {
-        self.lo
+        Wide(self.0.lo)
     }
 
     /// The upper end.
     pub fn sup(&self) -> Wide {
-        self.hi
+        Wide(self.0.hi)
     }
 
     /// Whether empty.
     pub fn is_empty(&self) -> bool {
-        self.lo.inf && !self.lo.neg
+        self.0.is_empty()
     }
 
     /// Non-empty with finite ends.
     pub fn is_finite(&self) -> bool {
-        !self.lo.inf && !self.hi.inf
+        self.0.is_finite()
     }
 
     /// Exactly `[0, 0]`.
     pub fn is_exact_zero(&self) -> bool {
-        self.lo == Wide::ZERO && self.hi == Wide::ZERO
+        self.0.is_exact_zero()
     }
 
     /// A point of a non-empty interval: its midpoint rounded to nearest at the precision in
     /// force, within the ends ([`MpInterval::mid`]).
     pub fn mid(&self) -> Wide {
-        let m = self.to_mp();
-        let c = m
-            .mid()
-            .round(bits(), Round::Near)
-            .max(m.lo.clone())
-            .min(m.hi);
-        Wide::from_mp_round(&c, Round::Near)
+        let m = &self.0;
+        Wide(m.mid().round(bits(), Round::Near).max(m.lo).min(m.hi))
     }
 
     /// An f64 at most the lower end (`+inf` when empty).
     pub fn inf_f64(&self) -> f64 {
-        self.lo.to_mp().to_f64(Round::Down)
+        self.0.lo.to_f64(Round::Down)
     }
 
     /// An f64 at least the upper end (`-inf` when empty).
     pub fn sup_f64(&self) -> f64 {
-        self.hi.to_mp().to_f64(Round::Up)
+        self.0.hi.to_f64(Round::Up)
     }
 
     /// An f64 at least the width.
     pub fn wid_up(&self) -> f64 {
-        self.to_mp().wid_up()
+        self.0.wid_up()
     }
 
     /// An f64 at least the largest magnitude.
     pub fn mag_up(&self) -> f64 {
-        self.to_mp().mag_up()
+        self.0.mag_up()
     }
 
     /// An f64 at most the smallest magnitude.
     pub fn mig_down(&self) -> f64 {
-        self.to_mp().mig_down()
+        self.0.mig_down()
     }
 
     /// Whether the double `x` is in the interval.
     pub fn contains_f64(&self, x: f64) -> bool {
-        self.to_mp().contains_f64(x)
+        self.0.contains_f64(x)
     }
 
     /// Whether `self` is inside `other`.
     pub fn subset(&self, other: &WideInterval) -> bool {
-        self.to_mp().subset(&other.to_mp())
+        self.0.subset(&other.0)
     }
 
     /// Whether `self` is inside the interior of `other`.
     pub fn interior(&self, other: &WideInterval) -> bool {
-        self.to_mp().interior(&other.to_mp())
+        self.0.interior(&other.0)
     }
 
     /// The intersection (possibly empty).
     pub fn intersection(&self, other: &WideInterval) -> WideInterval {
-        self.binary(other, MpInterval::intersection)
+        WideInterval(self.0.intersection(&other.0))
     }
 
     /// The smallest interval containing both.
     pub fn hull(&self, other: &WideInterval) -> WideInterval {
-        self.binary(other, MpInterval::hull)
+        WideInterval(self.0.hull(&other.0))
     }
 
     /// `self + a b`, outward rounded.
     pub fn mul_acc(&self, a: &WideInterval, b: &WideInterval) -> WideInterval {
-        WideInterval::from_mp(&a.to_mp().mul_add(&b.to_mp(), &self.to_mp()))
+        WideInterval(a.0.mul_add(&b.0, &self.0))
     }
 
-    /// `acc + sum_j x_j y_{n-1-j}` (`acc - ...` when `neg`), the sum accumulated in
-    /// [`MpInterval`] (each operation outward rounded) and converted once.
+    /// `acc + sum_j x_j y_{n-1-j}` (`acc - ...` when `neg`), each operation outward rounded.
     pub fn conv(
         acc: &WideInterval,
         neg: bool,
@@ -306,35 +227,30 @@ impl WideInterval {
             if x[j].is_exact_zero() || y[n - 1 - j].is_exact_zero() {
                 continue;
             }
-            s = x[j].to_mp().mul_add(&y[n - 1 - j].to_mp(), &s);
+            s = x[j].0.mul_add(&y[n - 1 - j].0, &s);
         }
-        let a = acc.to_mp();
-        WideInterval::from_mp(&if neg { a.sub_ref(&s) } else { a.add_ref(&s) })
+        WideInterval(if neg {
+            acc.0.sub_ref(&s)
+        } else {
+            acc.0.add_ref(&s)
+        })
     }
 
     fn unary(&self, f: impl FnOnce(&MpInterval) -> MpInterval) -> WideInterval {
-        WideInterval::from_mp(&f(&self.to_mp()))
-    }
-
-    fn binary(
-        &self,
-        y: &WideInterval,
-        f: impl FnOnce(&MpInterval, &MpInterval) -> MpInterval,
-    ) -> WideInterval {
-        WideInterval::from_mp(&f(&self.to_mp(), &y.to_mp()))
+        WideInterval(f(&self.0))
     }
 
     /// An enclosure of pi at the precision in force (computed once per thread and precision).
     pub fn pi() -> WideInterval {
         let b = bits();
         PI.with(|c| {
-            if let Some((cb, v)) = *c.borrow() {
-                if cb == b {
+            if let Some(v) = c.get() {
+                if v.0.prec() == b {
                     return v;
                 }
             }
-            let v = WideInterval::from_mp(&MpInterval::pi(b));
-            *c.borrow_mut() = Some((b, v));
+            let v = WideInterval(MpInterval::pi(b));
+            c.set(Some(v));
             v
         })
     }
@@ -342,7 +258,7 @@ impl WideInterval {
 
 impl fmt::Debug for WideInterval {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        fmt::Display::fmt(&self.to_mp(), f)
+        fmt::Display::fmt(&self.0, f)
     }
 }
 
@@ -351,7 +267,7 @@ macro_rules! binop {
         impl $tr for WideInterval {
             type Output = WideInterval;
             fn $m(self, y: WideInterval) -> WideInterval {
-                self.binary(&y, |a, b| a.$by(b))
+                WideInterval(self.0.$by(&y.0))
             }
         }
     };
@@ -364,22 +280,7 @@ binop!(Div, div, div_ref);
 impl Neg for WideInterval {
     type Output = WideInterval;
     fn neg(self) -> WideInterval {
-        if self.is_empty() {
-            return self;
-        }
-        // exact: the ends swap and change sign
-        let flip = |w: Wide| Wide {
-            neg: if w.inf || w.man.iter().any(|&d| d != 0) {
-                !w.neg
-            } else {
-                false
-            },
-            ..w
-        };
-        WideInterval {
-            lo: flip(self.hi),
-            hi: flip(self.lo),
-        }
+        WideInterval(self.0.neg())
     }
 }
 
@@ -427,7 +328,7 @@ impl crate::scalar::Scalar for WideInterval {
 
 impl crate::OutwardDecimal for WideInterval {
     fn decimal(&self) -> crate::DecimalInterval {
-        let m = self.to_mp();
+        let m = &self.0;
         let digits = m.default_digits();
         crate::DecimalInterval(m.inf_decimal(digits), m.sup_decimal(digits))
     }
@@ -483,7 +384,7 @@ mod tests {
             coarse.to_mp().wid_up() > 2f64.powi(-162) && coarse.to_mp().wid_up() < 2f64.powi(-158)
         );
         assert_eq!(bits(), DEFAULT_BITS);
-        assert_eq!(Wide::from_mp(&third.lo.to_mp()), Some(third.lo));
+        assert_eq!(Wide::from_mp(&third.inf().to_mp()), Some(third.inf()));
         assert_eq!(-(-third), third);
         assert_eq!((-WideInterval::cst(0.0)), WideInterval::cst(0.0));
         assert!(with_bits(1_000_000, bits) == MAX_BITS && with_bits(3, bits) == MIN_BITS);
@@ -524,8 +425,10 @@ mod tests {
         let e = WideInterval::from_f64(f64::NAN);
         assert!(e.is_empty() && (-e).is_empty() && (e + WideInterval::cst(1.0)).is_empty());
         let all = WideInterval::entire();
-        assert!(all.lo.inf && all.hi.inf && !all.is_empty());
+        assert!(
+            all.inf().to_mp().is_infinite() && all.sup().to_mp().is_infinite() && !all.is_empty()
+        );
         let q = WideInterval::cst(1.0) / all;
-        assert!(q.lo.inf);
+        assert!(q.inf().to_mp().is_infinite());
     }
 }

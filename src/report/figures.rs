@@ -44,7 +44,7 @@ pub struct Settings {
     /// compared on the knife (automatic steps).
     pub wp_set_times: Vec<f64>,
     /// Work-precision in bits ([spec (9.4')](crate::spec::report)): the precisions of the
-    /// certified flows (53: f64 intervals; 54..=106: double-double; 107..=512: that many bits).
+    /// certified flows (53: f64 intervals; 54..=106: double-double; 107..=1024: that many bits).
     pub wp_bits: Vec<u32>,
     /// Work-precision in bits: the final time of the knife from `q = 0`, `u = (0.8, 0.8)`.
     pub wp_bits_knife_time: f64,

@@ -76,3 +76,13 @@ fn precision_step_corpus() {
     // precisions, so the comparison is not vacuous
     assert!(t.answered >= 10, "{t}");
 }
+
+#[test]
+fn precision_wide_step_corpus() {
+    let t = replay(
+        "precision_wide_step",
+        dalembert::fuzzing::precision_wide_step,
+    );
+    // seeded from the retraction's corpus as precision_step is: answered at both precisions
+    assert!(t.answered >= 10, "{t}");
+}

@@ -29,7 +29,7 @@ fn ulps(x: &MpInterval) -> i64 {
 fn exact(s: &str, prec: u32) -> Mp {
     let x = MpInterval::from_decimal(s, prec).unwrap();
     assert_eq!(x.inf(), x.sup(), "{s} is not a {prec}-bit number");
-    x.inf().clone()
+    *x.inf()
 }
 
 fn apply(f: &str, x: &MpInterval) -> MpInterval {
@@ -274,10 +274,10 @@ fn basic_operations_are_tightest() {
             let (x, y) = (x.with_prec(prec), y.with_prec(prec));
             prop_assume!(x.inf() == x.sup() && y.inf() == y.sup());
             let r = match op {
-                0 => x.clone() + y.clone(),
-                1 => x.clone() - y.clone(),
-                2 => x.clone() * y.clone(),
-                3 => x.clone() / y.clone(),
+                0 => x + y,
+                1 => x - y,
+                2 => x * y,
+                3 => x / y,
                 _ => x.abs().sqrt(),
             };
             prop_assume!(!r.is_empty() && r.is_finite());
@@ -327,7 +327,7 @@ fn basic_operations_are_tightest() {
 fn a_decimal_is_read_exactly_or_enclosed() {
     let x = MpInterval::from_decimal("0.1", 256).unwrap();
     // 10 x contains 1, and x misses the double 0.1 (which is above 1/10)
-    assert!((x.clone() * MpInterval::from_f64(10.0, 256)).contains_f64(1.0));
+    assert!((x * MpInterval::from_f64(10.0, 256)).contains_f64(1.0));
     assert!(!x.contains_f64(0.1));
     assert_eq!(ulps(&x), 1);
     let _ = BigUint::from(1u32);

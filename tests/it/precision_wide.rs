@@ -23,7 +23,7 @@ fn nums(s: &str) -> Vec<f64> {
 fn bracket(lo: &str, hi: &str) -> (Mp, Mp) {
     let a = MpInterval::from_decimal(lo, 1024).unwrap();
     let b = MpInterval::from_decimal(hi, 1024).unwrap();
-    (a.inf().clone(), b.sup().clone())
+    (*a.inf(), *b.sup())
 }
 
 /// Whether the answer `x` contains the bracket `(a, b)`.
@@ -175,7 +175,7 @@ fn decimal_pair(v: &serde_json::Value) -> MpInterval {
 
 /// `flow --precision 256 --json` as a user runs it: string ends with at most
 /// `ceil(256 log10 2) + 2 = 80` digits, `"precision": 256`, the closed form inside, about
-/// 1e-76 wide; `--precision 513` is an input error.
+/// 1e-76 wide; `--precision 1025` is an input error (E29).
 #[test]
 fn the_command_line_answers_at_256_bits() {
     let flow = [
@@ -209,11 +209,11 @@ fn the_command_line_answers_at_256_bits() {
             "component {k}: {x}"
         );
     }
-    let out = crate::common::run_args(&[&flow[..], &["--precision", "513"]].concat());
+    let out = crate::common::run_args(&[&flow[..], &["--precision", "1025"]].concat());
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("513") && err.contains("512") && err.lines().count() == 1,
+        err.contains("1025") && err.contains("1024") && err.lines().count() == 1,
         "{err}"
     );
 }
@@ -333,7 +333,7 @@ fn check_at_precision_meets_the_f64_verdict_and_is_narrower() {
         "--h",
         "0.25",
         "--precision",
-        "600",
+        "1025",
         "--trajectory",
         file.to_str().unwrap(),
     ]);
