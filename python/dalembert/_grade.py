@@ -142,7 +142,7 @@ def grade(sol: Any = None, *, t: Any = None, y: Any = None,
           max_steps: Optional[int] = None) -> Grade:
     """Grade a run (`sol` with `.t` and `.y`, or `t` and `y` arrays, y of shape (states,
     times)) against the exact flow of `scene` from `scene.state(y[:, 0])` at `t[0]`: one
-    batch query (`flow` with `times`), at `precision` bits (53, or up to 512: the same
+    batch query (`flow` with `times`), at `precision` bits (53, or up to 1024: the same
     call). `scene`: a `Scene` (y as [q, qdot] or [q, u]), or a built-in name or dict (y as
     [q, u]). `oracle`: the session to ask (default: a new one, closed after). Returns a
     `Grade`. A time not certified is in `refused` with its cause; the times before it are

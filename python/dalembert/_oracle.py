@@ -564,7 +564,7 @@ class Oracle:
         """Exact state at time t from q with quasi-velocities u: keys q, u, v (, jacobian);
         with times=[t1, t2, ..] instead of t, key at (one answer per time: t, q, u, v).
 
-        `precision` (bits, 53..512; default 53): the answer is computed with intervals of
+        `precision` (bits, 53..1024; default 53): the answer is computed with intervals of
         that many significand bits (contract E18, E20), its interval ends then `Exact`
         numbers instead of floats; a flow refused with `cause == "width"` (the enclosure
         grew too wide) may be answered at 106. `max_steps`: this query's step limit (the

@@ -101,7 +101,7 @@ const MAX_STEPS_HELP: &str = "Step limit of the validated flows (an integer >= 1
      `steps`); a retraction's work is a multiple of it";
 
 const PRECISION_HELP: &str = "Significand bits to compute with: 53 (default, f64 intervals), \
-     54..106 (double-double intervals, 106 bits) or 107..512 (exactly that many); above 53 each \
+     54..106 (double-double intervals, 106 bits) or 107..1024 (exactly that many); above 53 each \
      end prints as a decimal string rounded outward (retract, step, lagrangian and flow). \
      Decimal inputs are read as their nearest f64 at every precision, unless --exact-decimals";
 
@@ -135,7 +135,7 @@ pub(super) fn precise(
 }
 
 const CHECK_PRECISION_HELP: &str = "Significand bits of the exact discrete flow the \
-     candidate is compared with: 53 (default), 54..106 (double-double) or 107..512; the \
+     candidate is compared with: 53 (default), 54..106 (double-double) or 107..1024; the \
      distances, defects and energy errors print as f64 intervals rounded outward at every \
      precision";
 
