@@ -3,12 +3,12 @@
 //! with every operation rounded in a chosen direction.
 //!
 //! A finite `Mp` is `(-1)^neg * man * 2^exp` with `man` a natural number of at most
-//! [`MAX_PREC`] bits held in a fixed array of [`LIMBS`] 64-bit limbs ([`Nat`], so `Mp` is
+//! [`MAX_PREC`] bits held in a fixed array of [`LIMBS`] 64-bit limbs (`Nat`, so `Mp` is
 //! `Copy` and no operation allocates) and `exp` an `i64`; `man` is odd or zero (canonical
 //! form, so equal values have equal representations). The precision is not stored in the
 //! number: each operation takes the number of significand bits of its result (clamped to
 //! `1..=MAX_PREC`: a directed rounding to fewer bits is still a bound on its side) and a
-//! direction ([`Round`]). Every operation computes the exact result in a [`Nat`] of twice the
+//! direction ([`Round`]). Every operation computes the exact result in a `Nat` of twice the
 //! limbs (or an exact stand-in that provably rounds the same way) and rounds it once:
 //! [spec (12.2.1)](crate::spec::precision). Exponents are kept within `[-EXP_LIMIT,
 //! EXP_LIMIT]`: beyond, a result overflows to an infinity or to the largest finite number, or
