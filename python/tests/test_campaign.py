@@ -81,14 +81,25 @@ def test_300_queries_on_two_workers_equal_one_local_batch(cluster):
 
 
 def test_a_worker_killed_mid_run_still_answers_every_query_once(cluster):
-    lines = queries(900, seed=4)  # (a run long enough to be killed in, even on a fast build)
+    # every tenth line also a knife flow to T = 50 (a few ms each), so that each partition
+    # takes a while on any build
+    lines = []
+    for i, line in enumerate(queries(900, seed=4)):
+        lines.append(line)
+        if i % 10 == 0:
+            lines.append(json.dumps({"id": 10000 + i, "cmd": "flow", "scene": "knife",
+                                     "q": [0, 0, 0], "u": [0.8, 0.8], "t": 50}))
     local = run_local(lines)
     pids = cluster.run(os.getpid)
-    victim = sorted(pids.values())[0]
+    where, victim = sorted(pids.items(), key=lambda kv: kv[1])[0]
     killed = threading.Event()
 
     def kill_soon():
-        time.sleep(0.3)
+        # the moment the victim holds a partition: the run is then surely under way (no
+        # guess at how long it takes)
+        end = time.monotonic() + 60
+        while time.monotonic() < end and not cluster.processing(workers=[where]).get(where):
+            time.sleep(0.001)
         os.kill(victim, signal.SIGKILL)
         killed.set()
 
