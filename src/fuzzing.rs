@@ -364,6 +364,32 @@ fn retraction_invariant(scene: usize, q0: &[f64], q1: &[f64], h: f64) -> Tally {
     .unwrap_or_else(Tally::input)
 }
 
+/// One exact step computed two ways (`wide` with more bits than `narrow`): an internal fault
+/// panics; when both are answered, `check(k, a, b)` on each pair of components (q1, q2, the
+/// momenta, the defect, in that order).
+fn both_steps<A: crate::enclosure::Ival, B: crate::enclosure::Ival>(
+    wide: Result<exact::ExactStep<A>, Error>,
+    narrow: Result<exact::ExactStep<B>, Error>,
+    mut check: impl FnMut(usize, &A::Public, &B::Public),
+) -> Tally {
+    match (wide, narrow) {
+        (Err(Error::Internal(m)), _) | (_, Err(Error::Internal(m))) => {
+            panic!("internal fault: {m}")
+        }
+        (Ok(w), Ok(n)) => {
+            let w_all = w.q1.iter().chain(&w.q2).chain(&w.p_minus).chain(&w.p_plus);
+            let n_all = n.q1.iter().chain(&n.q2).chain(&n.p_minus).chain(&n.p_plus);
+            let w_all = w_all.chain(&w.retraction.s);
+            let n_all = n_all.chain(&n.retraction.s);
+            for (k, (a, b)) in w_all.zip(n_all).enumerate() {
+                check(k, a, b);
+            }
+            Tally::answered()
+        }
+        (Err(e), _) | (_, Err(e)) => Tally::one(&e),
+    }
+}
+
 /// Invariant: the exact step at 106 bits and at 53 bits on the same pair (read as
 /// [`retraction`] reads it) never panic; when both are answered, every component of the two
 /// (q1, q2, the momenta, the defect) meets (both contain the exact value: spec (12.0.2)) and
@@ -382,28 +408,15 @@ pub fn precision_step(data: &[u8]) -> Tally {
         let pts = |v: &[f64]| crate::interval::wrap(v.iter().map(|x| point(*x)).collect());
         let wide = exact::step_in::<DdInterval>(model, &q0, &q1, h, &budget());
         let narrow = exact::step(model, &pts(&q0), &pts(&q1), h, &budget());
-        match (wide, narrow) {
-            (Err(Error::Internal(m)), _) | (_, Err(Error::Internal(m))) => {
-                panic!("internal fault: {m}")
-            }
-            (Ok(w), Ok(n)) => {
-                let w_all = w.q1.iter().chain(&w.q2).chain(&w.p_minus).chain(&w.p_plus);
-                let n_all = n.q1.iter().chain(&n.q2).chain(&n.p_minus).chain(&n.p_plus);
-                let w_all = w_all.chain(&w.retraction.s);
-                let n_all = n_all.chain(&n.retraction.s);
-                for (k, (a, b)) in w_all.zip(n_all).enumerate() {
-                    let b = DdInterval::from_f64_pair(b.inf(), b.sup()).expect("an interval");
-                    assert!(!a.disjoint(b), "component {k}: {a} and {b} are disjoint");
-                    let slack = f64::powi(2.0, -100) * b.mag_up().max(1.0);
-                    assert!(
-                        a.wid_up() <= b.wid_up() + slack,
-                        "component {k}: {a} is wider than {b}"
-                    );
-                }
-                Tally::answered()
-            }
-            (Err(e), _) | (_, Err(e)) => Tally::one(&e),
-        }
+        both_steps(wide, narrow, |k, a, b| {
+            let b = DdInterval::from_f64_pair(b.inf(), b.sup()).expect("an interval");
+            assert!(!a.disjoint(b), "component {k}: {a} and {b} are disjoint");
+            let slack = f64::powi(2.0, -100) * b.mag_up().max(1.0);
+            assert!(
+                a.wid_up() <= b.wid_up() + slack,
+                "component {k}: {a} is wider than {b}"
+            );
+        })
     })
     .unwrap_or_else(Tally::input)
 }
@@ -437,31 +450,18 @@ pub fn precision_wide_step(data: &[u8]) -> Tally {
             exact::step_in::<WideInterval>(model, &q0, &q1, h, &budget())
         });
         let narrow = exact::step_in::<DdInterval>(model, &q0, &q1, h, &budget());
-        match (wide, narrow) {
-            (Err(Error::Internal(m)), _) | (_, Err(Error::Internal(m))) => {
-                panic!("internal fault: {m}")
-            }
-            (Ok(w), Ok(n)) => {
-                let w_all = w.q1.iter().chain(&w.q2).chain(&w.p_minus).chain(&w.p_plus);
-                let n_all = n.q1.iter().chain(&n.q2).chain(&n.p_minus).chain(&n.p_plus);
-                let w_all = w_all.chain(&w.retraction.s);
-                let n_all = n_all.chain(&n.retraction.s);
-                for (k, (a, b)) in w_all.zip(n_all).enumerate() {
-                    let (ma, mb) = (read(a), read(b));
-                    assert!(
-                        !ma.disjoint(&mb),
-                        "component {k}: {ma} and {mb} are disjoint"
-                    );
-                    let slack = f64::powi(2.0, -90) * b.mag_up().max(1.0);
-                    assert!(
-                        a.wid_up() <= b.wid_up() + slack,
-                        "component {k}: {ma} is wider than {mb}"
-                    );
-                }
-                Tally::answered()
-            }
-            (Err(e), _) | (_, Err(e)) => Tally::one(&e),
-        }
+        both_steps(wide, narrow, |k, a, b| {
+            let (ma, mb) = (read(a), read(b));
+            assert!(
+                !ma.disjoint(&mb),
+                "component {k}: {ma} and {mb} are disjoint"
+            );
+            let slack = f64::powi(2.0, -90) * b.mag_up().max(1.0);
+            assert!(
+                a.wid_up() <= b.wid_up() + slack,
+                "component {k}: {ma} is wider than {mb}"
+            );
+        })
     })
     .unwrap_or_else(Tally::input)
 }

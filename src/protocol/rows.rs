@@ -13,7 +13,7 @@ use serde_json::Value;
 use std::io::{self, Write};
 
 // The rows are the lower layer: `answer.rs` renders whole answers with them and re-exports
-// these two, and nothing here imports from `answer.rs` (issue 47).
+// these two, and nothing here imports from `answer.rs`.
 
 /// `[lo, hi]`; serde_json prints f64 in shortest round-trip form.
 pub fn interval(x: Interval) -> Value {

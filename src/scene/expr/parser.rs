@@ -27,7 +27,7 @@ impl Parser<'_> {
     fn unexpected(&self) -> ExprError {
         match self.toks.get(self.pos) {
             Some((t, at)) => {
-                // `**` (Python's power): say how powers are written (issue 49)
+                // `**` (Python's power): say how powers are written
                 let star = Tok::Op('*');
                 let power = *t == star
                     && self.pos > 0
