@@ -348,12 +348,10 @@ fn carry<I: Ival>(
         // why the steps collapsed, if the scene's data say so; the leg's start (its centre)
         // for the float motion that tells a box grown too wide from the motion's own failure
         let start: Vec<f64> = set.m.iter().map(|x| I::pt_f64(*x)).collect();
+        let motion = Motion::new(sys, &start, t - from);
         let explain = |x: &[inari::Interval], h: f64, done: f64, spent: Option<&Error>| {
             let at = sign * (point(from) + point(done)).inf();
-            let motion = (&start[..], t - from);
-            explained(model, x, h, at)
-                .map(|e| widened(model, sys, x, motion, e))
-                .or_else(|| spent.and_then(|e| outgrown(sys, motion, e)))
+            why_stopped(model, x, (h, at), &motion, spent)
         };
         // the exact span t - from, enclosed (exact when Sterbenz's lemma applies)
         let span = I::cst(t) - I::cst(from);
@@ -406,6 +404,93 @@ fn carry<I: Ival>(
     Ok((out, total.steps))
 }
 
+/// Why a flow of `sys` from `start` over `span` (a leg of a flow of `model`) stopped in the
+/// box `x` at the time `at` with steps of size `h` (the [`Explain`](crate::enclosure::Explain)
+/// of its flows): the scene's data failing near the state (E17, [`explained`], with the cause
+/// `width` when the box had grown too wide, [`widened`]), else, when the flow stopped with the
+/// refusal `spent`, that refusal with the cause `width` when a float solution is regular
+/// ([`outgrown`]). `spent` is the step limit's, or (reason `no_proof`) the sign of a box grown
+/// wider than [`WIDEST`](crate::model::WIDEST) with collapsed steps ([spec
+/// (5.18'')](crate::spec::enclosure)): that one is refused, cause `width`, when the box's
+/// configuration is that wide and a float solution is regular up to the time asked; `None`
+/// otherwise (the flow goes on: a box wide in its velocities alone, or a motion that may
+/// itself fail, is left to the data's checks).
+fn why_stopped(
+    model: &Model,
+    x: &[inari::Interval],
+    (h, at): (f64, f64),
+    motion: &Motion<'_>,
+    spent: Option<&Error>,
+) -> Option<Error> {
+    if spent.is_some_and(|e| e.reason() == Some(Reason::NoProof)) {
+        let (name, w) = widest(model, x)?;
+        if !motion.regular() {
+            return None;
+        }
+        return Some(
+            Error::refused(
+                Reason::NoProof,
+                format!(
+                    "the enclosure grew too wide at t = {at}: {name} has width {w:e} (steps of \
+                     {h:e}); its steps had collapsed and a float solution is regular up to the \
+                     time asked: a higher precision (--precision 106) may answer"
+                ),
+            )
+            .with_cause(crate::Cause::Width),
+        );
+    }
+    explained(model, x, h, at)
+        .map(|e| widened(model, x, motion, e))
+        .or_else(|| spent.and_then(|e| outgrown(motion, e)))
+}
+
+/// The float motion of a leg, from the centre `start` of its initial set over `span`: whether
+/// it is regular is what tells a box grown too wide from the motion's own failure (it only
+/// words a refusal: nothing proved depends on it).
+struct Motion<'a> {
+    sys: &'a crate::enclosure::System,
+    start: &'a [f64],
+    span: f64,
+    regular: std::cell::OnceCell<bool>,
+}
+
+impl<'a> Motion<'a> {
+    fn new(sys: &'a crate::enclosure::System, start: &'a [f64], span: f64) -> Motion<'a> {
+        let regular = std::cell::OnceCell::new();
+        Motion {
+            sys,
+            start,
+            span,
+            regular,
+        }
+    }
+
+    /// Whether the float motion of `sys` from `start` is carried over the whole `span`, with
+    /// finite values and within the step limit (computed once).
+    fn regular(&self) -> bool {
+        *self.regular.get_or_init(|| {
+            let opts = FlowOptions::default();
+            crate::enclosure::float_flow_counted(self.sys, self.start, self.span, &opts).is_some()
+        })
+    }
+}
+
+/// Whether some coordinate `q_i` of the box `x` (whose first `n` components are the
+/// configuration) is wider than `2^-6 (1 + |q_i|)` (or not a number).
+fn too_wide(model: &Model, x: &[inari::Interval]) -> bool {
+    widest(model, x).is_some()
+}
+
+/// The name and width of the first coordinate `q_i` of the box `x` wider than
+/// `2^-6 (1 + |q_i|)` (or not a number), if any.
+fn widest<'a>(model: &'a Model, x: &[inari::Interval]) -> Option<(&'a str, f64)> {
+    x.iter()
+        .take(model.n)
+        .zip(model.coordinates())
+        .find(|(q, _)| !(q.wid() <= crate::model::WIDEST * (1.0 + q.mag())))
+        .map(|(q, name)| (name.as_str(), q.wid()))
+}
+
 /// The refusal `e` of the scene's data on the box `x` reached by a leg from `start` (the
 /// centre of its initial set) over the time `span`, with the cause `width` when the box grew
 /// too wide while the motion stays where the data hold ([spec (5.18')](crate::spec::enclosure)):
@@ -413,19 +498,8 @@ fn carry<I: Ival>(
 /// [`Model::explain_stop`] trusts its checks on), and the float motion of `sys` from `start`
 /// (not rigorous: it only words the refusal) is carried over the whole `span`, with finite
 /// values and within the step limit. Otherwise the cause stays the data's.
-fn widened(
-    model: &Model,
-    sys: &crate::enclosure::System,
-    x: &[inari::Interval],
-    (start, span): (&[f64], f64),
-    e: Error,
-) -> Error {
-    let wide = x
-        .iter()
-        .take(model.n)
-        .any(|q| q.wid().is_nan() || q.wid() > crate::model::WIDEST * (1.0 + q.mag()));
-    let opts = FlowOptions::default();
-    if !wide || crate::enclosure::float_flow_counted(sys, start, span, &opts).is_none() {
+fn widened(model: &Model, x: &[inari::Interval], motion: &Motion<'_>, e: Error) -> Error {
+    if !too_wide(model, x) || !motion.regular() {
         return e;
     }
     e.with_cause(crate::Cause::Width).with_more(
@@ -442,12 +516,10 @@ fn widened(
 /// too fast for any step, not the motion ([spec (5.18')](crate::spec::enclosure)). `None`
 /// otherwise (the refusal stays the budget's, cause `steps`). The reason stays `budget`
 /// (contract E17: no cause was found near the state).
-fn outgrown(
-    sys: &crate::enclosure::System,
-    (start, span): (&[f64], f64),
-    e: &Error,
-) -> Option<Error> {
-    crate::enclosure::float_flow_counted(sys, start, span, &FlowOptions::default())?;
+fn outgrown(motion: &Motion<'_>, e: &Error) -> Option<Error> {
+    if !motion.regular() {
+        return None;
+    }
     Some(
         e.clone()
             .with_cause(crate::Cause::Width)
@@ -594,11 +666,9 @@ pub fn flow_c1_in<I: Ival>(
     } else {
         (&model.dynamics, 1.0)
     };
+    let motion = Motion::new(sys, &x0, t.abs());
     let explain = |x: &[inari::Interval], h: f64, done: f64, spent: Option<&Error>| {
-        let motion = (&x0[..], t.abs());
-        explained(model, x, h, sign * done)
-            .map(|e| widened(model, sys, x, motion, e))
-            .or_else(|| spent.and_then(|e| outgrown(sys, motion, e)))
+        why_stopped(model, x, (h, sign * done), &motion, spent)
     };
     let (set, jac, stats) = flow_set_jacobian_explained(
         sys,

@@ -65,7 +65,7 @@ impl std::fmt::Debug for Model {
     }
 }
 /// The widest box [`Model::explain_stop`] looks at, relative to `1 + |q_i|`.
-pub(crate) const WIDEST: f64 = 1.0 / 64.0;
+pub(crate) use crate::enclosure::WIDEST;
 
 /// Largest number of coordinates a scene may have.
 pub const MAX_DIM: usize = 64;
@@ -754,6 +754,11 @@ impl Model {
     /// The scene's name.
     pub fn name(&self) -> &str {
         &self.scene.description.name
+    }
+
+    /// The names of the coordinates `q`.
+    pub(crate) fn coordinates(&self) -> &[String] {
+        &self.scene.description.coordinates
     }
 
     /// Dimension of the reduced state, 2n - k.

@@ -210,6 +210,13 @@ pub(super) fn flow_set_general<I: Ival>(
                     last_h = hi.sup();
                     opts.progress
                         .tell("flow", if last { t } else { done.sup().min(t) }, t);
+                    // (5.18'') a box grown past the widest the scene's checks look at, its
+                    // steps collapsed: refused at once when `explain` names a cause
+                    if !last && hi.sup() * 64.0 < stats.h_max {
+                        if let Some(e) = hopeless(&set, hi.sup(), done, explain) {
+                            return Err(e);
+                        }
+                    }
                     // refuse early when the steps now taken would not reach t in time
                     let left = (t - done.sup()) / hi.sup();
                     if !last && stats.steps as f64 + left > 4.0 * opts.max_taylor_steps as f64 {
@@ -285,6 +292,32 @@ pub(super) fn flow_set_general<I: Ival>(
 /// does not depend on it.
 pub(crate) type Explain<'a> =
     &'a dyn Fn(&[inari::Interval], f64, f64, Option<&Error>) -> Option<Error>;
+
+/// The widest box, relative to `1 + |x_i|` in each coordinate, whose refusals are worded by
+/// the scene's data ([spec (5.18)](crate::spec::enclosure)); a flow whose steps collapsed
+/// stops once its box is wider ([spec (5.18'')](crate::spec::enclosure)).
+pub(crate) const WIDEST: f64 = 1.0 / 64.0;
+
+/// The refusal of a flow whose box, after a step of size `h` that ended at `done`, is wider
+/// than [`WIDEST`] in some coordinate: what `explain` says of it, handed the refusal `the
+/// enclosure grew too wide` (reason `no_proof`) as it is handed the step limit's
+/// ([spec (5.18'')](crate::spec::enclosure)). `None` (the flow goes on) when the box is not
+/// that wide, or `explain` names no cause. Asked after each step once the steps collapsed, so
+/// `explain` keeps what it computes once per flow.
+fn hopeless<I: Ival>(
+    set: &LohnerSet<I>,
+    h: f64,
+    done: I,
+    explain: Option<Explain<'_>>,
+) -> Option<Error> {
+    let explain = explain?;
+    let x = hull_f64(&set.hull());
+    if x.iter().all(|x| x.wid() <= WIDEST * (1.0 + x.mag())) {
+        return None;
+    }
+    let e = Error::refused(Reason::NoProof, "the enclosure grew too wide");
+    explain(&x, h, done.inf(), Some(&e)).map(|e| e.reached(done.inf()))
+}
 
 /// A box of f64 intervals containing `x` (for [`Explain`], which only words a refusal).
 fn hull_f64<I: Ival>(x: &[I]) -> Vec<inari::Interval> {

@@ -25,7 +25,7 @@ pub use set::{LohnerSet, SubSet};
 pub use system::System;
 
 use crate::Error;
-pub(crate) use control::{too_many, Explain};
+pub(crate) use control::{too_many, Explain, WIDEST};
 use control::{flow_set_general, C1};
 use linalg::IMat;
 

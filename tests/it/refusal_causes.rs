@@ -70,36 +70,47 @@ fn the_discs_of_issues_47_and_49_are_refused_for_the_width() {
     // issue 49's numbers with the lean in position 3 (the user's disc had it in position
     // 2): lean <= 1.452 along the motion
     let (q49, u49) = ([-0.84, 0.0, 0.0, 0.63, 0.9], [0.0, 0.4, 0.85]);
-    // issue 47's: the steps collapse and the step limit is reached while the data hold near
-    // the state (spec (5.18')): the budget's reason (E17) and message, the cause `width`;
-    // issue 49's: the data fail on a box grown wide: E17's reason and message, cause `width`
-    for (q, u, t, reason, head) in [
-        (
-            &q47[..],
-            &u47[..],
-            2.0,
-            "budget",
-            "more than 20000 steps would be needed to reach t = 2; ",
-        ),
-        (
-            &q49[..],
-            &u49[..],
-            1.0,
-            "undefined",
-            "the flow cannot be carried on at t = ",
-        ),
-    ] {
-        let a = one(json!({"id": 1, "cmd": "flow", "scene": disc(), "q": q, "u": u, "t": t}));
+    // both: the steps collapse and the box grows past 2^-6 (1 + |q_i|) in a coordinate while
+    // a float solution is regular: refused at once (spec (5.18''), contract E34), before the
+    // step limit (issue 47's start used to reach it) or the data's failure on a box hundreds
+    // wide (issue 49's)
+    for (q, u) in [(&q47[..], &u47[..]), (&q49[..], &u49[..])] {
+        let a = one(json!({"id": 1, "cmd": "flow", "scene": disc(), "q": q, "u": u, "t": 2}));
         let e = refusal(&a);
         assert_eq!(e["cause"], "width", "{e}");
-        assert_eq!(e["reason"], reason, "{e}");
+        assert_eq!(e["reason"], "no_proof", "{e}");
         let m = e["message"].as_str().unwrap();
-        assert!(m.starts_with(head), "{m}");
+        assert!(m.starts_with("the enclosure grew too wide at t = "), "{m}");
+        assert!(m.contains("its steps had collapsed"), "{m}");
         assert!(
             m.ends_with("a higher precision (--precision 106) may answer"),
             "{m}"
         );
+        // the coordinate named is wider than 2^-6 (1 + |q_i|) and finite
+        let w: f64 = m
+            .split(" has width ")
+            .nth(1)
+            .and_then(|r| r.split(' ').next())
+            .and_then(|w| w.parse().ok())
+            .unwrap_or_else(|| panic!("{m}"));
+        assert!(w.is_finite() && w > 1.0 / 64.0, "{m}");
+        let reached = e["reached"].as_f64().unwrap();
+        assert!(0.0 < reached && reached < 2.0, "{e}");
+        // the time in the message is the one reached
+        assert!(m.contains(&format!("at t = {reached}:")), "{m}");
     }
+    // with stops: those before the refusal are answered in `at` (E25)
+    let a = one(
+        json!({"id": 1, "cmd": "flow", "scene": disc(), "q": q49, "u": u49, "times": [0.25, 0.5, 1]}),
+    );
+    let e = refusal(&a);
+    assert_eq!(
+        (&e["cause"], &e["reason"]),
+        (&json!("width"), &json!("no_proof"))
+    );
+    let at = e["at"].as_array().unwrap();
+    assert_eq!(at.len(), 2, "{e}");
+    assert!(e["reached"].as_f64().unwrap() > 0.5, "{e}");
 }
 
 #[test]
