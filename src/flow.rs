@@ -487,7 +487,7 @@ fn widest<'a>(model: &'a Model, x: &[inari::Interval]) -> Option<(&'a str, f64)>
     x.iter()
         .take(model.n)
         .zip(model.coordinates())
-        .find(|(q, _)| !(q.wid() <= crate::model::WIDEST * (1.0 + q.mag())))
+        .find(|(q, _)| q.wid().is_nan() || q.wid() > crate::model::WIDEST * (1.0 + q.mag()))
         .map(|(q, name)| (name.as_str(), q.wid()))
 }
 
