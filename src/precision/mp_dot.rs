@@ -1,0 +1,375 @@
+//! The fused dot product of [`MpInterval`]s: `acc + sum_j x_j y_j` (or `acc - sum`) with each
+//! end accumulated exactly in a fixed-point window and rounded once
+//! ([spec (12.2.8)](crate::spec::precision)).
+//!
+//! Each end of each product is the exact product of two ends (`Nat` multiplication: the
+//! significands are at most `L` limbs, the product at most `2 L`), chosen by the signs of the
+//! ends as in [`MpInterval::mul_ref`] (where both factors hold 0 inside, the larger in
+//! magnitude of the two exact candidates of each end, which have one sign). The ends
+//! are summed in a two's complement window of `K` limbs ([`Acc`]) whose lowest bit weighs `2^e`;
+//! bits of a term below the window are dropped by `floor` and counted, so the exact sum `S`
+//! always satisfies `v 2^e <= S <= (v + c) 2^e`. The lower end of the result is `v 2^e` rounded
+//! down once, the upper end `(v + c) 2^e` rounded up once.
+
+use super::limbs::Nat;
+use super::mp::MpInterval;
+use super::mp_float::{Mp, Round};
+use core::cmp::Ordering;
+
+/// A two's complement accumulator of `K` limbs at the weight `2^e` (see the module doc):
+/// the exact sum `S` of the terms added so far satisfies `v 2^e <= S <= (v + c) 2^e`, and
+/// `-2^H <= v < 2^H` with `H = 64 (K - 1) - 1` between additions.
+struct Acc<const K: usize> {
+    v: [u64; K],
+    e: i64,
+    c: u64,
+    started: bool,
+}
+
+impl<const K: usize> Acc<K> {
+    const H: i64 = 64 * (K as i64 - 1) - 1;
+
+    fn new() -> Acc<K> {
+        Acc {
+            v: [0; K],
+            e: 0,
+            c: 0,
+            started: false,
+        }
+    }
+
+    /// Whether `-2^H <= v < 2^H`: the top limb repeats the sign bit of the one below.
+    fn in_range(&self) -> bool {
+        self.v[K - 1] == ((self.v[K - 2] as i64) >> 63) as u64
+    }
+
+    /// `v <- floor(v / 2^(64 s))`, `e <- e + 64 s`; the bound `c` becomes `[c > 0] + [bits
+    /// dropped]` (12.2.8: the dropped part and `c` are each below one unit of the new weight).
+    fn shr_limbs(&mut self, s: u64) {
+        let sign = ((self.v[K - 1] as i64) >> 63) as u64;
+        let k = s.min(K as u64) as usize;
+        let dropped = self.v[..k].iter().any(|&d| d != 0);
+        self.v.copy_within(k.., 0);
+        self.v[K - k..].fill(sign);
+        self.e += 64 * s as i64;
+        self.c = (self.c > 0) as u64 + dropped as u64;
+    }
+
+    /// Adds the exact term `(-1)^neg m 2^me`, `m` the nonzero natural number of limbs `m`
+    /// (little-endian, top limb nonzero).
+    fn add_term(&mut self, neg: bool, m: &[u64], me: i64) {
+        let len = m.len();
+        let bits = 64 * len as i64 - m[len - 1].leading_zeros() as i64;
+        // |term| < 2^t
+        let t = me + bits;
+        if !self.started {
+            self.e = t - Self::H;
+            self.started = true;
+        }
+        if t - self.e > Self::H {
+            self.shr_limbs(((t - self.e - Self::H) as u64).div_ceil(64));
+        }
+        // w = |term| / 2^e, floored (ceiled for a negative term, so that v - w is the floor)
+        // w holds its limbs in [lo, hi) (zero elsewhere)
+        let mut w = [0u64; K];
+        let (lo, hi);
+        let d = me - self.e;
+        if d >= 0 {
+            // t - e <= H: m 2^d fits below limb K - 1
+            let (ws, bs) = ((d / 64) as usize, (d % 64) as u32);
+            for i in 0..len {
+                w[i + ws] |= m[i] << bs;
+                if bs > 0 && i + ws + 1 < K {
+                    w[i + ws + 1] |= m[i] >> (64 - bs);
+                }
+            }
+            (lo, hi) = (ws, (ws + len + 1).min(K));
+        } else {
+            let s = (-d) as u64;
+            let (ws, bs) = ((s / 64) as usize, (s % 64) as u32);
+            let dropped = if ws >= len {
+                true
+            } else {
+                let low =
+                    m[..ws].iter().any(|&x| x != 0) || (bs > 0 && m[ws] & ((1u64 << bs) - 1) != 0);
+                for i in 0..len - ws {
+                    let hi = if bs > 0 && i + ws + 1 < len {
+                        m[i + ws + 1] << (64 - bs)
+                    } else {
+                        0
+                    };
+                    w[i] = (m[i + ws] >> bs) | hi;
+                }
+                low
+            };
+            if dropped {
+                self.c += 1;
+                if neg {
+                    add_small(&mut w, 1);
+                }
+            }
+            (lo, hi) = (0, (len.saturating_sub(ws) + 1).min(K));
+        }
+        // v <- v -+ w modulo 2^(64 K): the limbs of w, then the carry (borrow) upward
+        if neg {
+            let mut borrow = false;
+            for i in lo..K {
+                if i >= hi && !borrow {
+                    break;
+                }
+                let (x, b1) = self.v[i].overflowing_sub(w[i]);
+                let (x, b2) = x.overflowing_sub(borrow as u64);
+                self.v[i] = x;
+                borrow = b1 || b2;
+            }
+        } else {
+            let mut carry = false;
+            for i in lo..K {
+                if i >= hi && !carry {
+                    break;
+                }
+                let (x, c1) = self.v[i].overflowing_add(w[i]);
+                let (x, c2) = x.overflowing_add(carry as u64);
+                self.v[i] = x;
+                carry = c1 || c2;
+            }
+        }
+        // |v| < 2^H + 2^H: no overflow of the K limbs; one limb down restores the range
+        if !self.in_range() {
+            self.shr_limbs(1);
+        }
+    }
+
+    /// Adds the exact value of a finite `x` times `(-1)^neg`.
+    fn add_mp(&mut self, x: &Mp, neg: bool) {
+        if x.is_zero() {
+            return;
+        }
+        let (s, m, e) = x.parts();
+        self.add_term(s != neg, m, e);
+    }
+
+    /// Adds the exact product `u v` times `(-1)^neg`; `false` if the product does not fit in
+    /// `K` limbs (the caller then takes the stepwise path).
+    fn add_product(&mut self, u: &Mp, v: &Mp, neg: bool) -> bool {
+        match product::<K>(u, v) {
+            Some(Some((s, m, e))) => {
+                self.add_term(s != neg, m.limbs(), e);
+                true
+            }
+            Some(None) => true,
+            None => false,
+        }
+    }
+
+    /// Adds the one of the exact products `u1 v1`, `u2 v2` (of one sign) of the larger
+    /// magnitude, times `(-1)^neg`; `false` if a product does not fit in `K` limbs.
+    fn add_larger(&mut self, u1: &Mp, v1: &Mp, u2: &Mp, v2: &Mp, neg: bool) -> bool {
+        let (Some(a), Some(b)) = (product::<K>(u1, v1), product::<K>(u2, v2)) else {
+            return false;
+        };
+        let big = match (a, b) {
+            (None, None) => return true,
+            (Some(a), None) => a,
+            (None, Some(b)) => b,
+            (Some(a), Some(b)) => {
+                if mag_cmp(&a, &b) == Ordering::Less {
+                    b
+                } else {
+                    a
+                }
+            }
+        };
+        self.add_term(big.0 != neg, big.1.limbs(), big.2);
+        true
+    }
+
+    /// `v 2^e` rounded down (`Round::Down`) or `(v + c) 2^e` rounded up, to `prec` bits.
+    fn finish(&self, prec: u32, mode: Round) -> Mp {
+        if !self.started {
+            return Mp::zero();
+        }
+        let mut x = self.v;
+        if mode == Round::Up {
+            add_small(&mut x, self.c);
+        }
+        let neg = (x[K - 1] as i64) < 0;
+        if neg {
+            // two's complement magnitude: !x + 1
+            for d in x.iter_mut() {
+                *d = !*d;
+            }
+            add_small(&mut x, 1);
+        }
+        Mp::round_nat(neg, Nat::<K>::from_limbs(&x), self.e, prec, mode)
+    }
+}
+
+/// An exact product `(sign, significand, exponent)`.
+type Exact<const K: usize> = (bool, Nat<K>, i64);
+
+/// The exact product `u v`: `Some(None)` when it is zero, `None` when it does not fit in `K`
+/// limbs.
+fn product<const K: usize>(u: &Mp, v: &Mp) -> Option<Option<Exact<K>>> {
+    if u.is_zero() || v.is_zero() {
+        return Some(None);
+    }
+    let (su, mu, eu) = u.parts();
+    let (sv, mv, ev) = v.parts();
+    if mu.len() + mv.len() > K {
+        return None;
+    }
+    // schoolbook product straight from the limbs (12.2.0)
+    let mut r = [0u64; K];
+    for (i, &a) in mu.iter().enumerate() {
+        let mut carry = 0u128;
+        for (j, &b) in mv.iter().enumerate() {
+            let t = a as u128 * b as u128 + r[i + j] as u128 + carry;
+            r[i + j] = t as u64;
+            carry = t >> 64;
+        }
+        r[i + mv.len()] = carry as u64;
+    }
+    let m = Nat::<K>::from_array(r, mu.len() + mv.len());
+    Some(Some((su != sv, m, eu + ev)))
+}
+
+/// `|a|` against `|b|` for nonzero exact products: by their tops, then (equal tops) by the
+/// significands aligned at the smaller exponent (the shift is below the longer one's bits, so
+/// it fits in `K` limbs).
+fn mag_cmp<const K: usize>(a: &Exact<K>, b: &Exact<K>) -> Ordering {
+    let (ta, tb) = (a.2 + a.1.bits() as i64, b.2 + b.1.bits() as i64);
+    if ta != tb {
+        return ta.cmp(&tb);
+    }
+    // one sign: at equal tops the shift is that of the longer significand
+    if a.2 == b.2 {
+        a.1.cmp(&b.1)
+    } else if a.2 > b.2 {
+        a.1.shl((a.2 - b.2) as u64).cmp(&b.1)
+    } else {
+        a.1.cmp(&b.1.shl((b.2 - a.2) as u64))
+    }
+}
+
+/// `x <- x + a` in two's complement (wrapping).
+fn add_small<const K: usize>(x: &mut [u64; K], a: u64) {
+    let mut carry = a;
+    for d in x.iter_mut() {
+        if carry == 0 {
+            break;
+        }
+        let (s, c) = d.overflowing_add(carry);
+        *d = s;
+        carry = c as u64;
+    }
+}
+
+/// One end of the range of a product of intervals: the exact product of two ends, or (both
+/// factors holding 0 inside) the larger in magnitude of two exact products of one sign.
+enum End<'a> {
+    Prod(&'a Mp, &'a Mp),
+    Larger(&'a Mp, &'a Mp, &'a Mp, &'a Mp),
+}
+
+/// The lower and upper ends of `x y` for finite non-empty intervals, by the signs of the ends
+/// (the cases of [`MpInterval::mul_ref`], 12.2.2).
+fn product_ends<'a>(x: &'a MpInterval, y: &'a MpInterval) -> (End<'a>, End<'a>) {
+    use End::Prod;
+    let (a, b, c, d) = (&x.lo, &x.hi, &y.lo, &y.hi);
+    if !a.is_negative() {
+        if !c.is_negative() {
+            (Prod(a, c), Prod(b, d))
+        } else if !d.is_positive() {
+            (Prod(b, c), Prod(a, d))
+        } else {
+            (Prod(b, c), Prod(b, d))
+        }
+    } else if !b.is_positive() {
+        if !c.is_negative() {
+            (Prod(a, d), Prod(b, c))
+        } else if !d.is_positive() {
+            (Prod(b, d), Prod(a, c))
+        } else {
+            (Prod(a, d), Prod(a, c))
+        }
+    } else if !c.is_negative() {
+        (Prod(a, d), Prod(b, d))
+    } else if !d.is_positive() {
+        (Prod(b, c), Prod(a, c))
+    } else {
+        // a < 0 < b, c < 0 < d: the lower end min(a d, b c) (both < 0), the upper max(a c,
+        // b d) (both > 0)
+        (End::Larger(a, d, b, c), End::Larger(a, c, b, d))
+    }
+}
+
+fn add_end<const K: usize>(acc: &mut Acc<K>, end: &End, neg: bool) -> bool {
+    match end {
+        End::Prod(u, v) => acc.add_product(u, v, neg),
+        End::Larger(u1, v1, u2, v2) => acc.add_larger(u1, v1, u2, v2, neg),
+    }
+}
+
+fn bounded(x: &MpInterval) -> bool {
+    !x.is_empty() && x.lo.is_finite() && x.hi.is_finite()
+}
+
+fn dot_in<'a, const K: usize>(
+    acc: &MpInterval,
+    neg: bool,
+    pairs: impl Iterator<Item = (&'a MpInterval, &'a MpInterval)>,
+    p: u32,
+) -> Option<MpInterval> {
+    let (mut lo, mut hi) = (Acc::<K>::new(), Acc::<K>::new());
+    lo.add_mp(&acc.lo, false);
+    hi.add_mp(&acc.hi, false);
+    for (x, y) in pairs {
+        if x.is_exact_zero() || y.is_exact_zero() {
+            continue;
+        }
+        if !bounded(x) || !bounded(y) {
+            return None;
+        }
+        let (l, h) = product_ends(x, y);
+        // acc + x y: lower + l, upper + h; acc - x y: lower - h, upper - l
+        let ok = if neg {
+            add_end(&mut lo, &h, true) && add_end(&mut hi, &l, true)
+        } else {
+            add_end(&mut lo, &l, false) && add_end(&mut hi, &h, false)
+        };
+        if !ok {
+            return None;
+        }
+    }
+    Some(MpInterval::raw(
+        lo.finish(p, Round::Down),
+        hi.finish(p, Round::Up),
+        p,
+    ))
+}
+
+impl MpInterval {
+    /// `acc + sum x_j y_j` (`acc - sum` when `neg`) at `p` bits, each end summed exactly in a
+    /// fixed window and rounded outward once (12.2.8); the terms with an exactly zero factor
+    /// are skipped. `None` when an operand is empty or unbounded, or a significand is longer
+    /// than `p` bits allow (the caller then computes term by term).
+    pub fn dot_acc<'a>(
+        acc: &MpInterval,
+        neg: bool,
+        pairs: impl Iterator<Item = (&'a MpInterval, &'a MpInterval)>,
+        p: u32,
+    ) -> Option<MpInterval> {
+        if !bounded(acc) {
+            return None;
+        }
+        // K >= 2 L + 2 limbs, L the limbs of a p-bit significand
+        match (p as usize).div_ceil(64) {
+            0..=3 => dot_in::<8>(acc, neg, pairs, p),
+            4..=5 => dot_in::<12>(acc, neg, pairs, p),
+            6..=9 => dot_in::<20>(acc, neg, pairs, p),
+            10..=17 => dot_in::<36>(acc, neg, pairs, p),
+            _ => None,
+        }
+    }
+}
