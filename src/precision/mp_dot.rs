@@ -165,6 +165,14 @@ impl<const K: usize> Acc<K> {
     /// Adds the one of the exact products `u1 v1`, `u2 v2` (of one sign) of the larger
     /// magnitude, times `(-1)^neg`; `false` if a product does not fit in `K` limbs.
     fn add_larger(&mut self, u1: &Mp, v1: &Mp, u2: &Mp, v2: &Mp, neg: bool) -> bool {
+        // the four are nonzero; |u v| lies in [2^(top u + top v - 2), 2^(top u + top v))
+        let (t1, t2) = (u1.top() + v1.top(), u2.top() + v2.top());
+        if t1 >= t2 + 2 {
+            return self.add_product(u1, v1, neg);
+        }
+        if t2 >= t1 + 2 {
+            return self.add_product(u2, v2, neg);
+        }
         let (Some(a), Some(b)) = (product::<K>(u1, v1), product::<K>(u2, v2)) else {
             return false;
         };
@@ -221,14 +229,16 @@ fn product<const K: usize>(u: &Mp, v: &Mp) -> Option<Option<Exact<K>>> {
     }
     // schoolbook product straight from the limbs (12.2.0)
     let mut r = [0u64; K];
+    let n = mv.len();
     for (i, &a) in mu.iter().enumerate() {
+        let row = &mut r[i..i + n + 1];
         let mut carry = 0u128;
-        for (j, &b) in mv.iter().enumerate() {
-            let t = a as u128 * b as u128 + r[i + j] as u128 + carry;
-            r[i + j] = t as u64;
+        for (rj, &b) in row[..n].iter_mut().zip(mv) {
+            let t = a as u128 * b as u128 + *rj as u128 + carry;
+            *rj = t as u64;
             carry = t >> 64;
         }
-        r[i + mv.len()] = carry as u64;
+        row[n] = carry as u64;
     }
     let m = Nat::<K>::from_array(r, mu.len() + mv.len());
     Some(Some((su != sv, m, eu + ev)))
@@ -311,6 +321,11 @@ fn add_end<const K: usize>(acc: &mut Acc<K>, end: &End, neg: bool) -> bool {
     }
 }
 
+/// Whether a bounded interval is one number.
+fn is_point(x: &MpInterval) -> bool {
+    x.lo.parts() == x.hi.parts()
+}
+
 fn bounded(x: &MpInterval) -> bool {
     !x.is_empty() && x.lo.is_finite() && x.hi.is_finite()
 }
@@ -330,6 +345,18 @@ fn dot_in<'a, const K: usize>(
         }
         if !bounded(x) || !bounded(y) {
             return None;
+        }
+        if is_point(x) && is_point(y) {
+            // one exact product is both ends
+            match product::<K>(&x.lo, &y.lo) {
+                None => return None,
+                Some(None) => {}
+                Some(Some((s, m, e))) => {
+                    lo.add_term(s != neg, m.limbs(), e);
+                    hi.add_term(s != neg, m.limbs(), e);
+                }
+            }
+            continue;
         }
         let (l, h) = product_ends(x, y);
         // acc + x y: lower + l, upper + h; acc - x y: lower - h, upper - l
