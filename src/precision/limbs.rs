@@ -41,14 +41,6 @@ impl<const N: usize> Nat<N> {
         r
     }
 
-    /// The number with the limbs `d`, of which those from `len` up are zero.
-    pub(crate) fn from_array(d: [u64; N], len: usize) -> Nat<N> {
-        debug_assert!(d[len.min(N)..].iter().all(|&x| x == 0));
-        let mut r = Nat { len: len.min(N), d };
-        r.trim();
-        r
-    }
-
     /// The limbs in use, little-endian.
     pub(crate) fn limbs(&self) -> &[u64] {
         &self.d[..self.len]

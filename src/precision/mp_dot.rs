@@ -152,9 +152,10 @@ impl<const K: usize> Acc<K> {
     /// Adds the exact product `u v` times `(-1)^neg`; `false` if the product does not fit in
     /// `K` limbs (the caller then takes the stepwise path).
     fn add_product(&mut self, u: &Mp, v: &Mp, neg: bool) -> bool {
-        match product::<K>(u, v) {
-            Some(Some((s, m, e))) => {
-                self.add_term(s != neg, m.limbs(), e);
+        let mut r = [0u64; K];
+        match product(u, v, &mut r) {
+            Some(Some((s, n, e))) => {
+                self.add_term(s != neg, &r[..n], e);
                 true
             }
             Some(None) => true,
@@ -173,22 +174,23 @@ impl<const K: usize> Acc<K> {
         if t2 >= t1 + 2 {
             return self.add_product(u2, v2, neg);
         }
-        let (Some(a), Some(b)) = (product::<K>(u1, v1), product::<K>(u2, v2)) else {
+        let (mut r1, mut r2) = ([0u64; K], [0u64; K]);
+        let (Some(a), Some(b)) = (product(u1, v1, &mut r1), product(u2, v2, &mut r2)) else {
             return false;
         };
-        let big = match (a, b) {
+        let (s, m, e) = match (a, b) {
             (None, None) => return true,
-            (Some(a), None) => a,
-            (None, Some(b)) => b,
-            (Some(a), Some(b)) => {
-                if mag_cmp(&a, &b) == Ordering::Less {
-                    b
+            (Some((s, n, e)), None) => (s, &r1[..n], e),
+            (None, Some((s, n, e))) => (s, &r2[..n], e),
+            (Some((s1, n1, e1)), Some((s2, n2, e2))) => {
+                if mag_cmp::<K>(&r1[..n1], e1, &r2[..n2], e2) == Ordering::Less {
+                    (s2, &r2[..n2], e2)
                 } else {
-                    a
+                    (s1, &r1[..n1], e1)
                 }
             }
         };
-        self.add_term(big.0 != neg, big.1.limbs(), big.2);
+        self.add_term(s != neg, m, e);
         true
     }
 
@@ -213,22 +215,20 @@ impl<const K: usize> Acc<K> {
     }
 }
 
-/// An exact product `(sign, significand, exponent)`.
-type Exact<const K: usize> = (bool, Nat<K>, i64);
-
-/// The exact product `u v`: `Some(None)` when it is zero, `None` when it does not fit in `K`
-/// limbs.
-fn product<const K: usize>(u: &Mp, v: &Mp) -> Option<Option<Exact<K>>> {
+/// The exact product `u v` written in `r` (its limbs `r[..n]`, the top one nonzero): `(sign,
+/// n, exponent)`; `Some(None)` when it is zero, `None` when it does not fit in `K` limbs.
+fn product<const K: usize>(u: &Mp, v: &Mp, r: &mut [u64; K]) -> Option<Option<(bool, usize, i64)>> {
     if u.is_zero() || v.is_zero() {
         return Some(None);
     }
     let (su, mu, eu) = u.parts();
     let (sv, mv, ev) = v.parts();
-    if mu.len() + mv.len() > K {
+    let mut len = mu.len() + mv.len();
+    if len > K {
         return None;
     }
-    // schoolbook product straight from the limbs (12.2.0)
-    let mut r = [0u64; K];
+    // schoolbook product straight from the limbs (12.2.0), in place
+    r[..len].fill(0);
     let n = mv.len();
     for (i, &a) in mu.iter().enumerate() {
         let row = &mut r[i..i + n + 1];
@@ -240,25 +240,28 @@ fn product<const K: usize>(u: &Mp, v: &Mp) -> Option<Option<Exact<K>>> {
         }
         row[n] = carry as u64;
     }
-    let m = Nat::<K>::from_array(r, mu.len() + mv.len());
-    Some(Some((su != sv, m, eu + ev)))
+    while len > 0 && r[len - 1] == 0 {
+        len -= 1;
+    }
+    Some(Some((su != sv, len, eu + ev)))
 }
 
-/// `|a|` against `|b|` for nonzero exact products: by their tops, then (equal tops) by the
-/// significands aligned at the smaller exponent (the shift is below the longer one's bits, so
-/// it fits in `K` limbs).
-fn mag_cmp<const K: usize>(a: &Exact<K>, b: &Exact<K>) -> Ordering {
-    let (ta, tb) = (a.2 + a.1.bits() as i64, b.2 + b.1.bits() as i64);
+/// `|a| 2^ea` against `|b| 2^eb` for nonzero significands (limbs, top one nonzero): by their
+/// tops, then (equal tops) by the significands aligned at the smaller exponent (the shift is
+/// below the longer one's bits, so it fits in `K` limbs).
+fn mag_cmp<const K: usize>(a: &[u64], ea: i64, b: &[u64], eb: i64) -> Ordering {
+    let (a, b) = (Nat::<K>::from_limbs(a), Nat::<K>::from_limbs(b));
+    let (ta, tb) = (ea + a.bits() as i64, eb + b.bits() as i64);
     if ta != tb {
         return ta.cmp(&tb);
     }
     // one sign: at equal tops the shift is that of the longer significand
-    if a.2 == b.2 {
-        a.1.cmp(&b.1)
-    } else if a.2 > b.2 {
-        a.1.shl((a.2 - b.2) as u64).cmp(&b.1)
+    if ea == eb {
+        a.cmp(&b)
+    } else if ea > eb {
+        a.shl((ea - eb) as u64).cmp(&b)
     } else {
-        a.1.cmp(&b.1.shl((b.2 - a.2) as u64))
+        a.cmp(&b.shl((eb - ea) as u64))
     }
 }
 
@@ -348,12 +351,13 @@ fn dot_in<'a, const K: usize>(
         }
         if is_point(x) && is_point(y) {
             // one exact product is both ends
-            match product::<K>(&x.lo, &y.lo) {
+            let mut r = [0u64; K];
+            match product(&x.lo, &y.lo, &mut r) {
                 None => return None,
                 Some(None) => {}
-                Some(Some((s, m, e))) => {
-                    lo.add_term(s != neg, m.limbs(), e);
-                    hi.add_term(s != neg, m.limbs(), e);
+                Some(Some((s, n, e))) => {
+                    lo.add_term(s != neg, &r[..n], e);
+                    hi.add_term(s != neg, &r[..n], e);
                 }
             }
             continue;
