@@ -250,15 +250,18 @@ fn product<const K: usize>(u: &Mp, v: &Mp, r: &mut [u64; K]) -> Option<Option<(b
 /// tops, then (equal tops) by the significands aligned at the smaller exponent (the shift is
 /// below the longer one's bits, so it fits in `K` limbs).
 fn mag_cmp<const K: usize>(a: &[u64], ea: i64, b: &[u64], eb: i64) -> Ordering {
-    let (a, b) = (Nat::<K>::from_limbs(a), Nat::<K>::from_limbs(b));
-    let (ta, tb) = (ea + a.bits() as i64, eb + b.bits() as i64);
+    let bits = |m: &[u64]| 64 * m.len() as i64 - m[m.len() - 1].leading_zeros() as i64;
+    let (ta, tb) = (ea + bits(a), eb + bits(b));
     if ta != tb {
         return ta.cmp(&tb);
     }
-    // one sign: at equal tops the shift is that of the longer significand
     if ea == eb {
-        a.cmp(&b)
-    } else if ea > eb {
+        // equal tops and exponents: equal lengths, compared from the top limb
+        return a.iter().rev().cmp(b.iter().rev());
+    }
+    let (a, b) = (Nat::<K>::from_limbs(a), Nat::<K>::from_limbs(b));
+    // one sign: at equal tops the shift is that of the longer significand
+    if ea > eb {
         a.shl((ea - eb) as u64).cmp(&b)
     } else {
         a.cmp(&b.shl((eb - ea) as u64))
@@ -312,8 +315,25 @@ fn product_ends<'a>(x: &'a MpInterval, y: &'a MpInterval) -> (End<'a>, End<'a>) 
         (Prod(b, c), Prod(a, c))
     } else {
         // a < 0 < b, c < 0 < d: the lower end min(a d, b c) (both < 0), the upper max(a c,
-        // b d) (both > 0)
-        (End::Larger(a, d, b, c), End::Larger(a, c, b, d))
+        // b d) (both > 0); when a = -b (c = -d) the larger magnitude is that of the larger of
+        // |c|, d (|a|, b), no product needed
+        if opposite(a, b) {
+            // |a d| >= |b c| and |b d| >= |a c| both when d >= |c|
+            if mag_ge(d, c) {
+                (Prod(a, d), Prod(b, d))
+            } else {
+                (Prod(b, c), Prod(a, c))
+            }
+        } else if opposite(c, d) {
+            // |a d| >= |b c| and |a c| >= |b d| both when |a| >= b
+            if mag_ge(a, b) {
+                (Prod(a, d), Prod(a, c))
+            } else {
+                (Prod(b, c), Prod(b, d))
+            }
+        } else {
+            (End::Larger(a, d, b, c), End::Larger(a, c, b, d))
+        }
     }
 }
 
@@ -322,6 +342,17 @@ fn add_end<const K: usize>(acc: &mut Acc<K>, end: &End, neg: bool) -> bool {
         End::Prod(u, v) => acc.add_product(u, v, neg),
         End::Larger(u1, v1, u2, v2) => acc.add_larger(u1, v1, u2, v2, neg),
     }
+}
+
+/// Whether `x = -y` (finite, nonzero).
+fn opposite(x: &Mp, y: &Mp) -> bool {
+    let ((sx, mx, ex), (sy, my, ey)) = (x.parts(), y.parts());
+    sx != sy && ex == ey && mx == my
+}
+
+/// Whether `|x| >= |y|`.
+fn mag_ge(x: &Mp, y: &Mp) -> bool {
+    x.abs() >= y.abs()
 }
 
 /// Whether a bounded interval is one number.

@@ -123,8 +123,10 @@ impl Gen {
 
     fn interval(&mut self, p: u32) -> MpInterval {
         let a = self.mp(p);
-        match self.next() % 4 {
+        match self.next() % 5 {
             0 => MpInterval::point(&a, p),
+            // symmetric about 0 (a product's ends then need no comparison of products)
+            4 => MpInterval::new(&a.abs().neg(), &a.abs(), p).unwrap(),
             1 => {
                 // a narrow interval: a and a number near it
                 let d = Mp::from_parts(
