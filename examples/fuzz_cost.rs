@@ -24,7 +24,10 @@ fn main() {
         ("batch_line", dalembert::fuzzing::batch_line),
         ("scene_file", dalembert::fuzzing::scene_file),
         ("precision_step", dalembert::fuzzing::precision_step),
-        ("precision_wide_step", dalembert::fuzzing::precision_wide_step),
+        (
+            "precision_wide_step",
+            dalembert::fuzzing::precision_wide_step,
+        ),
     ];
     for (name, check) in targets {
         if only.as_deref().is_some_and(|o| o != name) {

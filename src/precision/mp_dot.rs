@@ -174,6 +174,11 @@ impl<const K: usize> Acc<K> {
         if t2 >= t1 + 2 {
             return self.add_product(u2, v2, neg);
         }
+        match quick_larger(u1, v1, u2, v2, t1, t2) {
+            Some(true) => return self.add_product(u1, v1, neg),
+            Some(false) => return self.add_product(u2, v2, neg),
+            None => {}
+        }
         let (mut r1, mut r2) = ([0u64; K], [0u64; K]);
         let (Some(a), Some(b)) = (product(u1, v1, &mut r1), product(u2, v2, &mut r2)) else {
             return false;
@@ -341,6 +346,50 @@ fn add_end<const K: usize>(acc: &mut Acc<K>, end: &End, neg: bool) -> bool {
     match end {
         End::Prod(u, v) => acc.add_product(u, v, neg),
         End::Larger(u1, v1, u2, v2) => acc.add_larger(u1, v1, u2, v2, neg),
+    }
+}
+
+/// The leading 64 bits of the significand of a finite nonzero `x`: `|x| = (T + f) 2^(top - 64)`
+/// with `0 <= f < 1`.
+fn top64(x: &Mp) -> u64 {
+    let (_, m, _) = x.parts();
+    let n = m.len();
+    let lz = m[n - 1].leading_zeros();
+    if lz == 0 {
+        m[n - 1]
+    } else if n == 1 {
+        m[0] << lz
+    } else {
+        (m[n - 1] << lz) | (m[n - 2] >> (64 - lz))
+    }
+}
+
+/// `[l, h)` with `|u v|` in `[l, h) 2^(top u + top v - 128)`: `Tu Tv <= |u v| / 2^(...) <
+/// (Tu + 1)(Tv + 1)`; `None` if `h` does not fit in 128 bits.
+fn product_range(u: &Mp, v: &Mp) -> Option<(u128, u128)> {
+    let (a, b) = (top64(u) as u128, top64(v) as u128);
+    let l = a * b;
+    Some((l, l.checked_add(a + b + 1)?))
+}
+
+/// Whether `|u1 v1| > |u2 v2|` (`Some(true)`) or `|u2 v2| > |u1 v1|` (`Some(false)`) as the
+/// ranges of [`product_range`] show, for tops `t1`, `t2` at most 1 apart; `None` when the
+/// ranges meet (the exact products decide).
+fn quick_larger(u1: &Mp, v1: &Mp, u2: &Mp, v2: &Mp, t1: i64, t2: i64) -> Option<bool> {
+    let (mut l1, mut h1) = product_range(u1, v1)?;
+    let (mut l2, mut h2) = product_range(u2, v2)?;
+    // both at the weight 2^(max(t1, t2) - 128): floor of the lower bound, ceiling of the upper
+    if t1 > t2 {
+        (l2, h2) = (l2 >> 1, (h2 >> 1) + (h2 & 1));
+    } else if t2 > t1 {
+        (l1, h1) = (l1 >> 1, (h1 >> 1) + (h1 & 1));
+    }
+    if l1 >= h2 {
+        Some(true)
+    } else if l2 >= h1 {
+        Some(false)
+    } else {
+        None
     }
 }
 

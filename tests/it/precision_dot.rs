@@ -317,3 +317,36 @@ fn unbounded_or_empty_operands_are_left_to_the_stepwise_path() {
         Some(one)
     );
 }
+
+/// Products of two intervals holding 0 inside whose ends are close in magnitude: the ends of
+/// each product are decided by their leading bits or, when those cannot tell, exactly.
+#[test]
+fn straddling_products_with_close_ends() {
+    let mut g = Gen(1_046);
+    let mut tight = 0;
+    for case in 0..1500 {
+        let p = [113u32, 160, 256, 512, 1024][case % 5];
+        let end = |g: &mut Gen| {
+            let bits = 1 + (g.next() % p as u64) as u32;
+            let mut m = BigUint::from(0u32);
+            for _ in 0..bits.div_ceil(64) {
+                m = (m << 64u32) + g.next();
+            }
+            let m = (m >> (64 * bits.div_ceil(64) - bits)) | (BigUint::from(1u32) << (bits - 1));
+            // magnitudes in [1/2, 2): the products' tops at most 1 apart, often equal
+            let e = -(bits as i64) + (g.next() % 2) as i64;
+            Mp::from_parts(false, m, e, p, Round::Near)
+        };
+        let straddle = |g: &mut Gen| {
+            let (a, b) = (end(g), end(g));
+            MpInterval::new(&a.neg(), &b, p).unwrap()
+        };
+        let acc = MpInterval::from_f64(0.0, p);
+        let n = 1 + (g.next() % 4) as usize;
+        let pairs: Vec<_> = (0..n)
+            .map(|_| (straddle(&mut g), straddle(&mut g)))
+            .collect();
+        tight += check(&acc, g.next() & 1 == 0, &pairs);
+    }
+    assert!(tight > 2800, "{tight}");
+}
