@@ -17,12 +17,17 @@ type Check = fn(&[u8]) -> dalembert::fuzzing::Tally;
 
 fn main() {
     let only = std::env::args().nth(1);
-    let targets: [(&str, Check); 5] = [
+    let targets: [(&str, Check); 7] = [
         ("newton_step", dalembert::fuzzing::newton_step),
         ("retraction", dalembert::fuzzing::retraction),
         ("scenes_step", dalembert::fuzzing::scenes_step),
         ("batch_line", dalembert::fuzzing::batch_line),
         ("scene_file", dalembert::fuzzing::scene_file),
+        ("precision_step", dalembert::fuzzing::precision_step),
+        (
+            "precision_wide_step",
+            dalembert::fuzzing::precision_wide_step,
+        ),
     ];
     for (name, check) in targets {
         if only.as_deref().is_some_and(|o| o != name) {

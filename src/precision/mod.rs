@@ -16,6 +16,7 @@ mod dd_elementary;
 mod limbs;
 pub mod mp;
 mod mp_decimal;
+mod mp_dot;
 mod mp_elem;
 pub mod mp_float;
 pub mod wide;

@@ -25,7 +25,7 @@ pub struct MpInterval {
 pub const MIN_PREC: u32 = 8;
 
 impl MpInterval {
-    fn raw(lo: Mp, hi: Mp, prec: u32) -> MpInterval {
+    pub(super) fn raw(lo: Mp, hi: Mp, prec: u32) -> MpInterval {
         MpInterval { lo, hi, prec }
     }
 

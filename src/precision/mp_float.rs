@@ -321,6 +321,23 @@ impl Mp {
         self.man.resize()
     }
 
+    /// The canonical form `(sign, significand limbs, exponent)` of a finite number (the fused
+    /// dot product of `mp_dot.rs` reads its operands exactly).
+    pub(super) fn parts(&self) -> (bool, &[u64], i64) {
+        (self.neg, self.man.limbs(), self.exp)
+    }
+
+    /// `(-1)^neg man 2^exp` (exact) rounded once to `prec` bits in direction `mode` (12.2.1).
+    pub(super) fn round_nat<const N: usize>(
+        neg: bool,
+        man: Nat<N>,
+        exp: i64,
+        prec: u32,
+        mode: Round,
+    ) -> Mp {
+        round_parts(neg, man, exp, prec as u64, -EXP_LIMIT, EXP_LIMIT, mode)
+    }
+
     /// Whether this is zero.
     pub fn is_zero(&self) -> bool {
         !self.inf && self.man.is_zero()

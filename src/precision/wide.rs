@@ -209,12 +209,19 @@ impl WideInterval {
         WideInterval(self.0.hull(&other.0))
     }
 
-    /// `self + a b`, outward rounded.
+    /// `self + a b`, outward rounded: the fused dot product of one term (each end the exact
+    /// sum rounded once, [spec (12.2.8)](crate::spec::precision)).
     pub fn mul_acc(&self, a: &WideInterval, b: &WideInterval) -> WideInterval {
-        WideInterval(a.0.mul_add(&b.0, &self.0))
+        let p = self.0.prec().max(a.0.prec()).max(b.0.prec());
+        match MpInterval::dot_acc(&self.0, false, core::iter::once((&a.0, &b.0)), p) {
+            Some(r) => WideInterval(r),
+            None => WideInterval(a.0.mul_add(&b.0, &self.0)),
+        }
     }
 
-    /// `acc + sum_j x_j y_{n-1-j}` (`acc - ...` when `neg`), each operation outward rounded.
+    /// `acc + sum_j x_j y_{n-1-j}` (`acc - ...` when `neg`): the fused dot product, each end
+    /// summed exactly and rounded once ([spec (12.2.8)](crate::spec::precision)); with an
+    /// empty or unbounded operand, each operation outward rounded in turn.
     pub fn conv(
         acc: &WideInterval,
         neg: bool,
@@ -222,12 +229,19 @@ impl WideInterval {
         y: &[WideInterval],
     ) -> WideInterval {
         let n = x.len();
+        let pairs = || (0..n).map(|j| (&x[j].0, &y[n - 1 - j].0));
+        let p = pairs().fold(acc.0.prec().max(bits()), |p, (a, b)| {
+            p.max(a.prec()).max(b.prec())
+        });
+        if let Some(r) = MpInterval::dot_acc(&acc.0, neg, pairs(), p) {
+            return WideInterval(r);
+        }
         let mut s = MpInterval::from_f64(0.0, bits());
-        for j in 0..n {
-            if x[j].is_exact_zero() || y[n - 1 - j].is_exact_zero() {
+        for (a, b) in pairs() {
+            if a.is_exact_zero() || b.is_exact_zero() {
                 continue;
             }
-            s = x[j].0.mul_add(&y[n - 1 - j].0, &s);
+            s = a.mul_add(b, &s);
         }
         WideInterval(if neg {
             acc.0.sub_ref(&s)

@@ -30,6 +30,7 @@ mod input_readers;
 mod knife_eps;
 mod oracle_properties;
 mod precision_dd;
+mod precision_dot;
 mod precision_fixed;
 mod precision_flow;
 mod precision_mp;

@@ -1,0 +1,352 @@
+//! The fused dot product of arbitrary precision intervals (`MpInterval::dot_acc`, spec
+//! (12.2.8)) against exact rational arithmetic (`num-bigint`): each end on its side of the
+//! exact end of the range, at most one step of the precision outside the tightest, and never
+//! wider than the term-by-term computation it replaces; at the extremes: carries and borrows
+//! through every limb, cancellation to zero, the largest and smallest exponents, subnormal
+//! doubles, sums one unit from a rounding boundary.
+
+use dalembert::precision::mp::{Mp, MpInterval, Round};
+use num_bigint::{BigInt, BigUint, Sign};
+
+/// Values are compared as integers scaled by `2^SCALE` (every exponent of the random tests is
+/// above `-SCALE / 2`).
+const SCALE: i64 = 8000;
+
+fn scaled(m: &Mp) -> BigInt {
+    let sign = if m.is_negative() {
+        Sign::Minus
+    } else {
+        Sign::Plus
+    };
+    let man = BigInt::from_biguint(sign, m.mantissa());
+    let s = m.exponent() + SCALE;
+    assert!(s >= 0);
+    man << (s as u64)
+}
+
+/// `n 2^-SCALE` rounded to `p` bits in direction `mode`.
+fn round_scaled(n: &BigInt, p: u32, mode: Round) -> Mp {
+    Mp::from_parts(
+        n.sign() == Sign::Minus,
+        n.magnitude().clone(),
+        -SCALE,
+        p,
+        mode,
+    )
+}
+
+/// The next `p`-bit number beyond `x` in direction `mode` (`x` nonzero).
+fn next(x: &Mp, p: u32, mode: Round) -> Mp {
+    let tiny = Mp::from_parts(false, BigUint::from(1u32), x.top() - 4 * p as i64, p, mode);
+    match mode {
+        Round::Up => x.add(&tiny, p, Round::Up).unwrap(),
+        _ => x.sub(&tiny, p, Round::Down).unwrap(),
+    }
+}
+
+/// The term-by-term computation the fused product replaces: each product and sum rounded.
+fn stepwise(acc: &MpInterval, neg: bool, pairs: &[(MpInterval, MpInterval)]) -> MpInterval {
+    let mut s = MpInterval::from_f64(0.0, acc.prec());
+    for (x, y) in pairs {
+        if x.is_exact_zero() || y.is_exact_zero() {
+            continue;
+        }
+        s = x.mul_add(y, &s);
+    }
+    if neg {
+        acc.sub_ref(&s)
+    } else {
+        acc.add_ref(&s)
+    }
+}
+
+fn dot(acc: &MpInterval, neg: bool, pairs: &[(MpInterval, MpInterval)]) -> MpInterval {
+    let p = acc.prec();
+    MpInterval::dot_acc(acc, neg, pairs.iter().map(|(x, y)| (x, y)), p).expect("bounded")
+}
+
+/// The exact ends of `acc + sum x y` (`acc - sum` when `neg`), scaled.
+fn exact_ends(acc: &MpInterval, neg: bool, pairs: &[(MpInterval, MpInterval)]) -> (BigInt, BigInt) {
+    let (mut lo, mut hi) = (scaled(acc.inf()), scaled(acc.sup()));
+    for (x, y) in pairs {
+        let c = [
+            scaled(x.inf()) * scaled(y.inf()),
+            scaled(x.inf()) * scaled(y.sup()),
+            scaled(x.sup()) * scaled(y.inf()),
+            scaled(x.sup()) * scaled(y.sup()),
+        ];
+        // exact: every product's exponent is above -SCALE
+        let mn = c.iter().min().unwrap() >> (SCALE as u64);
+        let mx = c.iter().max().unwrap() >> (SCALE as u64);
+        if neg {
+            lo -= &mx;
+            hi -= &mn;
+        } else {
+            lo += &mn;
+            hi += &mx;
+        }
+    }
+    (lo, hi)
+}
+
+/// A deterministic stream of awkward numbers: all-ones and single-bit significands, random
+/// limbs, zeros, exponents from `2^-300` to `2^300`.
+struct Gen(u64);
+
+impl Gen {
+    fn next(&mut self) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        self.0 ^ (self.0 >> 29)
+    }
+
+    fn mp(&mut self, p: u32) -> Mp {
+        let r = self.next();
+        let bits = 1 + (self.next() % p as u64) as u32;
+        let man = match r % 6 {
+            0 => return Mp::zero(),
+            1 => (BigUint::from(1u32) << bits) - 1u32,
+            2 => BigUint::from(1u32) << (bits - 1),
+            _ => {
+                let mut m = BigUint::from(0u32);
+                for _ in 0..bits.div_ceil(64) {
+                    m = (m << 64u32) + self.next();
+                }
+                (m >> (64 * bits.div_ceil(64) - bits)) | (BigUint::from(1u32) << (bits - 1))
+            }
+        };
+        let e = (self.next() % 600) as i64 - 300 - bits as i64;
+        Mp::from_parts(self.next() & 1 == 0, man, e, p, Round::Near)
+    }
+
+    fn interval(&mut self, p: u32) -> MpInterval {
+        let a = self.mp(p);
+        match self.next() % 5 {
+            0 => MpInterval::point(&a, p),
+            // symmetric about 0 (a product's ends then need no comparison of products)
+            4 => MpInterval::new(&a.abs().neg(), &a.abs(), p).unwrap(),
+            1 => {
+                // a narrow interval: a and a number near it
+                let d = Mp::from_parts(
+                    false,
+                    BigUint::from(self.next()),
+                    a.top() - p as i64,
+                    p,
+                    Round::Near,
+                );
+                let b = a.add(&d, p, Round::Up).unwrap();
+                MpInterval::new(&a.min(b), &a.max(b), p).unwrap()
+            }
+            _ => {
+                let b = self.mp(p);
+                MpInterval::new(&a.min(b), &a.max(b), p).unwrap()
+            }
+        }
+    }
+}
+
+/// The fused product of `acc` and `pairs` contains the exact range, is no wider than the
+/// stepwise one, and each end is at most one step of the precision outside the tightest;
+/// returns how many ends are the tightest.
+fn check(acc: &MpInterval, neg: bool, pairs: &[(MpInterval, MpInterval)]) -> usize {
+    let p = acc.prec();
+    let r = dot(acc, neg, pairs);
+    let (lo, hi) = exact_ends(acc, neg, pairs);
+    assert!(scaled(r.inf()) <= lo && hi <= scaled(r.sup()), "{r}");
+    let old = stepwise(acc, neg, pairs);
+    assert!(r.subset(&old), "{r} wider than {old}");
+    let mut tight = 0;
+    for (end, e, mode) in [(r.inf(), &lo, Round::Down), (r.sup(), &hi, Round::Up)] {
+        let t = round_scaled(e, p, mode);
+        if *end == t {
+            tight += 1;
+            continue;
+        }
+        // t = 0: the ends cancel exactly; the window's dropped bits leave at most a unit of
+        // its lowest bit (below 2^-(2 p) of the largest term), tested in
+        // carries_and_borrows_run_through_every_limb with exact terms
+        if t.is_zero() {
+            continue;
+        }
+        let one_off = next(&t, p, mode);
+        assert!(
+            if mode == Round::Down {
+                *end >= one_off
+            } else {
+                *end <= one_off
+            },
+            "{r} vs tightest {t:?}"
+        );
+    }
+    tight
+}
+
+#[test]
+fn random_dot_products_against_exact_rationals() {
+    let mut g = Gen(46);
+    let mut tight = 0;
+    for case in 0..1500 {
+        let p = [113u32, 160, 192, 256, 320, 512, 1024][case % 7];
+        let n = 1 + (g.next() % 24) as usize;
+        let acc = g.interval(p);
+        let pairs: Vec<_> = (0..n).map(|_| (g.interval(p), g.interval(p))).collect();
+        let neg = g.next() & 1 == 0;
+        tight += check(&acc, neg, &pairs);
+    }
+    // almost every end is the tightest (one rounding of the exact sum)
+    assert!(tight > 2800, "{tight}");
+}
+
+fn pt(x: &Mp, p: u32) -> MpInterval {
+    MpInterval::point(x, p)
+}
+
+fn two(k: i64) -> Mp {
+    Mp::from_i64(1).ldexp(k, Round::Near)
+}
+
+#[test]
+fn carries_and_borrows_run_through_every_limb() {
+    for p in [128u32, 192, 320, 576, 1024] {
+        // (1 - 2^-p) + 2^-p = 1: a carry out of every limb of the window
+        let ones = Mp::from_parts(
+            false,
+            (BigUint::from(1u32) << p) - 1u32,
+            -(p as i64),
+            p,
+            Round::Near,
+        );
+        let one = pt(&Mp::from_i64(1), p);
+        let r = dot(&pt(&two(-(p as i64)), p), false, &[(pt(&ones, p), one)]);
+        assert_eq!(r, one, "{p}");
+        // 1 - 2^-p: a borrow through every limb, exact
+        let r = dot(&one, true, &[(pt(&two(-(p as i64)), p), one)]);
+        assert_eq!(r, pt(&ones, p), "{p}");
+        // cancellation to zero: a b - a b = 0 exactly, with a b of 2 p bits
+        let a = pt(&ones, p);
+        let b = pt(&ones.neg(), p);
+        let r = dot(&MpInterval::from_f64(0.0, p), false, &[(a, a), (a, b)]);
+        assert!(r.is_exact_zero(), "{p}: {r}");
+    }
+}
+
+#[test]
+fn extreme_exponents_and_subnormal_doubles() {
+    let p = 256;
+    let lim = dalembert::precision::mp_float::EXP_LIMIT;
+    let zero = MpInterval::from_f64(0.0, p);
+    // beyond the largest exponent: the upper end overflows to +inf, the lower stays finite
+    let big = pt(&two(lim - 2), p);
+    let r = dot(&zero, false, &[(big, big)]);
+    assert!(r.sup().is_infinite() && r.inf().is_finite() && r.inf().is_positive());
+    assert_eq!(r, stepwise(&zero, false, &[(big, big)]));
+    // below the smallest: [0, 2^-EXP_LIMIT]
+    let small = pt(&two(-lim + 1), p);
+    let r = dot(&zero, false, &[(small, small)]);
+    assert!(r.inf().is_zero() && *r.sup() == Mp::min_positive(), "{r:?}");
+    // subnormal doubles: the tightest ends
+    let f = |x: f64| MpInterval::from_f64(x, p);
+    let pairs = [(f(5e-324), f(-3e-310)), (f(2.2e-310), f(1e300))];
+    assert_eq!(check(&f(1.0), false, &pairs), 2);
+    assert_eq!(check(&f(1.0), true, &pairs), 2);
+    assert_eq!(check(&f(0.0), false, &[(f(5e-324), f(-5e-324))]), 2);
+    // terms 2^2000 apart: [2^1000, 2^1000 + one unit]
+    let r = dot(
+        &pt(&two(1000), p),
+        false,
+        &[(pt(&two(-500), p), pt(&two(-500), p))],
+    );
+    assert_eq!(*r.inf(), two(1000));
+    assert_eq!(*r.sup(), next(&two(1000), p, Round::Up));
+    // and the small one first, the big one after (the window moves up)
+    let r = dot(
+        &pt(&two(-1000), p),
+        false,
+        &[(pt(&two(500), p), pt(&two(500), p))],
+    );
+    assert_eq!(*r.inf(), two(1000));
+    assert_eq!(*r.sup(), next(&two(1000), p, Round::Up));
+}
+
+#[test]
+fn sums_one_unit_from_a_rounding_boundary() {
+    for p in [113u32, 160, 256, 512, 1024] {
+        let one = pt(&Mp::from_i64(1), p);
+        let u = two(1 - p as i64); // one unit of 1
+                                   // 1 + u/2 is a tie: [1, 1 + u]
+        let r = dot(&one, false, &[(pt(&u, p), pt(&two(-1), p))]);
+        assert_eq!(
+            (*r.inf(), *r.sup()),
+            (Mp::from_i64(1), next(&Mp::from_i64(1), p, Round::Up))
+        );
+        // 1 + u exactly
+        let r = dot(&one, false, &[(pt(&u, p), pt(&Mp::from_i64(1), p))]);
+        assert_eq!(r.inf(), r.sup());
+        // 1 + u - u 2^-p: just below the boundary 1 + u
+        let r = dot(
+            &one,
+            false,
+            &[
+                (pt(&u, p), pt(&Mp::from_i64(1), p)),
+                (pt(&u, p), pt(&two(-(p as i64)).neg(), p)),
+            ],
+        );
+        assert_eq!(
+            (*r.inf(), *r.sup()),
+            (Mp::from_i64(1), next(&Mp::from_i64(1), p, Round::Up)),
+            "{p}"
+        );
+    }
+}
+
+#[test]
+fn unbounded_or_empty_operands_are_left_to_the_stepwise_path() {
+    let p = 160;
+    let one = MpInterval::from_f64(1.0, p);
+    let all = MpInterval::entire(p);
+    assert!(MpInterval::dot_acc(&one, false, [(&one, &all)].into_iter(), p).is_none());
+    assert!(MpInterval::dot_acc(&all, false, [(&one, &one)].into_iter(), p).is_none());
+    let e = MpInterval::empty(p);
+    assert!(MpInterval::dot_acc(&one, false, [(&e, &one)].into_iter(), p).is_none());
+    // an exactly zero factor is skipped, as the stepwise path does
+    let z = MpInterval::from_f64(0.0, p);
+    assert_eq!(
+        MpInterval::dot_acc(&one, false, [(&z, &all)].into_iter(), p),
+        Some(one)
+    );
+}
+
+/// Products of two intervals holding 0 inside whose ends are close in magnitude: the ends of
+/// each product are decided by their leading bits or, when those cannot tell, exactly.
+#[test]
+fn straddling_products_with_close_ends() {
+    let mut g = Gen(1_046);
+    let mut tight = 0;
+    for case in 0..1500 {
+        let p = [113u32, 160, 256, 512, 1024][case % 5];
+        let end = |g: &mut Gen| {
+            let bits = 1 + (g.next() % p as u64) as u32;
+            let mut m = BigUint::from(0u32);
+            for _ in 0..bits.div_ceil(64) {
+                m = (m << 64u32) + g.next();
+            }
+            let m = (m >> (64 * bits.div_ceil(64) - bits)) | (BigUint::from(1u32) << (bits - 1));
+            // magnitudes in [1/2, 2): the products' tops at most 1 apart, often equal
+            let e = -(bits as i64) + (g.next() % 2) as i64;
+            Mp::from_parts(false, m, e, p, Round::Near)
+        };
+        let straddle = |g: &mut Gen| {
+            let (a, b) = (end(g), end(g));
+            MpInterval::new(&a.neg(), &b, p).unwrap()
+        };
+        let acc = MpInterval::from_f64(0.0, p);
+        let n = 1 + (g.next() % 4) as usize;
+        let pairs: Vec<_> = (0..n)
+            .map(|_| (straddle(&mut g), straddle(&mut g)))
+            .collect();
+        tight += check(&acc, g.next() & 1 == 0, &pairs);
+    }
+    assert!(tight > 2800, "{tight}");
+}
