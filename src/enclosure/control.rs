@@ -2,6 +2,7 @@
 //! carries a set over a span of time, choosing each step before trying it and the last
 //! step's order.
 
+use super::chain::{self, Link, Memo};
 use super::ival::Ival;
 use super::linalg::{self, IMat};
 use super::options::{FlowOptions, FlowStats};
@@ -36,7 +37,7 @@ pub(super) fn flow_set_general<I: Ival>(
     total: I,
     opts: &FlowOptions,
     c1_mode: C1,
-    memo: &mut Option<(f64, f64)>,
+    memo: &mut Memo<I>,
     explain: Option<Explain<'_>>,
 ) -> Result<Flown<I>, Error> {
     let t = total.sup();
@@ -80,6 +81,13 @@ pub(super) fn flow_set_general<I: Ival>(
     };
     // the last accepted step (0 before the first)
     let mut last_h = 0.0;
+    // the steps since the last image of a point set, for the product form (5.10'''):
+    // those of the flow this one continues, if it starts where that one ended
+    let mut links: Vec<Link<I>> = if memo.end == set.m {
+        std::mem::take(&mut memo.links)
+    } else {
+        Vec::new()
+    };
     while !reached {
         // the work is the steps taken and tried: rejected tries count too (a hard start can
         // reject dozens of tries per step)
@@ -95,7 +103,7 @@ pub(super) fn flow_set_general<I: Ival>(
         // (choices only)
         let rule_at = |mid: Rows<'_, f64>, p: usize| {
             let rule = step_size(mid.first(p + 1), p, &m_f64, I::eps());
-            let predicted = memo.map_or(rule, |(h0, ratio)| h0 * rescale(ratio, p, 1.5));
+            let predicted = memo.step.map_or(rule, |(h0, ratio)| h0 * rescale(ratio, p, 1.5));
             let cap = ceiling.map_or(f64::INFINITY, |(hc, k)| {
                 hc * 0.97 * (1.0 + CEILING_GROWTH).powi(k)
             });
@@ -194,10 +202,21 @@ pub(super) fn flow_set_general<I: Ival>(
                         }
                         total_jac = Some(next);
                     }
+                    match out.link {
+                        Some((jac, err)) => links.push(Link {
+                            c: set.c,
+                            r0: set.r0,
+                            b: set.b,
+                            r: set.r,
+                            jac,
+                            err,
+                        }),
+                        None => links.clear(),
+                    }
                     set = out.set;
                     // the final step, cut to the end, says little about the next
                     if !last {
-                        *memo = Some((hi.sup(), out.ratio));
+                        memo.step = Some((hi.sup(), out.ratio));
                     }
                     done = if last { total } else { done + hi };
                     reached = last;
@@ -260,6 +279,10 @@ pub(super) fn flow_set_general<I: Ival>(
     if stats.steps == 0 {
         stats.h_min = 0.0;
     }
+    // (5.10''') the final box narrowed by the steps' errors in product form
+    chain::narrow(&mut set, &links);
+    memo.end = set.m.clone();
+    memo.links = links;
     // No answer with an infinite endpoint (contract, Numbers): every consumer of a flow
     // reads the set through its hull.
     if !set.hull().iter().all(|x| x.is_finite()) {

@@ -66,6 +66,9 @@ pub(super) struct StepOut<I: Ival> {
     pub(super) rebased: Option<DMatrix<f64>>,
     /// The remainder's width relative to its tolerance (5.8).
     pub(super) ratio: f64,
+    /// For the product form (5.10'''): the step's `[J]` and the enclosure of `x(h; m) - m'`
+    /// (`None` for the image of a point set, which starts afresh).
+    pub(super) link: Option<(DMatrix<f64>, Vec<I>)>,
 }
 
 /// The a priori enclosure (5.4) of the centre's trajectory proved by a rejected try of a
@@ -106,7 +109,17 @@ pub(super) fn lohner_step<I: Ival>(
         return Err(StepFail::Shrink);
     }
     let point_set = set.r.iter().chain(&set.r0).all(|r| r.is_exact_zero());
-    let xbox = set.hull();
+    // The hull, joined with the centre: the mean-value segments of (5.6b) run from `m`,
+    // which the parallelepiped holds (0 in [r0], [r]) but its intersection with the box of
+    // (5.12) need not
+    let xbox: Vec<I> = set
+        .hull()
+        .iter()
+        .zip(&set.m)
+        .map(|(x, c)| x.convex_hull(I::pt(*c)))
+        .collect();
+    // `[X] - m`
+    let spread = relative(&xbox, &set.m);
     // the size of x0 - m over the set
     let extent = xbox
         .iter()
@@ -142,6 +155,7 @@ pub(super) fn lohner_step<I: Ival>(
             jac: None,
             rebased: None,
             ratio,
+            link: None,
         });
     }
     // (5.6) the flow's Jacobian at the lowest order (from `jac_order` on) whose remainder
@@ -161,7 +175,7 @@ pub(super) fn lohner_step<I: Ival>(
     // column sorting (by ||A_j|| wid(r_j)) was measured to be worse here: on the particle
     // at t = 600 it gave widths 1.7e-7 against 5.2e-11 unsorted (spec section 5.5).
     let (c_new, dc) = linalg::split(&jc);
-    let (m_new, zc) = recentre(&set.m, c, h, &rem, &z);
+    let (m_new, zc, err) = recentre(&set.m, c, h, &rem, &z);
     let (b_new, b_inv) = choose_basis(linalg::mid(&a), opts.basis);
     let ba = linalg::mul(&b_inv, &a);
     // r' = [B'^-1][J B] r + [B'^-1] ((z - m') + ([J] C - C') r0)
@@ -215,11 +229,21 @@ pub(super) fn lohner_step<I: Ival>(
     } else {
         None
     };
+    // (5.10''') the step as the product form reads it: `mid([J])` and the error
+    // `[e] + ([J] - mid([J])) ([X] - m)`
+    let (jm, off) = linalg::split(&jac);
+    let err: Vec<I> = err
+        .iter()
+        .zip(linalg::mul_vec(&off, &spread))
+        .map(|(a, b)| *a + b)
+        .collect();
+    let link = Some((jm, err));
     Ok(StepOut {
         set,
         jac: c1.then_some((jac, ba, b_inv)),
         rebased,
         ratio,
+        link,
     })
 }
 
@@ -242,7 +266,7 @@ pub(super) fn recentre<I: Ival>(
     h: I,
     rem: &[I],
     z: &[I],
-) -> (Vec<I::Pt>, Vec<I>) {
+) -> (Vec<I::Pt>, Vec<I>, Vec<I>) {
     let d = m.len();
     let tail: Vec<&[I]> = c.iter().skip(1).map(|r| &r[..d]).collect();
     let incr: Vec<I> = if tail.is_empty() {
@@ -254,16 +278,20 @@ pub(super) fn recentre<I: Ival>(
     let m_new: Vec<I::Pt> = (0..d)
         .map(|i| (I::pt(m[i]) + I::pt(step[i].mid_pt())).mid_pt())
         .collect();
-    let zc = (0..d)
+    let err: Vec<I> = (0..d)
         .map(|i| {
             let by_incr = (I::pt(m[i]) - I::pt(m_new[i])) + step[i];
             let by_z = z[i] - I::pt(m_new[i]);
             let both = by_incr.intersection(by_z);
-            let e = if both.is_empty() { by_z } else { both };
-            e.convex_hull(I::zero())
+            if both.is_empty() {
+                by_z
+            } else {
+                both
+            }
         })
         .collect();
-    (m_new, zc)
+    let zc = err.iter().map(|e| e.convex_hull(I::zero())).collect();
+    (m_new, zc, err)
 }
 
 /// The basis `B'` of the next set and an interval matrix containing its inverse ([spec eqs.
