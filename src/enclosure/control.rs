@@ -202,6 +202,10 @@ pub(super) fn flow_set_general<I: Ival>(
                         }
                         total_jac = Some(next);
                     }
+                    // from a point, the steps before do not matter
+                    if set.r.iter().chain(&set.r0).all(|r| r.is_exact_zero()) {
+                        links.clear();
+                    }
                     match out.link {
                         Some((jac, err)) => links.push(Link {
                             c: set.c,
