@@ -39,9 +39,10 @@ pub(super) struct Link<I> {
     pub(super) err: Vec<I>,
 }
 
-/// (5.10''') Narrows the box of `set` (the set after the last link) by every enclosure
-/// `m_N + ([P_k] C_k) [r0_k] + ([P_k] B_k) [r_k] + [S_k]` with `[P_k] = [J_N] ... [J_{k+1}]`
-/// and `[S_k] = sum_{j > k} [P_j] [e_j]`, read from the last link back. Stops once `[S_k]`
+/// (5.10''') Narrows the box of `set` (the set after the last link) by the enclosures
+/// `m_N + ([P_k] C_k) [r0_k] + ([P_k] B_k) [r_k] + [S_k]` with `[P_k] = M_N ... M_{k+1}`
+/// (the links' float matrices) and `[S_k] = sum_{j > k} [P_j] [f_j]`, read from the last
+/// link back, at the links whose set has `[r] = 0` and at the first. Stops once `[S_k]`
 /// alone is wider than the box in every component (no earlier enclosure can be
 /// narrower: `[S]` only grows going back) or stops being finite.
 pub(super) fn narrow<I: Ival>(set: &mut LohnerSet<I>, chain: &[Link<I>]) {
@@ -59,12 +60,19 @@ pub(super) fn narrow<I: Ival>(set: &mut LohnerSet<I>, chain: &[Link<I>]) {
         if !linalg::all_finite(&p) || !s.iter().all(|x| x.is_finite()) {
             break;
         }
+        // the enclosures from the sets whose error part is empty (the first, and those
+        // just reorganised: `[r] = 0`), and from the first link
+        let fresh = link.r.iter().all(|x| x.is_exact_zero());
+        let first = std::ptr::eq(link, &chain[0]);
+        if !(fresh || first) {
+            continue;
+        }
         let pc = linalg::mul(&p, &linalg::imat(&link.c));
-        let pb = linalg::mul(&p, &linalg::imat(&link.b));
-        let e = add(
-            &add(&linalg::mul_vec(&pc, &link.r0), &linalg::mul_vec(&pb, &link.r)),
-            &s,
-        );
+        let mut e = add(&linalg::mul_vec(&pc, &link.r0), &s);
+        if !fresh {
+            let pb = linalg::mul(&p, &linalg::imat(&link.b));
+            e = add(&e, &linalg::mul_vec(&pb, &link.r));
+        }
         for i in 0..d {
             let both = best[i].intersection(I::pt(set.m[i]) + e[i]);
             if !both.is_empty() {
