@@ -15,6 +15,9 @@ pub(crate) struct Memo<I: Ival> {
     pub(super) step: Option<(f64, f64)>,
     pub(super) links: Vec<Link<I>>,
     pub(super) end: Vec<I::Pt>,
+    /// The box of the set at `end` before (5.10''') narrowed it: the set the next leg
+    /// starts from, so that the steps of a dense flow are those of a single flow's.
+    pub(super) boxed: Option<Vec<I>>,
 }
 
 impl<I: Ival> Default for Memo<I> {
@@ -23,6 +26,7 @@ impl<I: Ival> Default for Memo<I> {
             step: None,
             links: Vec::new(),
             end: Vec::new(),
+            boxed: None,
         }
     }
 }
@@ -42,10 +46,11 @@ pub(super) struct Link<I> {
 /// (5.10''') Narrows the box of `set` (the set after the last link) by the enclosures
 /// `m_N + ([P_k] C_k) [r0_k] + ([P_k] B_k) [r_k] + [S_k]` with `[P_k] = M_N ... M_{k+1}`
 /// (the links' float matrices) and `[S_k] = sum_{j > k} [P_j] [f_j]`, read from the last
-/// link back, at the links whose set has `[r] = 0` and at the first. Stops once `[S_k]`
+/// link back over at most `most` links, at the links whose set has `[r] = 0` and at the
+/// first of those. Stops once `[S_k]`
 /// alone is wider than the box in every component (no earlier enclosure can be
 /// narrower: `[S]` only grows going back) or stops being finite.
-pub(super) fn narrow<I: Ival>(set: &mut LohnerSet<I>, chain: &[Link<I>]) {
+pub(super) fn narrow<I: Ival>(set: &mut LohnerSet<I>, chain: &[Link<I>], most: usize) {
     let d = set.m.len();
     if chain.len() < 2 || set.sub.is_some() {
         return;
@@ -54,6 +59,9 @@ pub(super) fn narrow<I: Ival>(set: &mut LohnerSet<I>, chain: &[Link<I>]) {
     let mut p: IMat<I> = linalg::identity(d);
     let mut s = vec![I::zero(); d];
     let add = |a: &[I], b: &[I]| -> Vec<I> { a.iter().zip(b).map(|(x, y)| *x + *y).collect() };
+    // at most `most` links back (4 per step of the flow that ends here: a dense flow's many
+    // short legs would otherwise read the whole chain at every stop)
+    let chain = &chain[chain.len().saturating_sub(most)..];
     for link in chain.iter().rev() {
         s = add(&s, &linalg::mul_vec(&p, &link.err));
         p = linalg::mul(&p, &linalg::imat(&link.jac));

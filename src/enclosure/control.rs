@@ -84,6 +84,10 @@ pub(super) fn flow_set_general<I: Ival>(
     // the steps since the last image of a point set, for the product form (5.10'''):
     // those of the flow this one continues, if it starts where that one ended
     let mut links: Vec<Link<I>> = if memo.end == set.m {
+        // the set carried on is the one the steps made, its box not narrowed (5.10''')
+        if let Some(b) = memo.boxed.take() {
+            set.boxed = b;
+        }
         std::mem::take(&mut memo.links)
     } else {
         Vec::new()
@@ -284,7 +288,8 @@ pub(super) fn flow_set_general<I: Ival>(
         stats.h_min = 0.0;
     }
     // (5.10''') the final box narrowed by the steps' errors in product form
-    chain::narrow(&mut set, &links);
+    memo.boxed = Some(set.boxed.clone());
+    chain::narrow(&mut set, &links, 4 * stats.steps);
     memo.end = set.m.clone();
     memo.links = links;
     // No answer with an infinite endpoint (contract, Numbers): every consumer of a flow
