@@ -163,6 +163,15 @@ pub(super) fn flow_set_general<I: Ival>(
                 .find(|&q| q < p && step_size(mid.rows().first(q + 1), q, &m_f64, I::eps()) >= rem.sup())
                 .unwrap_or(p);
         }
+        // (5.6) the precise ladder's orders above the state's, only while the derivative
+        // carried so far is narrower than HIGH_UNTIL of its size
+        let high = precise
+            && total_jac.as_ref().is_none_or(|acc| {
+                let hull = acc.hull(&set.b);
+                let size = hull.entries().iter().fold(1.0f64, |a, x| a.max(x.mag()));
+                let wide = hull.entries().iter().fold(0.0f64, |a, x| a.max(x.wid()));
+                wide <= HIGH_UNTIL * size
+            });
         let mut tries = 0;
         // the a priori box of a rejected try, for the next try of this step (5.4')
         let mut prior = None;
@@ -186,6 +195,7 @@ pub(super) fn flow_set_general<I: Ival>(
                 c1,
                 opts,
                 precise,
+                high,
                 &mut jac_order,
                 &mut prior,
             );
@@ -309,6 +319,10 @@ pub(super) fn flow_set_general<I: Ival>(
     }
     Ok((set, jac, stats))
 }
+
+/// (5.6) The relative width of the derivative carried so far up to which the precise
+/// ladder goes above the state's order.
+const HIGH_UNTIL: f64 = 1e-11;
 
 /// Asked why a flow cannot go on, with the state's hull at the stop, the size of the steps
 /// there, the time done and, when the steps collapsed on the way to the step budget, that

@@ -94,6 +94,7 @@ pub(super) fn lohner_step<I: Ival>(
     c1: bool,
     opts: &FlowOptions,
     precise: bool,
+    high: bool,
     jac_order: &mut usize,
     prior: &mut Option<Prior<I>>,
 ) -> Result<StepOut<I>, StepFail> {
@@ -183,7 +184,7 @@ pub(super) fn lohner_step<I: Ival>(
     }
     // (5.6) the flow's Jacobian at the lowest order (from `jac_order` on) whose remainder
     // is negligible there; otherwise (5.6'') over the whole set.
-    let (rem, jac, ratio) = match step_jacobian(sys, &xbox, h, p, scale, extent, precise, jac_order) {
+    let (rem, jac, ratio) = match step_jacobian(sys, &xbox, h, p, scale, extent, precise, high, jac_order) {
         Some(jac) => (rem, jac, ratio),
         None => box_enclosure(sys, &xbox, h, p, scale, tol, c1)?,
     };
@@ -573,12 +574,13 @@ pub(super) fn step_jacobian<I: Ival>(
     scale: f64,
     extent: f64,
     precise: bool,
+    high: bool,
     order: &mut usize,
 ) -> Option<IMat<I>> {
     let d = xbox.len();
     // The ladder of orders and the highest one tried: for the precise derivative, the
     // precise ladder to its top when the interval type has one (Theorem 5.3)
-    let (orders, cap) = match I::precise_jac_orders().filter(|_| precise) {
+    let (orders, cap) = match I::precise_jac_orders().filter(|_| precise && high) {
         Some(o) => (o, o[o.len() - 1].max(p)),
         None => (I::jac_orders(), p.max(I::jac_orders()[0])),
     };
