@@ -5,7 +5,7 @@
 
 use crate::enclosure::{
     flow_set_jacobian_explained, flow_set_span_memo, too_many, FlowOptions, FlowStats, Ival,
-    LohnerSet,
+    LohnerSet, Memo,
 };
 use crate::interval::{wrap, wrap_rows};
 use crate::model::Model;
@@ -328,8 +328,8 @@ fn carry<I: Ival>(
     let mut total = FlowStats::default();
     let mut out = Vec::with_capacity(times.len());
     let mut from = 0.0;
-    // the step rule's memory, carried from one stop to the next
-    let mut memo = None;
+    // the step rule's memory and the steps' product form, carried from one stop to the next
+    let mut memo = Memo::default();
     for &t in times {
         // the progress of a leg, as a fraction of the whole span [0, t_last]
         let leg = FlowOptions {

@@ -2,6 +2,7 @@
 //! carries a set over a span of time, choosing each step before trying it and the last
 //! step's order.
 
+use super::chain::{self, Link, Memo};
 use super::ival::Ival;
 use super::linalg::{self, IMat};
 use super::options::{FlowOptions, FlowStats};
@@ -36,7 +37,7 @@ pub(super) fn flow_set_general<I: Ival>(
     total: I,
     opts: &FlowOptions,
     c1_mode: C1,
-    memo: &mut Option<(f64, f64)>,
+    memo: &mut Memo<I>,
     explain: Option<Explain<'_>>,
 ) -> Result<Flown<I>, Error> {
     let t = total.sup();
@@ -80,6 +81,17 @@ pub(super) fn flow_set_general<I: Ival>(
     };
     // the last accepted step (0 before the first)
     let mut last_h = 0.0;
+    // the steps since the last image of a point set, for the product form (5.10'''):
+    // those of the flow this one continues, if it starts where that one ended
+    let mut links: Vec<Link<I>> = if memo.end == set.m {
+        // the set carried on is the one the steps made, its box not narrowed (5.10''')
+        if let Some(b) = memo.boxed.take() {
+            set.boxed = b;
+        }
+        std::mem::take(&mut memo.links)
+    } else {
+        Vec::new()
+    };
     while !reached {
         // the work is the steps taken and tried: rejected tries count too (a hard start can
         // reject dozens of tries per step)
@@ -95,7 +107,7 @@ pub(super) fn flow_set_general<I: Ival>(
         // (choices only)
         let rule_at = |mid: Rows<'_, f64>, p: usize| {
             let rule = step_size(mid.first(p + 1), p, &m_f64, I::eps());
-            let predicted = memo.map_or(rule, |(h0, ratio)| h0 * rescale(ratio, p, 1.5));
+            let predicted = memo.step.map_or(rule, |(h0, ratio)| h0 * rescale(ratio, p, 1.5));
             let cap = ceiling.map_or(f64::INFINITY, |(hc, k)| {
                 hc * 0.97 * (1.0 + CEILING_GROWTH).powi(k)
             });
@@ -151,6 +163,15 @@ pub(super) fn flow_set_general<I: Ival>(
                 .find(|&q| q < p && step_size(mid.rows().first(q + 1), q, &m_f64, I::eps()) >= rem.sup())
                 .unwrap_or(p);
         }
+        // (5.6) the precise ladder's orders above the state's, only while the derivative
+        // carried so far is narrower than HIGH_UNTIL of its size
+        let high = precise
+            && total_jac.as_ref().is_none_or(|acc| {
+                let hull = acc.hull(&set.b);
+                let size = hull.entries().iter().fold(1.0f64, |a, x| a.max(x.mag()));
+                let wide = hull.entries().iter().fold(0.0f64, |a, x| a.max(x.wid()));
+                wide <= HIGH_UNTIL * size
+            });
         let mut tries = 0;
         // the a priori box of a rejected try, for the next try of this step (5.4')
         let mut prior = None;
@@ -174,6 +195,7 @@ pub(super) fn flow_set_general<I: Ival>(
                 c1,
                 opts,
                 precise,
+                high,
                 &mut jac_order,
                 &mut prior,
             );
@@ -194,10 +216,25 @@ pub(super) fn flow_set_general<I: Ival>(
                         }
                         total_jac = Some(next);
                     }
+                    // from a point, the steps before do not matter
+                    if set.r.iter().chain(&set.r0).all(|r| r.is_exact_zero()) {
+                        links.clear();
+                    }
+                    match out.link {
+                        Some((jac, err)) => links.push(Link {
+                            c: set.c,
+                            r0: set.r0,
+                            b: set.b,
+                            r: set.r,
+                            jac,
+                            err,
+                        }),
+                        None => links.clear(),
+                    }
                     set = out.set;
                     // the final step, cut to the end, says little about the next
                     if !last {
-                        *memo = Some((hi.sup(), out.ratio));
+                        memo.step = Some((hi.sup(), out.ratio));
                     }
                     done = if last { total } else { done + hi };
                     reached = last;
@@ -267,6 +304,11 @@ pub(super) fn flow_set_general<I: Ival>(
     if stats.steps == 0 {
         stats.h_min = 0.0;
     }
+    // (5.10''') the final box narrowed by the steps' errors in product form
+    memo.boxed = Some(set.boxed.clone());
+    chain::narrow(&mut set, &links, 4 * stats.steps);
+    memo.end = set.m.clone();
+    memo.links = links;
     // No answer with an infinite endpoint (contract, Numbers): every consumer of a flow
     // reads the set through its hull.
     if !set.hull().iter().all(|x| x.is_finite()) {
@@ -284,6 +326,10 @@ pub(super) fn flow_set_general<I: Ival>(
     }
     Ok((set, jac, stats))
 }
+
+/// (5.6) The relative width of the derivative carried so far up to which the precise
+/// ladder goes above the state's order.
+const HIGH_UNTIL: f64 = 1e-11;
 
 /// Asked why a flow cannot go on, with the state's hull at the stop, the size of the steps
 /// there, the time done and, when the steps collapsed on the way to the step budget, that

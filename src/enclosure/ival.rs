@@ -49,6 +49,13 @@ pub trait Ival: Coef + PartialEq + Debug + Send + Sync {
     }
     /// The lower orders a last step may take instead of the flow's ([spec (5.8')](crate::spec::enclosure)).
     fn low_orders() -> &'static [usize];
+    /// The field `F` (the tape `field`) at the point `m`, enclosed at a higher precision and
+    /// rounded outward to this type ([spec (5.10'')](crate::spec::enclosure)); `None` when the type has no
+    /// higher precision at hand or an evaluation is not proved.
+    fn field_finer(field: &crate::tape::Tape, m: &[Self::Pt]) -> Option<Vec<Self>> {
+        let _ = (field, m);
+        None
+    }
     /// The degenerate interval of a point.
     fn pt(x: Self::Pt) -> Self;
     /// A point in the interval (its midpoint, or near it), for a non-empty bounded one.
@@ -164,6 +171,16 @@ impl Ival for Interval {
     }
     fn low_orders() -> &'static [usize] {
         &super::orders::LOW_ORDERS
+    }
+    /// In double-double intervals, each end rounded outward to f64 (one ulp of `F` at most).
+    fn field_finer(field: &crate::tape::Tape, m: &[f64]) -> Option<Vec<Self>> {
+        let x: Vec<DdInterval> = m.iter().map(|v| <DdInterval as Ival>::pt(Dd::from_f64(*v))).collect();
+        let f = field.eval_checked(&x)?;
+        Some(
+            f.iter()
+                .map(|v| crate::scalar::iv(<DdInterval as Ival>::inf(v), <DdInterval as Ival>::sup(v)))
+                .collect(),
+        )
     }
     fn pt(x: f64) -> Self {
         crate::scalar::point(x)

@@ -2,6 +2,7 @@
 //! in the high-order form of Corliss and Rihm) + Lohner's QR control of the wrapping effect
 //! ([spec/05-enclosure.md](crate::spec::enclosure), eqs. (5.1)-(5.10)).
 
+mod chain;
 mod control;
 mod float;
 mod ival;
@@ -25,6 +26,7 @@ pub use set::{LohnerSet, SubSet};
 pub use system::System;
 
 use crate::Error;
+pub(crate) use chain::Memo;
 pub(crate) use control::{too_many, Explain, WIDEST};
 use control::{flow_set_general, C1};
 use linalg::IMat;
@@ -50,7 +52,7 @@ pub fn flow_set_span<I: Ival>(
     span: I,
     opts: &FlowOptions,
 ) -> Result<(LohnerSet<I>, FlowStats), Error> {
-    flow_set_span_memo(sys, set, span, opts, &mut None, None)
+    flow_set_span_memo(sys, set, span, opts, &mut Memo::default(), None)
 }
 
 /// [`flow_set_span`] with the step rule's memory (5.8) taken from and left in `memo`, so
@@ -61,7 +63,7 @@ pub(crate) fn flow_set_span_memo<I: Ival>(
     set: LohnerSet<I>,
     span: I,
     opts: &FlowOptions,
-    memo: &mut Option<(f64, f64)>,
+    memo: &mut Memo<I>,
     explain: Option<Explain<'_>>,
 ) -> Result<(LohnerSet<I>, FlowStats), Error> {
     if span.is_empty() || span.inf() < 0.0 || !span.sup().is_finite() {
@@ -84,7 +86,7 @@ pub fn flow_set_c1<I: Ival>(
     opts: &FlowOptions,
 ) -> Result<(LohnerSet<I>, IMat<I>, FlowStats), Error> {
     let (set, jac, stats) =
-        flow_set_general(sys, set, I::cst(t), opts, C1::Cheap, &mut None, None)?;
+        flow_set_general(sys, set, I::cst(t), opts, C1::Cheap, &mut Memo::default(), None)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }
@@ -113,7 +115,7 @@ pub(crate) fn flow_set_jacobian_explained<I: Ival>(
     explain: Option<Explain<'_>>,
 ) -> Result<(LohnerSet<I>, IMat<I>, FlowStats), Error> {
     let (set, jac, stats) =
-        flow_set_general(sys, set, I::cst(t), opts, C1::Precise, &mut None, explain)?;
+        flow_set_general(sys, set, I::cst(t), opts, C1::Precise, &mut Memo::default(), explain)?;
     let d = set.m.len();
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }

@@ -66,6 +66,9 @@ pub(super) struct StepOut<I: Ival> {
     pub(super) rebased: Option<DMatrix<f64>>,
     /// The remainder's width relative to its tolerance (5.8).
     pub(super) ratio: f64,
+    /// For the product form (5.10'''): the step's `[J]` and the enclosure of `x(h; m) - m'`
+    /// (`None` for the image of a point set, which starts afresh).
+    pub(super) link: Option<(DMatrix<f64>, Vec<I>)>,
 }
 
 /// The a priori enclosure (5.4) of the centre's trajectory proved by a rejected try of a
@@ -91,6 +94,7 @@ pub(super) fn lohner_step<I: Ival>(
     c1: bool,
     opts: &FlowOptions,
     precise: bool,
+    high: bool,
     jac_order: &mut usize,
     prior: &mut Option<Prior<I>>,
 ) -> Result<StepOut<I>, StepFail> {
@@ -106,7 +110,17 @@ pub(super) fn lohner_step<I: Ival>(
         return Err(StepFail::Shrink);
     }
     let point_set = set.r.iter().chain(&set.r0).all(|r| r.is_exact_zero());
-    let xbox = set.hull();
+    // The hull, joined with the centre: the mean-value segments of (5.6b) run from `m`,
+    // which the parallelepiped holds (0 in [r0], [r]) but its intersection with the box of
+    // (5.12) need not
+    let xbox: Vec<I> = set
+        .hull()
+        .iter()
+        .zip(&set.m)
+        .map(|(x, c)| x.convex_hull(I::pt(*c)))
+        .collect();
+    // `[X] - m`
+    let spread = relative(&xbox, &set.m);
     // the size of x0 - m over the set
     let extent = xbox
         .iter()
@@ -135,18 +149,42 @@ pub(super) fn lohner_step<I: Ival>(
     if !z.iter().all(|x| x.is_finite()) {
         return Err(StepFail::Shrink);
     }
+    // (5.10'') F(m) at a higher precision, where its width at this one costs the step's
+    // error more than FINER_AT of the state's rounding level
+    let coarse = c
+        .iter()
+        .nth(1)
+        .is_some_and(|c1| c1[..d].iter().any(|x| x.wid() * h.sup() > FINER_AT * scale * I::eps()));
+    let finer = coarse.then(|| I::field_finer(&sys.field, &set.m)).flatten();
     if point_set && !c1 {
         // a point set needs no Jacobian (J B r = 0 for r = 0)
+        let image = point_image(set, z.clone());
+        // (5.10''') its error for the product form: `x(h; m) - m_1` (`m_1 = mid(z)`, the
+        // image's centre) from the increment, through the centre `m'` of (5.10''), and from z
+        let (m_inc, _, err) = recentre(&set.m, c, h, &rem, &z, finer.as_deref());
+        let err: Vec<I> = (0..d)
+            .map(|i| {
+                let by_z = z[i] - I::pt(image.m[i]);
+                let by_incr = err[i] + (I::pt(m_inc[i]) - I::pt(image.m[i]));
+                let both = by_z.intersection(by_incr);
+                if both.is_empty() {
+                    by_z
+                } else {
+                    both
+                }
+            })
+            .collect();
         return Ok(StepOut {
-            set: point_image(set, z),
+            set: image,
             jac: None,
             rebased: None,
             ratio,
+            link: Some((DMatrix::zeros(d, d), err)),
         });
     }
     // (5.6) the flow's Jacobian at the lowest order (from `jac_order` on) whose remainder
     // is negligible there; otherwise (5.6'') over the whole set.
-    let (rem, jac, ratio) = match step_jacobian(sys, &xbox, h, p, scale, extent, precise, jac_order) {
+    let (rem, jac, ratio) = match step_jacobian(sys, &xbox, h, p, scale, extent, precise, high, jac_order) {
         Some(jac) => (rem, jac, ratio),
         None => box_enclosure(sys, &xbox, h, p, scale, tol, c1)?,
     };
@@ -161,7 +199,7 @@ pub(super) fn lohner_step<I: Ival>(
     // column sorting (by ||A_j|| wid(r_j)) was measured to be worse here: on the particle
     // at t = 600 it gave widths 1.7e-7 against 5.2e-11 unsorted (spec section 5.5).
     let (c_new, dc) = linalg::split(&jc);
-    let (m_new, zc) = recentre(&set.m, c, h, &rem, &z);
+    let (m_new, zc, err) = recentre(&set.m, c, h, &rem, &z, finer.as_deref());
     let (b_new, b_inv) = choose_basis(linalg::mid(&a), opts.basis);
     let ba = linalg::mul(&b_inv, &a);
     // r' = [B'^-1][J B] r + [B'^-1] ((z - m') + ([J] C - C') r0)
@@ -215,13 +253,27 @@ pub(super) fn lohner_step<I: Ival>(
     } else {
         None
     };
+    // (5.10''') the step as the product form reads it: `mid([J])` and the error
+    // `[e] + ([J] - mid([J])) ([X] - m)`
+    let (jm, off) = linalg::split(&jac);
+    let err: Vec<I> = err
+        .iter()
+        .zip(linalg::mul_vec(&off, &spread))
+        .map(|(a, b)| *a + b)
+        .collect();
+    let link = Some((jm, err));
     Ok(StepOut {
         set,
         jac: c1.then_some((jac, ba, b_inv)),
         rebased,
         ratio,
+        link,
     })
 }
+
+/// (5.10'') The share of the state's rounding level above which the field at the centre
+/// is evaluated at a higher precision ([`Ival::field_finer`]).
+pub(super) const FINER_AT: f64 = 0.125;
 
 /// (5.10') The errors are folded into the propagated part once their widest component is
 /// this many times the propagated part's.
@@ -235,35 +287,68 @@ pub(super) const REORGANISE: f64 = 10.0;
 /// to the nearest point; the result is intersected with `z - m'` (both enclose the same
 /// values) and joined with 0 (so that `m'` is in the set: `0 in [r]`). Evaluating the
 /// polynomial as a whole (`z = phi(m) + [R]`, `m' = mid(z)`) costs 2 to 4 ulps a step
-/// instead of about one.
+/// instead of about one. Also returns, for the product form (5.10'''), the enclosure of
+/// `x(h; m) - m'` before the join, from the increment with `c_1 = F(m)` intersected with
+/// `c1` when that is given (a finer enclosure of `F(m)`; `m'` and `[z - m']` do not use it,
+/// so that the set and the steps are the same with it or without).
 pub(super) fn recentre<I: Ival>(
     m: &[I::Pt],
     c: Rows<'_, I>,
     h: I,
     rem: &[I],
     z: &[I],
-) -> (Vec<I::Pt>, Vec<I>) {
+    c1: Option<&[I]>,
+) -> (Vec<I::Pt>, Vec<I>, Vec<I>) {
     let d = m.len();
-    let tail: Vec<&[I]> = c.iter().skip(1).map(|r| &r[..d]).collect();
-    let incr: Vec<I> = if tail.is_empty() {
-        vec![I::zero(); d]
-    } else {
-        I::horner(&tail, h).iter().map(|s| *s * h).collect()
+    let mut tail: Vec<&[I]> = c.iter().skip(1).map(|r| &r[..d]).collect();
+    // `x(h; m) - m` enclosed, from the rows `tail`
+    let step_of = |tail: &[&[I]]| -> Vec<I> {
+        let incr: Vec<I> = if tail.is_empty() {
+            vec![I::zero(); d]
+        } else {
+            I::horner(tail, h).iter().map(|s| *s * h).collect()
+        };
+        incr.iter().zip(rem).map(|(a, b)| *a + *b).collect()
     };
-    let step: Vec<I> = incr.iter().zip(rem).map(|(a, b)| *a + *b).collect();
+    let step = step_of(&tail);
     let m_new: Vec<I::Pt> = (0..d)
         .map(|i| (I::pt(m[i]) + I::pt(step[i].mid_pt())).mid_pt())
         .collect();
-    let zc = (0..d)
-        .map(|i| {
-            let by_incr = (I::pt(m[i]) - I::pt(m_new[i])) + step[i];
-            let by_z = z[i] - I::pt(m_new[i]);
-            let both = by_incr.intersection(by_z);
-            let e = if both.is_empty() { by_z } else { both };
-            e.convex_hull(I::zero())
-        })
-        .collect();
-    (m_new, zc)
+    // `x(h; m) - m'` from `step` and from z
+    let error = |step: &[I]| -> Vec<I> {
+        (0..d)
+            .map(|i| {
+                let by_incr = (I::pt(m[i]) - I::pt(m_new[i])) + step[i];
+                let by_z = z[i] - I::pt(m_new[i]);
+                meet(by_incr, by_z)
+            })
+            .collect()
+    };
+    let err = error(&step);
+    let zc = err.iter().map(|e| e.convex_hull(I::zero())).collect();
+    // the first coefficient F(m) from a finer evaluation, where there is one: both enclose it
+    let first: Option<Vec<I>> =
+        c1.zip(tail.first()).map(|(f, c)| c.iter().zip(f).map(|(a, b)| meet(*b, *a)).collect());
+    let err = match &first {
+        Some(f) => {
+            tail[0] = f;
+            let fine = error(&step_of(&tail));
+            fine.iter().zip(&err).map(|(a, b)| meet(*a, *b)).collect()
+        }
+        None => err,
+    };
+    (m_new, zc, err)
+}
+
+/// `a ∩ b` for two enclosures of the same value; `b` should they not meet (only if the
+/// arithmetic were wrong: each contains the value).
+fn meet<I: Ival>(a: I, b: I) -> I {
+    let x = a.intersection(b);
+    if x.is_empty() {
+        b
+    } else {
+        x
+    }
 }
 
 /// The basis `B'` of the next set and an interval matrix containing its inverse ([spec eqs.
@@ -489,12 +574,13 @@ pub(super) fn step_jacobian<I: Ival>(
     scale: f64,
     extent: f64,
     precise: bool,
+    high: bool,
     order: &mut usize,
 ) -> Option<IMat<I>> {
     let d = xbox.len();
     // The ladder of orders and the highest one tried: for the precise derivative, the
     // precise ladder to its top when the interval type has one (Theorem 5.3)
-    let (orders, cap) = match I::precise_jac_orders().filter(|_| precise) {
+    let (orders, cap) = match I::precise_jac_orders().filter(|_| precise && high) {
         Some(o) => (o, o[o.len() - 1].max(p)),
         None => (I::jac_orders(), p.max(I::jac_orders()[0])),
     };
