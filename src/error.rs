@@ -313,6 +313,7 @@ impl Error {
     }
     /// The same error, an input error now of kind `kind` (a reader that knows more about
     /// where the value came from than the parser it called); other errors unchanged.
+    #[cfg(feature = "cli")]
     pub(crate) fn of_kind(self, kind: InputKind) -> Self {
         match self {
             Error::Input(e) => Error::Input(InputError { kind, ..e }),

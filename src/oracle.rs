@@ -545,6 +545,7 @@ impl Tolerances {
     }
 
     /// `Error::Input` for a defect tolerance without the pair figures it is decided on.
+    #[cfg(feature = "cli")]
     pub(crate) fn require_pairs(&self, pairs: bool) -> Result<(), Error> {
         if self.defect_tol.is_some() && !pairs {
             return Err(Error::input(
