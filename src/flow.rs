@@ -126,6 +126,16 @@ pub struct Refused<I = Interval> {
     pub error: Error,
 }
 
+/// A refusal before any stop was proved.
+impl<I> From<Error> for Refused<I> {
+    fn from(error: Error) -> Refused<I> {
+        Refused {
+            at: Vec::new(),
+            error,
+        }
+    }
+}
+
 /// [`flow_at_in`], keeping on a refusal the stops proved before it ([`Refused`]).
 ///
 /// # Containment
@@ -140,12 +150,8 @@ pub fn flow_at_certified_in<I: Ival>(
     times: &[f64],
     opts: &FlowOptions,
 ) -> Result<Vec<FlowEnclosure<I>>, Refused<I>> {
-    let none = |error| Refused {
-        at: Vec::new(),
-        error,
-    };
-    let t = first_time(times).map_err(none)?;
-    let x = flow_query(model, q, u, t).map_err(none)?;
+    let t = first_time(times)?;
+    let x = flow_query(model, q, u, t)?;
     flow_from(model, &LohnerSet::<I>::point(&x), times, opts)
 }
 
@@ -193,10 +199,7 @@ pub fn flow_boxes_certified_in<I: Ival>(
     times: &[f64],
     opts: &FlowOptions,
 ) -> Result<Vec<FlowEnclosure<I>>, Refused<I>> {
-    let start = boxes_start(model, q, u, times).map_err(|error| Refused {
-        at: Vec::new(),
-        error,
-    })?;
+    let start = boxes_start(model, q, u, times)?;
     flow_from(model, &start, times, opts)
 }
 
@@ -240,13 +243,9 @@ fn flow_from<I: Ival>(
     times: &[f64],
     opts: &FlowOptions,
 ) -> Result<Vec<FlowEnclosure<I>>, Refused<I>> {
-    let none = |error| Refused {
-        at: Vec::new(),
-        error,
-    };
     for (i, w) in times.windows(2).enumerate() {
         if !w[1].is_finite() || w[1] <= w[0] {
-            return Err(none(Error::input_at(
+            return Err(Refused::from(Error::input_at(
                 InputKind::Times,
                 format!(
                     "times must be finite and strictly increasing (t_{} = {}, t_{} = {})",

@@ -5,6 +5,7 @@
 //! through every limb, cancellation to zero, the largest and smallest exponents, subnormal
 //! doubles, sums one unit from a rounding boundary.
 
+use crate::common::Gen;
 use dalembert::precision::mp::{Mp, MpInterval, Round};
 use num_bigint::{BigInt, BigUint, Sign};
 
@@ -89,19 +90,9 @@ fn exact_ends(acc: &MpInterval, neg: bool, pairs: &[(MpInterval, MpInterval)]) -
     (lo, hi)
 }
 
-/// A deterministic stream of awkward numbers: all-ones and single-bit significands, random
-/// limbs, zeros, exponents from `2^-300` to `2^300`.
-struct Gen(u64);
-
+/// Awkward numbers from the stream: all-ones and single-bit significands, random limbs,
+/// zeros, exponents from `2^-300` to `2^300`.
 impl Gen {
-    fn next(&mut self) -> u64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        self.0 ^ (self.0 >> 29)
-    }
-
     fn mp(&mut self, p: u32) -> Mp {
         let r = self.next();
         let bits = 1 + (self.next() % p as u64) as u32;

@@ -5,6 +5,7 @@
 //! value), at the extremes: carries through every limb, cancellation to zero, the largest and
 //! smallest exponents, subnormal f64 inputs, results one ulp from a rounding boundary.
 
+use crate::common::Gen;
 use dalembert::precision::mp::{Mp, Round};
 use dalembert::precision::mp_float::{EXP_LIMIT, MAX_PREC};
 use num_bigint::{BigInt, BigUint, Sign};
@@ -73,20 +74,10 @@ fn check(lo: &Mp, hi: &Mp, prec: u32, side: impl Fn(&Dy) -> Ordering, what: &str
     }
 }
 
-/// A deterministic stream of awkward significands and exponents.
-struct Gen(u64);
-
+/// Awkward significands and exponents from the stream.
 impl Gen {
-    fn next(&mut self) -> u64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        self.0 ^ (self.0 >> 29)
-    }
-
     /// A number of at most `prec` bits: all ones, a single bit, ones with a hole, random.
-    fn mp(&mut self, prec: u32, exp_span: i64) -> Mp {
+    fn mp_spanning(&mut self, prec: u32, exp_span: i64) -> Mp {
         let bits = 1 + self.next() % prec as u64;
         let man = match self.next() % 5 {
             0 => (BigUint::from(1u32) << bits) - 1u32,
@@ -115,7 +106,7 @@ fn add_sub_mul_div_sqrt_bracket_the_exact_value_tightly() {
     for &p in &PRECS {
         for i in 0..300 {
             let span = if i % 3 == 0 { 3 } else { 300 };
-            let (a, b) = (g.mp(p, span), g.mp(p, span));
+            let (a, b) = (g.mp_spanning(p, span), g.mp_spanning(p, span));
             let (da, db) = (dy(&a), dy(&b));
             // sum: far-apart operands stay within a few thousand bits of exponent here
             let s = add(&da, &db);

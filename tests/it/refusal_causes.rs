@@ -2,7 +2,7 @@
 //! (E24), the stops proved before a `--times` refusal (E25), JSON scene files (E26), batch
 //! `scenes` (E27), `precision` on a batch `check` (E28) and the `**` message.
 
-use crate::common::{batch_answers, run_args};
+use crate::common::{batch_answers, run_args, run_line};
 use serde_json::{json, Value};
 
 const DISC_TOML: &str = concat!(
@@ -141,35 +141,11 @@ fn the_step_limit_is_settable_and_named_steps() {
     assert!(knife(json!({})).get("ok").is_some());
     assert_eq!(knife(json!({"max_steps": 0}))["error"]["code"], 2);
     // the command line's flag
-    let out = run_args(&[
-        "flow",
-        "--scene",
-        "knife",
-        "--q",
-        "0,0,0",
-        "--u",
-        "0.8,0.8",
-        "--t",
-        "60",
-        "--max-steps",
-        "3",
-    ]);
+    let out = run_line("flow --scene knife --q 0,0,0 --u 0.8,0.8 --t 60 --max-steps 3");
     assert_eq!(out.status.code(), Some(3));
     assert!(out.stdout.is_empty());
     assert!(String::from_utf8_lossy(&out.stderr).contains("more than 3 steps"));
-    let out = run_args(&[
-        "flow",
-        "--scene",
-        "knife",
-        "--q",
-        "0,0,0",
-        "--u",
-        "0.8,0.8",
-        "--t",
-        "1",
-        "--max-steps",
-        "0",
-    ]);
+    let out = run_line("flow --scene knife --q 0,0,0 --u 0.8,0.8 --t 1 --max-steps 0");
     assert_eq!(out.status.code(), Some(2));
 }
 
@@ -291,22 +267,9 @@ fn a_python_power_is_refused_saying_powers_are_carets() {
 #[test]
 fn a_batch_check_at_a_precision_answers_as_the_command_line() {
     // the DLA trajectory of the knife, checked at 106 bits both ways
-    let out = run_args(&[
-        "integrate",
-        "--scene",
-        "knife",
-        "--scheme",
-        "dla",
-        "--q0",
-        "0,0,0",
-        "--q1",
-        "0.1,0.01,0.1",
-        "--h",
-        "0.125",
-        "--steps",
-        "4",
-        "--json",
-    ]);
+    let out = run_line(
+        "integrate --scene knife --scheme dla --q0 0,0,0 --q1 0.1,0.01,0.1 --h 0.125 --steps 4 --json",
+    );
     assert!(out.status.success());
     let traj: Value = serde_json::from_slice(&out.stdout).unwrap();
     let dir = std::env::temp_dir().join(format!("dalembert-check-prec-{}", std::process::id()));

@@ -75,6 +75,11 @@ pub fn run_args(args: &[&str]) -> std::process::Output {
         .unwrap()
 }
 
+/// The binary run with the words of `line` as its arguments (no stdin), its whole output.
+pub fn run_line(line: &str) -> std::process::Output {
+    run_args(&line.split_whitespace().collect::<Vec<_>>())
+}
+
 /// `dalembert batch` fed `input`; it must exit 0; its answers parsed, one per line.
 pub fn batch_answers(input: &str) -> Vec<serde_json::Value> {
     let mut child = Command::new(env!("CARGO_BIN_EXE_dalembert"))

@@ -181,3 +181,17 @@ pub fn exact_energy(m: &Model, q0: &[f64], q1: &[f64], h: f64) -> Interval {
     assert!(e.wid() < 1e-12, "{e:?}");
     e
 }
+
+/// A deterministic stream of 64-bit words (a linear congruential generator, its high bits
+/// folded down): the seed of each test's own draws.
+pub struct Gen(pub u64);
+
+impl Gen {
+    pub fn next(&mut self) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        self.0 ^ (self.0 >> 29)
+    }
+}
