@@ -142,9 +142,11 @@ impl WideInterval {
         self.0.is_empty()
     }
 
-    /// Non-empty with finite ends.
+    /// Non-empty with finite ends ([`MpInterval::is_finite`] counts the empty interval as
+    /// bounded; the method's checks, such as Krawczyk's `K(X)` in the interior of `X`, need
+    /// an empty enclosure refused).
     pub fn is_finite(&self) -> bool {
-        self.0.is_finite()
+        !self.0.is_empty() && self.0.is_finite()
     }
 
     /// Exactly `[0, 0]`.
@@ -438,6 +440,7 @@ mod tests {
     fn empty_and_unbounded_sets_stay_so() {
         let e = WideInterval::from_f64(f64::NAN);
         assert!(e.is_empty() && (-e).is_empty() && (e + WideInterval::cst(1.0)).is_empty());
+        assert!(!e.is_finite() && WideInterval::cst(1.0).is_finite());
         let all = WideInterval::entire();
         assert!(
             all.inf().to_mp().is_infinite() && all.sup().to_mp().is_infinite() && !all.is_empty()
