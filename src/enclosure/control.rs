@@ -9,7 +9,7 @@ use super::options::{FlowOptions, FlowStats};
 use super::set::*;
 use super::step::*;
 use super::system::System;
-use crate::tape::{Coeffs, Rows};
+use crate::tape::Rows;
 use crate::{Error, Reason};
 
 /// What a flow computes besides the set.
@@ -105,13 +105,17 @@ pub(super) fn flow_set_general<I: Ival>(
         let m_f64: Vec<f64> = set.m.iter().map(|x| I::pt_f64(*x)).collect();
         // the step of the rule (5.8) (a)-(c) at order `p`, from the coefficients' midpoints
         // (choices only)
-        let rule_at = |mid: Rows<'_, f64>, p: usize| {
-            let rule = step_size(mid.first(p + 1), p, &m_f64, I::eps());
-            let predicted = memo.step.map_or(rule, |(h0, ratio)| h0 * rescale(ratio, p, 1.5));
-            let cap = ceiling.map_or(f64::INFINITY, |(hc, k)| {
+        // the caps on that step: the step the last one predicts, and the ceiling (5.8) (c)
+        let (memo_step, ceiling_now) = (memo.step, ceiling);
+        let cap = |p: usize| {
+            let predicted = memo_step.map_or(f64::INFINITY, |(h0, ratio)| h0 * rescale(ratio, p, 1.5));
+            let ceiling = ceiling_now.map_or(f64::INFINITY, |(hc, k)| {
                 hc * 0.97 * (1.0 + CEILING_GROWTH).powi(k)
             });
-            round_step_fine(rule.min(predicted).min(cap))
+            predicted.min(ceiling)
+        };
+        let rule_at = |mid: Rows<'_, f64>, p: usize| {
+            round_step_fine(step_size(mid.first(p + 1), p, &m_f64, I::eps()).min(cap(p)))
         };
         // (5.8) (e) A span that takes two or three steps at order `p` from its start is
         // taken at SHORT_ORDER: fewer, longer steps where the span sets their number. The
@@ -120,49 +124,60 @@ pub(super) fn flow_set_general<I: Ival>(
             let h = rule_at(c.map(|x| x.mid()).rows(), p);
             short_span(rem.inf(), rem.sup(), h)
         };
-        let more = if choose_order { I::short_order() } else { p };
-        let c = sys
-            .field
-            .ode_taylor_until(&centre, p, more, |c| !short(c))
-            .ok_or_else(|| {
-                let e = Error::refused(Reason::Undefined, "vector field not defined at the state");
-                stop(e, &set, last_h, done, &stats)
-            })?;
-        if choose_order {
-            choose_order = false;
-            p = c.len() - 1;
-            stats.order = p;
-        }
-        // A fixed step (spec eq. (5.13)) or the rule of (5.8).
         let fixed = opts.given_h().is_some();
-        // the coefficients' midpoints, for the rules (5.8) and (5.8') (choices only)
-        let mid: Coeffs<f64> = if fixed {
-            Coeffs::from_rows(0, [])
-        } else {
-            c.map(|x| x.mid())
-        };
-        let mut h = if fixed {
-            round_step(opts.given_h().unwrap_or(0.0))
-        } else {
-            rule_at(mid.rows(), p)
-        }
-        .min(rem.inf());
-        // (5.8) (d) In a rest of the span that takes at most SHORT_REST steps of this size,
-        // the remainder is held to the tolerance without slices (5.5).
-        let short_rest = !fixed && within_short_rest(rem.sup(), h);
-        let mut last = h >= rem.inf();
+        let mut series = sys.field.ode_series(&centre, if choose_order { I::short_order() } else { p });
+        let undefined = || Error::refused(Reason::Undefined, "vector field not defined at the state");
         // (5.8') A last step that a lower order also reaches in one step takes that order
         // (the work of a Taylor series grows like the square of its order): a short flow,
-        // such as a retraction's over a small h, costs a fraction of order p. Should its
-        // remainder not meet the tolerance, the step is tried again at order p.
-        let mut p_step = p;
-        if last && !fixed && opts.given_order().is_none() {
-            p_step = I::low_orders()
-                .iter()
-                .copied()
-                .find(|&q| q < p && step_size(mid.rows().first(q + 1), q, &m_f64, I::eps()) >= rem.sup())
-                .unwrap_or(p);
+        // such as a retraction's over a small h, costs a fraction of order p. The series is
+        // grown through the lower orders first and stops at the first that reaches the end
+        // of the span, so that the orders above it are not computed. Only where the caps
+        // of the rule (5.8) let a step reach that end; should its remainder not meet the
+        // tolerance, the step is tried again at order p.
+        let mut low = None;
+        if !fixed && opts.given_order().is_none() && round_step_fine(cap(p)) >= rem.inf() {
+            for q in I::low_orders().iter().copied().filter(|&q| q < p) {
+                if !series.grow(q) {
+                    break;
+                }
+                let mid = series.rows().map(|x| x.mid());
+                if step_size(mid.rows(), q, &m_f64, I::eps()) >= rem.sup() {
+                    low = Some(q);
+                    break;
+                }
+            }
         }
+        let (mut h, mut last, short_rest, mut p_step) = match low {
+            Some(q) => (rem.inf(), true, within_short_rest(rem.sup(), rem.inf()), q),
+            None => {
+                // the series to order p, and on to SHORT_ORDER when the span is short (5.8) (e)
+                if !series.grow(p) {
+                    return Err(stop(undefined(), &set, last_h, done, &stats));
+                }
+                if choose_order {
+                    let more = I::short_order();
+                    if more > p && short(series.rows()) {
+                        // past p a failure leaves the series at p
+                        series.grow(more);
+                    }
+                    choose_order = false;
+                    p = series.order();
+                    stats.order = p;
+                }
+                // A fixed step (spec eq. (5.13)) or the rule of (5.8), from the coefficients'
+                // midpoints (choices only).
+                let h = if fixed {
+                    round_step(opts.given_h().unwrap_or(0.0))
+                } else {
+                    rule_at(series.rows().map(|x| x.mid()).rows(), p)
+                }
+                .min(rem.inf());
+                // (5.8) (d) In a rest of the span that takes at most SHORT_REST steps of
+                // this size, the remainder is held to the tolerance without slices (5.5).
+                let short_rest = !fixed && within_short_rest(rem.sup(), h);
+                (h, h >= rem.inf(), short_rest, p)
+            }
+        };
         // (5.6) the precise ladder's orders above the state's, only while the derivative
         // carried so far is narrower than HIGH_UNTIL of its size
         let high = precise
@@ -188,7 +203,7 @@ pub(super) fn flow_set_general<I: Ival>(
             let step = lohner_step(
                 sys,
                 &set,
-                c.rows().first(p_step + 1),
+                series.rows().first(p_step + 1),
                 hi,
                 p_step,
                 tol,
@@ -266,6 +281,10 @@ pub(super) fn flow_set_general<I: Ival>(
                 }
                 Err(StepFail::Shrink | StepFail::TooWide(_)) if p_step < p => {
                     // the lower order did not do: the same step at order p
+                    if !series.grow(p) {
+                        return Err(stop(undefined(), &set, last_h, done, &stats));
+                    }
+                    choose_order = false;
                     p_step = p;
                     stats.rejected += 1;
                 }
@@ -492,6 +511,7 @@ fn root_at_least(bound: f64, i: usize, h: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tape::Coeffs;
 
     /// The rule (5.8) as the spec writes it, before rounding: every root taken, lowest
     /// coefficient first.

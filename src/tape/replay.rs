@@ -66,69 +66,35 @@ impl Tape {
         more: usize,
         enough: impl FnOnce(Rows<'_, T>) -> bool,
     ) -> Option<Coeffs<T>> {
-        let d = self.n_inputs;
-        let top = order.max(more);
-        charge(terms(self.ops.len(), order));
-        let mut s = Series::new(self.ops.len(), order + 1);
-        let mut flat: Vec<T> = Vec::with_capacity((order + 1) * d);
-        flat.extend_from_slice(x0);
-        let mut target = order;
-        let mut enough = Some(enough);
-        let mut k = 0;
-        loop {
-            if k == target && target < top {
-                if let Some(enough) = enough.take() {
-                    let rows = Rows {
-                        width: d,
-                        len: k + 1,
-                        flat: &flat,
-                    };
-                    if !enough(rows) {
-                        let ops = self.ops.len();
-                        charge(terms(ops, top) - terms(ops, order));
-                        s.widen(top + 1);
-                        target = top;
-                    }
-                }
-            }
-            // Coefficient `target` of the nodes is not needed (only x_0 .. x_target are
-            // returned); step 0 always runs, since it carries the domain checks (2.8).
-            if k == target && k > 0 {
-                break;
-            }
-            s.step(&self.ops, k, &flat[k * d..(k + 1) * d]);
-            let mut failed = !s.ok;
-            if !failed && k < target {
-                let kk = T::cst((k + 1) as f64);
-                for i in 0..d {
-                    let next = s.get(self.outputs[i], k).quot(kk);
-                    failed |= !next.is_finite_coef();
-                    flat.push(next);
-                }
-            }
-            if failed {
-                // steps 0 .. order - 1 make the coefficients to `order`, step 0 the domain
-                // checks (2.8): a failure there fails the series
-                if k < order || k == 0 {
-                    return None;
-                }
-                // past `order`: the series to `order` stands
-                flat.truncate((order + 1) * d);
-                target = order;
-                break;
-            }
-            if k == target {
-                break;
-            }
-            k += 1;
+        let mut s = self.ode_series(x0, order.max(more));
+        if !s.grow(order) {
+            return None;
         }
-        Some(Coeffs {
-            width: d,
-            len: target + 1,
-            flat,
-        })
+        if more > order && !enough(s.rows()) {
+            // past `order` a failure leaves the series at `order`
+            s.grow(more);
+        }
+        Some(s.coeffs())
     }
 
+    /// The Taylor series of [`Tape::ode_taylor`] at `x0`, grown one order at a time as its
+    /// reader asks ([`OdeSeries::grow`]): the coefficients to an order are those of
+    /// `ode_taylor(x0, order)`, bit for bit, however many times it was grown to get there
+    /// (each coefficient's recurrence reads only the coefficients below it, [spec eqs.
+    /// (2.3)-(2.7)](crate::spec::taylor)). `room`: the order it is expected to reach (it may grow past it).
+    pub(crate) fn ode_series<T: Coef>(&self, x0: &[T], room: usize) -> OdeSeries<'_, T> {
+        let d = self.n_inputs;
+        let mut flat: Vec<T> = Vec::with_capacity((room + 1) * d);
+        flat.extend_from_slice(x0);
+        OdeSeries {
+            tape: self,
+            s: Series::new(self.ops.len(), room + 1),
+            flat,
+            steps: 0,
+            order: 0,
+            broken: false,
+        }
+    }
     /// Rigorous evaluation over intervals, with the same smoothness checks as
     /// [`Tape::ode_taylor`]: `None` unless every output is a finite enclosure of the exact
     /// value at every point of the box ([spec eq. (2.8)](crate::spec::taylor)).
@@ -137,6 +103,87 @@ impl Tape {
         s.step(&self.ops, 0, x);
         let out: Vec<T> = self.outputs.iter().map(|o| s.get(*o, 0)).collect();
         (s.ok && out.iter().all(|x| x.is_finite_coef())).then_some(out)
+    }
+}
+
+/// A Taylor series of `x' = F(x)` grown order by order ([`Tape::ode_series`]).
+pub(crate) struct OdeSeries<'t, T: Coef> {
+    tape: &'t Tape,
+    s: Series<T>,
+    /// rows `x_0 .. x_order`
+    flat: Vec<T>,
+    /// the recurrences' steps run (step k makes the nodes' coefficient k)
+    steps: usize,
+    order: usize,
+    /// a check of (2.8) or a finite coefficient failed: the series grows no further
+    broken: bool,
+}
+
+impl<T: Coef> OdeSeries<'_, T> {
+    /// Grow the coefficients to `order` (nothing when they reach it already). `false` when
+    /// the tape is not proved smooth on the box to that order (a divisor enclosure holding
+    /// 0, a square root's argument not in (0, inf), a coefficient not finite: [spec eq.
+    /// (2.8)](crate::spec::taylor)): the series then stays at the order it had, and grows no further.
+    /// Step 0 always runs, since it carries the domain checks.
+    pub fn grow(&mut self, order: usize) -> bool {
+        if self.broken {
+            return false;
+        }
+        let (d, ops) = (self.tape.n_inputs, self.tape.ops.len());
+        let from = self.order;
+        if order > from {
+            charge(terms(ops, order) - terms(ops, from));
+            self.s.widen(order + 1);
+        }
+        let last = order.max(1);
+        // rows to `rows` are made; step k needs row k and makes row k + 1
+        let rows = self.flat.len() / d - 1;
+        for k in rows..last {
+            let mut failed = false;
+            if k == self.steps {
+                self.s.step(&self.tape.ops, k, &self.flat[k * d..(k + 1) * d]);
+                self.steps += 1;
+                failed = !self.s.ok;
+            }
+            if !failed && k < order {
+                let kk = T::cst((k + 1) as f64);
+                for i in 0..d {
+                    let next = self.s.get(self.tape.outputs[i], k).quot(kk);
+                    failed |= !next.is_finite_coef();
+                    self.flat.push(next);
+                }
+            }
+            if failed {
+                self.broken = true;
+                self.flat.truncate((from + 1) * d);
+                return false;
+            }
+        }
+        self.order = self.order.max(order);
+        true
+    }
+
+    /// The order the coefficients reach.
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
+    /// Rows `x_0 .. x_order`.
+    pub fn rows(&self) -> Rows<'_, T> {
+        Rows {
+            width: self.tape.n_inputs,
+            len: self.order + 1,
+            flat: &self.flat,
+        }
+    }
+
+    /// The coefficients to the order reached.
+    pub fn coeffs(self) -> Coeffs<T> {
+        Coeffs {
+            width: self.tape.n_inputs,
+            len: self.order + 1,
+            flat: self.flat,
+        }
     }
 }
 
@@ -221,5 +268,50 @@ mod tests {
         let tape = Tape::record(1, |x| vec![x[0].sqrt()]);
         assert!(tape.ode_taylor_until(&[point(-1.0)], 0, 4, |_| false).is_none());
         assert!(tape.ode_taylor(&[point(-1.0)], 0).is_none());
+    }
+
+    /// `ode_series` grown in stages (0, 3, the same 3 again, 8, 15) has, at each stage, the
+    /// coefficients of `ode_taylor` at that order, bit for bit, and charges the same work in
+    /// all as one series of the last order; grown into an overflow it keeps the order it had
+    /// and grows no further (`x' = x^2` from `x0`: `x_k = x0^(k+1)`).
+    #[test]
+    fn a_series_grown_in_stages_is_the_series_of_each_order() {
+        let tape = Tape::record(3, |x| {
+            let (y, u1, u2) = (x[0], x[1], x[2]);
+            vec![u2, -(y * u1 * u2) / (Tracer::one() + y * y) + y.sin(), u1.cos()]
+        });
+        let x0 = [point(0.4), crate::scalar::iv(0.8, 0.8000000000000002), point(0.8)];
+        let bits = |c: &Coeffs<Interval>| -> Vec<(u64, u64)> {
+            c.iter().flatten().map(|x| (x.inf().to_bits(), x.sup().to_bits())).collect()
+        };
+        let mut s = tape.ode_series(&x0, 4);
+        let mut staged = 0;
+        for order in [0, 3, 3, 8, 15] {
+            let before = work_done();
+            assert!(s.grow(order));
+            staged += work_done() - before;
+            assert_eq!(s.order(), order);
+            let rows = s.rows();
+            let grown = Coeffs::from_rows(3, rows.iter());
+            assert_eq!(bits(&grown), bits(&tape.ode_taylor(&x0, order).unwrap()));
+        }
+        let before = work_done();
+        tape.ode_taylor(&x0, 15).unwrap();
+        assert_eq!(work_done() - before, staged);
+
+        let tape = Tape::record(1, |x| vec![x[0] * x[0]]);
+        // x0 = 2^40: every coefficient and sum a small integer times a power of 2, exact;
+        // x_k = 2^(40 (k + 1)) overflows at k = 25
+        let x0 = [2f64.powi(40)];
+        let mut s = tape.ode_series(&x0, 30);
+        assert!(s.grow(20));
+        assert!(!s.grow(30));
+        assert_eq!(s.order(), 20);
+        assert!(!s.grow(21));
+        let c = s.coeffs();
+        assert_eq!(c.len(), 21);
+        for (k, row) in c.iter().enumerate() {
+            assert_eq!(row[0], 2f64.powi(40 * (k as i32 + 1)));
+        }
     }
 }
