@@ -8,7 +8,8 @@
 //! ```
 //!
 //! With `FUZZ_COST_DIR=DIR` (and a TARGET) it times the inputs in DIR instead, for example
-//! the corpus copy a campaign grew; `FUZZ_COST_SLOWEST=1` lists the slowest eight inputs.
+//! the corpus copy a campaign grew; `FUZZ_COST_SLOWEST=N` lists the slowest N inputs (8
+//! when N is not a number), each with its outcome.
 
 use std::path::Path;
 use std::time::Instant;
@@ -80,7 +81,12 @@ fn main() {
             slowest.display()
         );
         if std::env::var_os("FUZZ_COST_SLOWEST").is_some() {
-            for (t, path, outcome) in times.iter().rev().take(8) {
+            for (t, path, outcome) in times.iter().rev().take(
+                std::env::var("FUZZ_COST_SLOWEST")
+                    .ok()
+                    .and_then(|v| v.parse().ok())
+                    .unwrap_or(8),
+            ) {
                 println!("  {:8.3} ms  {}  {outcome}", 1e3 * t, path.display());
             }
         }
