@@ -129,6 +129,25 @@ impl Tape {
         })
     }
 
+    /// [`Tape::ode_taylor`] to `order` (at least 1), kept so that it can be grown to higher
+    /// orders ([`Growing::grow`]): the recurrences go on from where they stopped, and the
+    /// coefficients to any order are those of `ode_taylor(x0, order)` ([spec eqs.
+    /// (2.2)-(2.8)](crate::spec::taylor)). `None` as [`Tape::ode_taylor`].
+    pub(crate) fn ode_taylor_growing<T: Coef>(&self, x0: &[T], order: usize) -> Option<Growing<'_, T>> {
+        let d = self.n_inputs;
+        let mut flat: Vec<T> = Vec::with_capacity((order + 1) * d);
+        flat.extend_from_slice(x0);
+        charge(terms(self.ops.len(), 0));
+        let mut g = Growing {
+            tape: self,
+            s: Series::new(self.ops.len(), order + 1),
+            flat,
+            order: 0,
+            dead: false,
+        };
+        g.grow(order.max(1)).then_some(g)
+    }
+
     /// Rigorous evaluation over intervals, with the same smoothness checks as
     /// [`Tape::ode_taylor`]: `None` unless every output is a finite enclosure of the exact
     /// value at every point of the box ([spec eq. (2.8)](crate::spec::taylor)).
@@ -137,6 +156,65 @@ impl Tape {
         s.step(&self.ops, 0, x);
         let out: Vec<T> = self.outputs.iter().map(|o| s.get(*o, 0)).collect();
         (s.ok && out.iter().all(|x| x.is_finite_coef())).then_some(out)
+    }
+}
+
+/// A Taylor series of the solution of `x' = F(x)` ([`Tape::ode_taylor_growing`]), to some
+/// order, that can be grown.
+pub(crate) struct Growing<'a, T: Coef> {
+    tape: &'a Tape,
+    s: Series<T>,
+    /// the coefficients `x_0 .. x_order`, row after row
+    flat: Vec<T>,
+    order: usize,
+    /// a coefficient past `order` was not proved (a check of (2.8) failed, or it is not
+    /// finite): the series cannot grow
+    dead: bool,
+}
+
+impl<T: Coef> Growing<'_, T> {
+    /// Grows the series to order `to` (nothing when it is there already). `false`, the series
+    /// left at its order, when a coefficient on the way is not proved ([spec eq.
+    /// (2.8)](crate::spec::taylor)); it then grows no more.
+    pub(crate) fn grow(&mut self, to: usize) -> bool {
+        if to <= self.order {
+            return true;
+        }
+        if self.dead {
+            return false;
+        }
+        let (d, ops) = (self.tape.n_inputs, &self.tape.ops);
+        charge(terms(ops.len(), to) - terms(ops.len(), self.order));
+        self.s.widen(to + 1);
+        // step k makes coefficient k of every node, hence coefficient k + 1 of the inputs
+        for k in self.order..to {
+            self.s.step(ops, k, &self.flat[k * d..(k + 1) * d]);
+            let mut failed = !self.s.ok;
+            if !failed {
+                let kk = T::cst((k + 1) as f64);
+                for i in 0..d {
+                    let next = self.s.get(self.tape.outputs[i], k).quot(kk);
+                    failed |= !next.is_finite_coef();
+                    self.flat.push(next);
+                }
+            }
+            if failed {
+                self.flat.truncate((self.order + 1) * d);
+                self.dead = true;
+                return false;
+            }
+        }
+        self.order = to;
+        true
+    }
+
+    /// The coefficients `x_0 .. x_order`.
+    pub(crate) fn rows(&self) -> Rows<'_, T> {
+        Rows {
+            width: self.tape.n_inputs,
+            len: self.order + 1,
+            flat: &self.flat,
+        }
     }
 }
 
@@ -221,5 +299,46 @@ mod tests {
         let tape = Tape::record(1, |x| vec![x[0].sqrt()]);
         assert!(tape.ode_taylor_until(&[point(-1.0)], 0, 4, |_| false).is_none());
         assert!(tape.ode_taylor(&[point(-1.0)], 0).is_none());
+    }
+
+    /// A growing series: grown rung by rung (3, 8, 20, 21), the coefficients of
+    /// `ode_taylor(x0, order)` at each, bit for bit, and the work of the order reached; grown
+    /// into an overflow, it keeps its order and grows no more.
+    #[test]
+    fn a_grown_series_is_the_series_of_its_order() {
+        let tape = Tape::record(3, |x| {
+            let (y, u1, u2) = (x[0], x[1], x[2]);
+            vec![u2, -(y * u1 * u2) / (Tracer::one() + y * y) + y.sin(), Tracer::zero()]
+        });
+        let x0 = [point(0.4), crate::scalar::iv(0.8, 0.8000000000000002), point(0.8)];
+        // the work charged is that of the order reached
+        let before = work_done();
+        let mut g = tape.ode_taylor_growing(&x0, 3).unwrap();
+        for q in [8, 20, 21] {
+            assert!(g.grow(q));
+        }
+        let grown_work = work_done() - before;
+        let before = work_done();
+        tape.ode_taylor(&x0, 21).unwrap();
+        assert_eq!(work_done() - before, grown_work);
+        let mut g = tape.ode_taylor_growing(&x0, 3).unwrap();
+        for q in [3, 8, 8, 20, 21] {
+            assert!(g.grow(q));
+            let fresh = tape.ode_taylor(&x0, q).unwrap();
+            assert_eq!(g.rows().len(), q + 1);
+            for (r, s) in g.rows().iter().zip(fresh.iter()) {
+                assert!(r.iter().zip(s).all(|(x, y)| x.inf() == y.inf() && x.sup() == y.sup()));
+            }
+        }
+        // x' = x^2 from 10^12: x_k = 10^(12 (k + 1)), finite to k = 24
+        let tape = Tape::record(1, |x| vec![x[0] * x[0]]);
+        let mut g = tape.ode_taylor_growing(&[1e12f64], 20).unwrap();
+        assert!(!g.grow(28));
+        assert_eq!(g.rows().len(), 21);
+        assert!(!g.grow(22));
+        assert_eq!(g.rows().iter().collect::<Vec<_>>(), tape.ode_taylor(&[1e12f64], 20).unwrap().iter().collect::<Vec<_>>());
+        assert!(tape.ode_taylor_growing(&[1e12f64], 26).is_none());
+        let tape = Tape::record(1, |x| vec![x[0].sqrt()]);
+        assert!(tape.ode_taylor_growing(&[point(-1.0)], 3).is_none());
     }
 }
