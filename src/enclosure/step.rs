@@ -602,14 +602,14 @@ pub(super) fn step_jacobian<I: Ival>(
     let q0 = orders[0];
     // the series at the seed, grown from rung to rung (the same coefficients as a series
     // computed afresh at each order, spec (2.2))
-    let mut w = sys.field_var.ode_taylor_growing(&seed, q0)?;
+    let mut k = (*order).min(orders.len() - 1);
+    let mut w = sys.field_var.ode_taylor_growing(&seed, q0, orders[k])?;
     let (y_ext, t0) = a_priori(&sys.field_var, w.rows(), h, q0, 4.0).ok()?;
     // the series over the a priori box for the remainders above q0, grown likewise; `None`
     // before the first, or once a coefficient was not proved (as it then is not at any
     // higher order)
     let mut over: Option<crate::tape::Growing<'_, I>> = None;
     let mut over_failed = false;
-    let mut k = (*order).min(orders.len() - 1);
     // the last two (order, ratio) tried, for the orders above the state's (5.6)
     let mut tried: [Option<(usize, f64)>; 2] = [None, None];
     loop {
@@ -642,7 +642,7 @@ pub(super) fn step_jacobian<I: Ival>(
                 let grown = match over.as_mut() {
                     Some(g) => g.grow(q + 1),
                     None => {
-                        over = sys.field_var.ode_taylor_growing(&y_ext, q + 1);
+                        over = sys.field_var.ode_taylor_growing(&y_ext, q + 1, q + 1);
                         over.is_some()
                     }
                 };

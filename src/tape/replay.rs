@@ -132,15 +132,22 @@ impl Tape {
     /// [`Tape::ode_taylor`] to `order` (at least 1), kept so that it can be grown to higher
     /// orders ([`Growing::grow`]): the recurrences go on from where they stopped, and the
     /// coefficients to any order are those of `ode_taylor(x0, order)` ([spec eqs.
-    /// (2.2)-(2.8)](crate::spec::taylor)). `None` as [`Tape::ode_taylor`].
-    pub(crate) fn ode_taylor_growing<T: Coef>(&self, x0: &[T], order: usize) -> Option<Growing<'_, T>> {
+    /// (2.2)-(2.8)](crate::spec::taylor)). `None` as [`Tape::ode_taylor`]. `room`: the order
+    /// it is expected to grow to, for which room is made at once (growing past it costs a
+    /// copy of the coefficients).
+    pub(crate) fn ode_taylor_growing<T: Coef>(
+        &self,
+        x0: &[T],
+        order: usize,
+        room: usize,
+    ) -> Option<Growing<'_, T>> {
         let d = self.n_inputs;
         let mut flat: Vec<T> = Vec::with_capacity((order + 1) * d);
         flat.extend_from_slice(x0);
         charge(terms(self.ops.len(), 0));
         let mut g = Growing {
             tape: self,
-            s: Series::new(self.ops.len(), order + 1),
+            s: Series::new(self.ops.len(), order.max(room) + 1),
             flat,
             order: 0,
             dead: false,
@@ -313,7 +320,7 @@ mod tests {
         let x0 = [point(0.4), crate::scalar::iv(0.8, 0.8000000000000002), point(0.8)];
         // the work charged is that of the order reached
         let before = work_done();
-        let mut g = tape.ode_taylor_growing(&x0, 3).unwrap();
+        let mut g = tape.ode_taylor_growing(&x0, 3, 3).unwrap();
         for q in [8, 20, 21] {
             assert!(g.grow(q));
         }
@@ -321,7 +328,7 @@ mod tests {
         let before = work_done();
         tape.ode_taylor(&x0, 21).unwrap();
         assert_eq!(work_done() - before, grown_work);
-        let mut g = tape.ode_taylor_growing(&x0, 3).unwrap();
+        let mut g = tape.ode_taylor_growing(&x0, 3, 20).unwrap();
         for q in [3, 8, 8, 20, 21] {
             assert!(g.grow(q));
             let fresh = tape.ode_taylor(&x0, q).unwrap();
@@ -332,13 +339,13 @@ mod tests {
         }
         // x' = x^2 from 10^12: x_k = 10^(12 (k + 1)), finite to k = 24
         let tape = Tape::record(1, |x| vec![x[0] * x[0]]);
-        let mut g = tape.ode_taylor_growing(&[1e12f64], 20).unwrap();
+        let mut g = tape.ode_taylor_growing(&[1e12f64], 20, 20).unwrap();
         assert!(!g.grow(28));
         assert_eq!(g.rows().len(), 21);
         assert!(!g.grow(22));
         assert_eq!(g.rows().iter().collect::<Vec<_>>(), tape.ode_taylor(&[1e12f64], 20).unwrap().iter().collect::<Vec<_>>());
-        assert!(tape.ode_taylor_growing(&[1e12f64], 26).is_none());
+        assert!(tape.ode_taylor_growing(&[1e12f64], 26, 30).is_none());
         let tape = Tape::record(1, |x| vec![x[0].sqrt()]);
-        assert!(tape.ode_taylor_growing(&[point(-1.0)], 3).is_none());
+        assert!(tape.ode_taylor_growing(&[point(-1.0)], 3, 3).is_none());
     }
 }
