@@ -17,8 +17,9 @@ pub(super) const LOW_ORDERS: [usize; 5] = [6, 8, 10, 12, 15];
 pub(super) const JAC_ORDERS: [usize; 6] = [3, 5, 8, 12, 16, 20];
 
 /// The orders tried for the variational equation when the derivative is asked to the
-/// rounding level ([spec eq. (5.6)](crate::spec::enclosure), Theorem 5.3), lowest first: [`JAC_ORDERS`] and two
-/// above the state's order, so that a step the state's rule (5.8) sized still meets the
-/// derivative's criterion (its remainder below 1 ulp of its size) instead of falling back
-/// to the step over the whole set (5.6'').
-pub(super) const PRECISE_JAC_ORDERS: [usize; 8] = [3, 5, 8, 12, 16, 20, 24, 28];
+/// rounding level ([spec eq. (5.6)](crate::spec::enclosure), Theorem 5.3), lowest first: [`JAC_ORDERS`] and, two
+/// apart, the orders to four above the state's, so that a step the state's rule (5.8) sized
+/// still meets the derivative's criterion (its remainder below 1 ulp of its size) instead of
+/// falling back to the step over the whole set (5.6''), at the lowest of them that does (the
+/// series grow from rung to rung: a rung that fails costs its test only).
+pub(super) const PRECISE_JAC_ORDERS: [usize; 9] = [3, 5, 8, 12, 16, 20, 22, 24, 28];

@@ -600,9 +600,19 @@ pub(super) fn step_jacobian<I: Ival>(
     // low order the test converges slowly for components whose range is nearly a point
     // (e.g. D u1 / D u1 = 1 for the knife): widen generously.
     let q0 = orders[0];
-    let w0 = sys.field_var.ode_taylor(&seed, q0)?;
-    let (y_ext, t0) = a_priori(&sys.field_var, w0.rows(), h, q0, 4.0).ok()?;
+    // the series at the seed, grown from rung to rung (the same coefficients as a series
+    // computed afresh at each order, spec (2.2))
     let mut k = (*order).min(orders.len() - 1);
+    let mut w = sys.field_var.ode_series(&seed, orders[k]);
+    if !w.grow(q0) {
+        return None;
+    }
+    let (y_ext, t0) = a_priori(&sys.field_var, w.rows(), h, q0, 4.0).ok()?;
+    // the series over the a priori box for the remainders above q0, grown likewise; `None`
+    // before the first, or once a coefficient was not proved (as it then is not at any
+    // higher order)
+    let mut over: Option<crate::tape::OdeSeries<'_, I>> = None;
+    let mut over_failed = false;
     // the last two (order, ratio) tried, for the orders above the state's (5.6)
     let mut tried: [Option<(usize, f64)>; 2] = [None, None];
     loop {
@@ -625,15 +635,20 @@ pub(super) fn step_jacobian<I: Ival>(
             }
             return None;
         }
-        let higher;
-        let (w, tw) = if q == q0 {
-            (&w0, Some(&t0))
+        if !w.grow(q) {
+            return None;
+        }
+        let tw = if q == q0 {
+            Some(t0.rows())
         } else {
-            higher = (
-                sys.field_var.ode_taylor(&seed, q)?,
-                sys.field_var.ode_taylor(&y_ext, q + 1),
-            );
-            (&higher.0, higher.1.as_ref())
+            if !over_failed {
+                let grown = match over.as_mut() {
+                    Some(g) => g.grow(q + 1),
+                    None => over.insert(sys.field_var.ode_series(&y_ext, q + 1)).grow(q + 1),
+                };
+                over_failed = !grown;
+            }
+            over.as_ref().filter(|_| !over_failed).map(|g| g.rows())
         };
         if let Some(tw) = tw {
             let hq = (0..=q).fold(I::cst(1.0), |a, _| a * h);

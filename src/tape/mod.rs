@@ -33,6 +33,7 @@ mod work;
 
 pub use coeffs::{Coeffs, Rows};
 pub use record::Tracer;
+pub(crate) use replay::OdeSeries;
 pub use series::{finite, Coef};
 pub use work::work_done;
 
