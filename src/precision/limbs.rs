@@ -13,6 +13,7 @@ use core::cmp::Ordering;
 /// A natural number `sum d[i] 2^(64 i)`, `i < len`; `d[len - 1] != 0` and `d[len..] == 0`
 /// (canonical: equal numbers have equal representations).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[repr(C)]
 pub(crate) struct Nat<const N: usize> {
     len: usize,
     d: [u64; N],

@@ -69,69 +69,81 @@ impl<const K: usize> Acc<K> {
         if t - self.e > Self::H {
             self.shr_limbs(((t - self.e - Self::H) as u64).div_ceil(64));
         }
-        // w = |term| / 2^e, floored (ceiled for a negative term, so that v - w is the floor)
-        // w holds its limbs in [lo, hi) (zero elsewhere)
-        let mut w = [0u64; K];
-        let (lo, hi);
+        // w = |term| / 2^e, floored (ceiled for a negative term, so that v - w is the floor),
+        // added to (subtracted from) v limb by limb as it is shifted: its limbs from `lo` on,
+        // `n` of them, then the carry (borrow) upward; a negative term with dropped bits
+        // starts with a borrow of 1 (w + 1, the ceiling)
         let d = me - self.e;
+        let (lo, n, first);
+        let mut buf = [0u64; K];
         if d >= 0 {
             // t - e <= H: m 2^d fits below limb K - 1
             let (ws, bs) = ((d / 64) as usize, (d % 64) as u32);
-            for i in 0..len {
-                w[i + ws] |= m[i] << bs;
-                if bs > 0 && i + ws + 1 < K {
-                    w[i + ws + 1] |= m[i] >> (64 - bs);
-                }
+            n = (len + (bs > 0) as usize).min(K - ws);
+            for (i, b) in buf[..n].iter_mut().enumerate() {
+                let cur = if i < len { m[i] } else { 0 };
+                *b = if bs == 0 {
+                    cur
+                } else if i == 0 {
+                    cur << bs
+                } else {
+                    (cur << bs) | (m[i - 1] >> (64 - bs))
+                };
             }
-            (lo, hi) = (ws, (ws + len + 1).min(K));
+            (lo, first) = (ws, 0);
         } else {
             let s = (-d) as u64;
             let (ws, bs) = ((s / 64) as usize, (s % 64) as u32);
             let dropped = if ws >= len {
+                n = 0;
                 true
             } else {
-                let low =
-                    m[..ws].iter().any(|&x| x != 0) || (bs > 0 && m[ws] & ((1u64 << bs) - 1) != 0);
-                for i in 0..len - ws {
+                n = (len - ws).min(K);
+                for (i, b) in buf[..n].iter_mut().enumerate() {
                     let hi = if bs > 0 && i + ws + 1 < len {
                         m[i + ws + 1] << (64 - bs)
                     } else {
                         0
                     };
-                    w[i] = (m[i + ws] >> bs) | hi;
+                    *b = (m[i + ws] >> bs) | hi;
                 }
-                low
+                m[..ws].iter().any(|&x| x != 0) || (bs > 0 && m[ws] & ((1u64 << bs) - 1) != 0)
             };
             if dropped {
                 self.c += 1;
-                if neg {
-                    add_small(&mut w, 1);
-                }
             }
-            (lo, hi) = (0, (len.saturating_sub(ws) + 1).min(K));
+            (lo, first) = (0, (dropped && neg) as u64);
         }
-        // v <- v -+ w modulo 2^(64 K): the limbs of w, then the carry (borrow) upward
+        // v <- v -+ w modulo 2^(64 K)
+        let mut c = first;
+        let mut i = lo;
         if neg {
-            let mut borrow = false;
-            for i in lo..K {
-                if i >= hi && !borrow {
-                    break;
-                }
-                let (x, b1) = self.v[i].overflowing_sub(w[i]);
-                let (x, b2) = x.overflowing_sub(borrow as u64);
-                self.v[i] = x;
-                borrow = b1 || b2;
+            for &x in &buf[..n] {
+                let (y, b1) = self.v[i].overflowing_sub(x);
+                let (y, b2) = y.overflowing_sub(c);
+                self.v[i] = y;
+                c = (b1 | b2) as u64;
+                i += 1;
+            }
+            while c != 0 && i < K {
+                let (y, b) = self.v[i].overflowing_sub(1);
+                self.v[i] = y;
+                c = b as u64;
+                i += 1;
             }
         } else {
-            let mut carry = false;
-            for i in lo..K {
-                if i >= hi && !carry {
-                    break;
-                }
-                let (x, c1) = self.v[i].overflowing_add(w[i]);
-                let (x, c2) = x.overflowing_add(carry as u64);
-                self.v[i] = x;
-                carry = c1 || c2;
+            for &x in &buf[..n] {
+                let (y, c1) = self.v[i].overflowing_add(x);
+                let (y, c2) = y.overflowing_add(c);
+                self.v[i] = y;
+                c = (c1 | c2) as u64;
+                i += 1;
+            }
+            while c != 0 && i < K {
+                let (y, o) = self.v[i].overflowing_add(1);
+                self.v[i] = y;
+                c = o as u64;
+                i += 1;
             }
         }
         // |v| < 2^H + 2^H: no overflow of the K limbs; one limb down restores the range
@@ -149,11 +161,11 @@ impl<const K: usize> Acc<K> {
         self.add_term(s != neg, m, e);
     }
 
-    /// Adds the exact product `u v` times `(-1)^neg`; `false` if the product does not fit in
-    /// `K` limbs (the caller then takes the stepwise path).
-    fn add_product(&mut self, u: &Mp, v: &Mp, neg: bool) -> bool {
+    /// Adds the exact product `w u v` times `(-1)^neg`; `false` if the product does not fit
+    /// in `K` limbs (the caller then takes the stepwise path).
+    fn add_product(&mut self, u: &Mp, v: &Mp, w: u64, neg: bool) -> bool {
         let mut r = [0u64; K];
-        match product(u, v, &mut r) {
+        match product(u, v, w, &mut r) {
             Some(Some((s, n, e))) => {
                 self.add_term(s != neg, &r[..n], e);
                 true
@@ -163,24 +175,24 @@ impl<const K: usize> Acc<K> {
         }
     }
 
-    /// Adds the one of the exact products `u1 v1`, `u2 v2` (of one sign) of the larger
+    /// Adds the one of the exact products `w u1 v1`, `w u2 v2` (of one sign) of the larger
     /// magnitude, times `(-1)^neg`; `false` if a product does not fit in `K` limbs.
-    fn add_larger(&mut self, u1: &Mp, v1: &Mp, u2: &Mp, v2: &Mp, neg: bool) -> bool {
+    fn add_larger(&mut self, u1: &Mp, v1: &Mp, u2: &Mp, v2: &Mp, w: u64, neg: bool) -> bool {
         // the four are nonzero; |u v| lies in [2^(top u + top v - 2), 2^(top u + top v))
         let (t1, t2) = (u1.top() + v1.top(), u2.top() + v2.top());
         if t1 >= t2 + 2 {
-            return self.add_product(u1, v1, neg);
+            return self.add_product(u1, v1, w, neg);
         }
         if t2 >= t1 + 2 {
-            return self.add_product(u2, v2, neg);
+            return self.add_product(u2, v2, w, neg);
         }
         match quick_larger(u1, v1, u2, v2, t1, t2) {
-            Some(true) => return self.add_product(u1, v1, neg),
-            Some(false) => return self.add_product(u2, v2, neg),
+            Some(true) => return self.add_product(u1, v1, w, neg),
+            Some(false) => return self.add_product(u2, v2, w, neg),
             None => {}
         }
         let (mut r1, mut r2) = ([0u64; K], [0u64; K]);
-        let (Some(a), Some(b)) = (product(u1, v1, &mut r1), product(u2, v2, &mut r2)) else {
+        let (Some(a), Some(b)) = (product(u1, v1, w, &mut r1), product(u2, v2, w, &mut r2)) else {
             return false;
         };
         let (s, m, e) = match (a, b) {
@@ -220,35 +232,100 @@ impl<const K: usize> Acc<K> {
     }
 }
 
-/// The exact product `u v` written in `r` (its limbs `r[..n]`, the top one nonzero): `(sign,
-/// n, exponent)`; `Some(None)` when it is zero, `None` when it does not fit in `K` limbs.
-fn product<const K: usize>(u: &Mp, v: &Mp, r: &mut [u64; K]) -> Option<Option<(bool, usize, i64)>> {
+/// The exact product `w u v` (`w >= 1` a small integer weight) written in `r` (its limbs
+/// `r[..n]`, the top one nonzero): `(sign, n, exponent)`; `Some(None)` when it is zero, `None`
+/// when it does not fit in `K` limbs. Only the limbs `r[..n]` (and `r[n]`) are written: the
+/// first row of the schoolbook product stores, the others accumulate, so `r` need not be
+/// cleared.
+fn product<const K: usize>(
+    u: &Mp,
+    v: &Mp,
+    w: u64,
+    r: &mut [u64; K],
+) -> Option<Option<(bool, usize, i64)>> {
     if u.is_zero() || v.is_zero() {
         return Some(None);
     }
     let (su, mu, eu) = u.parts();
     let (sv, mv, ev) = v.parts();
-    let mut len = mu.len() + mv.len();
-    if len > K {
+    let (m, n) = (mu.len(), mv.len());
+    let mut len = m + n;
+    if len + (w > 1) as usize > K {
         return None;
     }
-    // schoolbook product straight from the limbs (12.2.0), in place
-    r[..len].fill(0);
-    let n = mv.len();
-    for (i, &a) in mu.iter().enumerate() {
-        let row = &mut r[i..i + n + 1];
-        let mut carry = 0u128;
-        for (rj, &b) in row[..n].iter_mut().zip(mv) {
-            let t = a as u128 * b as u128 + *rj as u128 + carry;
-            *rj = t as u64;
-            carry = t >> 64;
+    // schoolbook product straight from the limbs (12.2.0), in place; short significands
+    // (the 160- and 256-bit cases) padded to a fixed size, the loops then unrolled
+    if m <= 3 && n <= 3 && 6 < K {
+        fixed_product::<3, K>(mu, mv, r);
+    } else if m <= 4 && n <= 4 && 8 < K {
+        fixed_product::<4, K>(mu, mv, r);
+    } else {
+        schoolbook(mu, mv, r);
+    }
+    if w > 1 {
+        // times the weight, exactly: one more limb at most
+        let mut carry = 0u64;
+        for d in r[..len].iter_mut() {
+            let t = *d as u128 * w as u128 + carry as u128;
+            *d = t as u64;
+            carry = (t >> 64) as u64;
         }
-        row[n] = carry as u64;
+        r[len] = carry;
+        len += 1;
     }
     while len > 0 && r[len - 1] == 0 {
         len -= 1;
     }
     Some(Some((su != sv, len, eu + ev)))
+}
+
+/// `r[..m + n] = a b` (`m`, `n` the lengths of `a`, `b`), row by row.
+fn schoolbook<const K: usize>(a: &[u64], b: &[u64], r: &mut [u64; K]) {
+    let n = b.len();
+    let mut carry = 0u64;
+    for (rj, &y) in r[..n].iter_mut().zip(b) {
+        let t = a[0] as u128 * y as u128 + carry as u128;
+        *rj = t as u64;
+        carry = (t >> 64) as u64;
+    }
+    r[n] = carry;
+    for (i, &x) in a.iter().enumerate().skip(1) {
+        let row = &mut r[i..i + n + 1];
+        let mut carry = 0u64;
+        for (rj, &y) in row[..n].iter_mut().zip(b) {
+            let t = x as u128 * y as u128 + *rj as u128 + carry as u128;
+            *rj = t as u64;
+            carry = (t >> 64) as u64;
+        }
+        row[n] = carry;
+    }
+}
+
+/// `r[..2 L] = a b` for `a`, `b` of at most `L` limbs, both padded with zeros to `L` (the
+/// same exact product as [`schoolbook`], with fixed trip counts; limbs of `r` past `m + n`
+/// are then 0).
+#[inline(always)]
+fn fixed_product<const L: usize, const K: usize>(a: &[u64], b: &[u64], r: &mut [u64; K]) {
+    // limb by limb with a select (a copy of a variable length would be a library call)
+    let x: [u64; L] = core::array::from_fn(|i| if i < a.len() { a[i] } else { 0 });
+    let y: [u64; L] = core::array::from_fn(|i| if i < b.len() { b[i] } else { 0 });
+    let r = &mut r[..2 * L];
+    let mut carry = 0u64;
+    for j in 0..L {
+        let t = x[0] as u128 * y[j] as u128 + carry as u128;
+        r[j] = t as u64;
+        carry = (t >> 64) as u64;
+    }
+    r[L] = carry;
+    for i in 1..L {
+        let mut carry = 0u64;
+        for j in 0..L {
+            let t = x[i] as u128 * y[j] as u128 + r[i + j] as u128 + carry as u128;
+            r[i + j] = t as u64;
+            carry = (t >> 64) as u64;
+        }
+        r[i + L] = carry;
+    }
 }
 
 /// `|a| 2^ea` against `|b| 2^eb` for nonzero significands (limbs, top one nonzero): by their
@@ -342,10 +419,10 @@ fn product_ends<'a>(x: &'a MpInterval, y: &'a MpInterval) -> (End<'a>, End<'a>) 
     }
 }
 
-fn add_end<const K: usize>(acc: &mut Acc<K>, end: &End, neg: bool) -> bool {
+fn add_end<const K: usize>(acc: &mut Acc<K>, end: &End, w: u64, neg: bool) -> bool {
     match end {
-        End::Prod(u, v) => acc.add_product(u, v, neg),
-        End::Larger(u1, v1, u2, v2) => acc.add_larger(u1, v1, u2, v2, neg),
+        End::Prod(u, v) => acc.add_product(u, v, w, neg),
+        End::Larger(u1, v1, u2, v2) => acc.add_larger(u1, v1, u2, v2, w, neg),
     }
 }
 
@@ -396,7 +473,12 @@ fn quick_larger(u1: &Mp, v1: &Mp, u2: &Mp, v2: &Mp, t1: i64, t2: i64) -> Option<
 /// Whether `x = -y` (finite, nonzero).
 fn opposite(x: &Mp, y: &Mp) -> bool {
     let ((sx, mx, ex), (sy, my, ey)) = (x.parts(), y.parts());
-    sx != sy && ex == ey && mx == my
+    sx != sy && ex == ey && same_limbs(mx, my)
+}
+
+/// Whether two limb slices are equal, compared limb by limb (short slices: no library call).
+fn same_limbs(a: &[u64], b: &[u64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x == y)
 }
 
 /// Whether `|x| >= |y|`.
@@ -406,7 +488,8 @@ fn mag_ge(x: &Mp, y: &Mp) -> bool {
 
 /// Whether a bounded interval is one number.
 fn is_point(x: &MpInterval) -> bool {
-    x.lo.parts() == x.hi.parts()
+    let ((sa, ma, ea), (sb, mb, eb)) = (x.lo.parts(), x.hi.parts());
+    sa == sb && ea == eb && same_limbs(ma, mb)
 }
 
 fn bounded(x: &MpInterval) -> bool {
@@ -416,23 +499,26 @@ fn bounded(x: &MpInterval) -> bool {
 fn dot_in<'a, const K: usize>(
     acc: &MpInterval,
     neg: bool,
-    pairs: impl Iterator<Item = (&'a MpInterval, &'a MpInterval)>,
+    terms: impl Iterator<Item = (&'a MpInterval, &'a MpInterval, u64)>,
     p: u32,
 ) -> Option<MpInterval> {
     let (mut lo, mut hi) = (Acc::<K>::new(), Acc::<K>::new());
     lo.add_mp(&acc.lo, false);
     hi.add_mp(&acc.hi, false);
-    for (x, y) in pairs {
+    for (x, y, w) in terms {
         if x.is_exact_zero() || y.is_exact_zero() {
             continue;
         }
         if !bounded(x) || !bounded(y) {
             return None;
         }
+        if w == 0 {
+            continue;
+        }
         if is_point(x) && is_point(y) {
             // one exact product is both ends
             let mut r = [0u64; K];
-            match product(&x.lo, &y.lo, &mut r) {
+            match product(&x.lo, &y.lo, w, &mut r) {
                 None => return None,
                 Some(None) => {}
                 Some(Some((s, n, e))) => {
@@ -443,11 +529,12 @@ fn dot_in<'a, const K: usize>(
             continue;
         }
         let (l, h) = product_ends(x, y);
-        // acc + x y: lower + l, upper + h; acc - x y: lower - h, upper - l
+        // acc + x y: lower + l, upper + h; acc - x y: lower - h, upper - l; the ends of
+        // (w x) y are w times those of x y (w > 0 keeps every sign and every comparison)
         let ok = if neg {
-            add_end(&mut lo, &h, true) && add_end(&mut hi, &l, true)
+            add_end(&mut lo, &h, w, true) && add_end(&mut hi, &l, w, true)
         } else {
-            add_end(&mut lo, &l, false) && add_end(&mut hi, &h, false)
+            add_end(&mut lo, &l, w, false) && add_end(&mut hi, &h, w, false)
         };
         if !ok {
             return None;
@@ -471,15 +558,29 @@ impl MpInterval {
         pairs: impl Iterator<Item = (&'a MpInterval, &'a MpInterval)>,
         p: u32,
     ) -> Option<MpInterval> {
+        MpInterval::dot_acc_weighted(acc, neg, pairs.map(|(x, y)| (x, y, 1)), p)
+    }
+
+    /// `acc + sum w_j x_j y_j` (`acc - sum` when `neg`) at `p` bits for integer weights `w_j
+    /// >= 1`: each end of `(w_j x_j) y_j` is the exact product of `w_j` and two ends, summed
+    /// exactly and rounded outward once ([spec (12.2.9)](crate::spec::precision)); `w_j x_j`
+    /// is never rounded; a term of weight 0 is 0 (when bounded). `None` as for
+    /// [`MpInterval::dot_acc`].
+    pub fn dot_acc_weighted<'a>(
+        acc: &MpInterval,
+        neg: bool,
+        terms: impl Iterator<Item = (&'a MpInterval, &'a MpInterval, u64)>,
+        p: u32,
+    ) -> Option<MpInterval> {
         if !bounded(acc) {
             return None;
         }
-        // K >= 2 L + 2 limbs, L the limbs of a p-bit significand
+        // K >= 2 L + 2 limbs, L the limbs of a p-bit significand (one more for a weight)
         match (p as usize).div_ceil(64) {
-            0..=3 => dot_in::<8>(acc, neg, pairs, p),
-            4..=5 => dot_in::<12>(acc, neg, pairs, p),
-            6..=9 => dot_in::<20>(acc, neg, pairs, p),
-            10..=17 => dot_in::<36>(acc, neg, pairs, p),
+            0..=3 => dot_in::<8>(acc, neg, terms, p),
+            4..=5 => dot_in::<12>(acc, neg, terms, p),
+            6..=9 => dot_in::<20>(acc, neg, terms, p),
+            10..=17 => dot_in::<36>(acc, neg, terms, p),
             _ => None,
         }
     }

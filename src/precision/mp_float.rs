@@ -75,12 +75,16 @@ fn limbs_for(bits: u64) -> usize {
 }
 
 /// An arbitrary precision binary floating-point number, or an infinity (see the module doc).
+///
+/// `repr(C)`, the significand last: the sign, the exponent, the length and the low limbs come
+/// first, together in memory (see [`MpInterval`](super::mp::MpInterval)'s layout).
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(C)]
 pub struct Mp {
     neg: bool,
     inf: bool,
-    man: Man,
     exp: i64,
+    man: Man,
 }
 
 fn clamp_prec(prec: u64) -> u64 {

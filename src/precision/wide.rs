@@ -252,6 +252,25 @@ impl WideInterval {
         })
     }
 
+    /// `acc + sum_i ((first + i) x_i) y_{n-1-i}` (`acc - ...` when `neg`): one fused dot
+    /// product with exact integer weights, each end summed exactly and rounded once ([spec
+    /// (12.2.9)](crate::spec::precision)); `None` with an empty or unbounded operand or a
+    /// significand too long for the window (the caller then goes term by term).
+    pub fn weighted_conv(
+        acc: &WideInterval,
+        neg: bool,
+        first: u64,
+        x: &[WideInterval],
+        y: &[WideInterval],
+    ) -> Option<WideInterval> {
+        let n = x.len();
+        let terms = || (0..n).map(|j| (&x[j].0, &y[n - 1 - j].0, first + j as u64));
+        let p = terms().fold(acc.0.prec().max(bits()), |p, (a, b, _)| {
+            p.max(a.prec()).max(b.prec())
+        });
+        MpInterval::dot_acc_weighted(&acc.0, neg, terms(), p).map(WideInterval)
+    }
+
     fn unary(&self, f: impl FnOnce(&MpInterval) -> MpInterval) -> WideInterval {
         WideInterval(f(&self.0))
     }

@@ -19,7 +19,9 @@ pub(super) struct Series<T: Coef> {
     pub(super) ok: bool,
     /// The coefficients of node i at `i n ..`, then the companion series (cos for a Sin
     /// node, sin for a Cos node, cosh for Sinh, sinh for Cosh, 1 + a^2 for Atan(a)) of
-    /// node i at `(nodes + i) n ..`.
+    /// node i at `(nodes + i) n ..`. Coefficient k of every node (and of every companion
+    /// that its operation keeps) is written by `step(k)` before anything reads it; the
+    /// companion rows of the other operations are never read.
     c: Vec<T>,
     aux_at: usize,
     /// Per node, the first and last index of a coefficient (or companion) not exactly 0
@@ -28,9 +30,13 @@ pub(super) struct Series<T: Coef> {
 }
 
 impl<T: Coef> Series<T> {
+    /// The storage is not cleared: every coefficient is written (a constant's past 0 as 0,
+    /// a companion by its operation) before it is read, the stale values of an earlier series
+    /// never are; clearing megabytes of wide intervals per series was a measurable part of
+    /// the work above 106 bits.
     pub(super) fn new(nodes: usize, n: usize) -> Self {
         let mut c = T::scratch().with(|s| s.take());
-        c.clear();
+        c.truncate(2 * nodes * n);
         c.resize(2 * nodes * n, T::zero());
         let mut nz = SCRATCH_NZ.with(|s| s.take());
         nz.clear();
@@ -71,8 +77,9 @@ impl<T: Coef> Series<T> {
         for (idx, op) in ops.iter().enumerate() {
             let (val, aux) = match *op {
                 Op::Input(i) => (input_k[i], None),
-                // a constant's coefficients past 0 are 0, as `new` and `widen` left them
-                Op::Const(_) | Op::Pi if k > 0 => continue,
+                // a constant's coefficients past 0 are 0 (written: `new` leaves the storage
+                // as the last series left it)
+                Op::Const(_) | Op::Pi if k > 0 => (zero, None),
                 Op::Const(c) => (T::cst(c), None),
                 Op::Pi => (T::pi(), None),
                 Op::Add(a, b) => (self.get(a, k) + self.get(b, k), None),
@@ -117,18 +124,10 @@ impl<T: Coef> Series<T> {
                         let u0 = self.get(a, 0);
                         (u0.sin(), u0.cos())
                     } else {
-                        let (mut s, mut c) = (zero, zero);
                         let (lo, hi) = self.nz[a as usize];
-                        for j in lo.max(1)..=hi.min(k) {
-                            let ju = T::cst(j as f64) * self.get(a, j);
-                            let (sp, cp) = if is_sin {
-                                (self.get(me, k - j), self.aux(me, k - j))
-                            } else {
-                                (self.aux(me, k - j), self.get(me, k - j))
-                            };
-                            s = s.mul_acc(ju, cp);
-                            c = c.mul_acc(-ju, sp);
-                        }
+                        let (sp, cp) = if is_sin { (false, true) } else { (true, false) };
+                        let s = self.weighted(false, a, (me, cp), lo.max(1), hi.min(k), k);
+                        let c = self.weighted(true, a, (me, sp), lo.max(1), hi.min(k), k);
                         (s.quot(kf), c.quot(kf))
                     };
                     if is_sin {
@@ -143,12 +142,8 @@ impl<T: Coef> Series<T> {
                     if k == 0 {
                         (self.get(a, 0).exp(), None)
                     } else {
-                        let mut acc = zero;
                         let (lo, hi) = self.nz[a as usize];
-                        for j in lo.max(1)..=hi.min(k) {
-                            acc =
-                                acc.mul_acc(T::cst(j as f64) * self.get(a, j), self.get(me, k - j));
-                        }
+                        let acc = self.weighted(false, a, (me, false), lo.max(1), hi.min(k), k);
                         (acc.quot(kf), None)
                     }
                 }
@@ -198,18 +193,10 @@ impl<T: Coef> Series<T> {
                         let u0 = self.get(a, 0);
                         (u0.sinh(), u0.cosh())
                     } else {
-                        let (mut s, mut c) = (zero, zero);
                         let (lo, hi) = self.nz[a as usize];
-                        for j in lo.max(1)..=hi.min(k) {
-                            let ju = T::cst(j as f64) * self.get(a, j);
-                            let (sp, cp) = if is_sinh {
-                                (self.get(me, k - j), self.aux(me, k - j))
-                            } else {
-                                (self.aux(me, k - j), self.get(me, k - j))
-                            };
-                            s = s.mul_acc(ju, cp);
-                            c = c.mul_acc(ju, sp);
-                        }
+                        let (sp, cp) = if is_sinh { (false, true) } else { (true, false) };
+                        let s = self.weighted(false, a, (me, cp), lo.max(1), hi.min(k), k);
+                        let c = self.weighted(false, a, (me, sp), lo.max(1), hi.min(k), k);
                         (s.quot(kf), c.quot(kf))
                     };
                     if is_sinh {
@@ -219,8 +206,8 @@ impl<T: Coef> Series<T> {
                     }
                 }
             };
-            // companions are stored for the operations that have one; the others' stay 0
-            // from `new`
+            // companions are stored for the operations that have one; the others' are never
+            // read
             self.c[idx * self.n + k] = val;
             let mut nonzero = !val.is_exact_zero();
             if let Some(aux) = aux {
@@ -233,6 +220,24 @@ impl<T: Coef> Series<T> {
                 e.1 = k;
             }
         }
+    }
+
+    /// `sum_{j = lo..=hi} (j a_j) b_{k-j}` (`-sum` when `neg`; `0` when `lo > hi`), `b` the
+    /// node `b.0`'s coefficients or (`b.1`) its companion's: the sums of (2.6)-(2.12) as one
+    /// [`Coef::weighted_conv`].
+    fn weighted(&self, neg: bool, a: u32, b: (u32, bool), lo: usize, hi: usize, k: usize) -> T {
+        if lo > hi {
+            return T::zero();
+        }
+        let a = a as usize * self.n;
+        let b = b.0 as usize * self.n + if b.1 { self.aux_at } else { 0 };
+        T::weighted_conv(
+            T::zero(),
+            neg,
+            lo,
+            &self.c[a + lo..=a + hi],
+            &self.c[b + k - hi..=b + k - lo],
+        )
     }
 
     /// `acc + sum_{j in terms} a_j b_{k-j}` (`acc - ...` when `neg`).
@@ -309,6 +314,13 @@ pub trait Coef: Scalar + Copy + 'static {
     /// `acc + sum_j x_j y_{n-1-j}` (`acc - ...` when `neg`), `n = x.len() = y.len()`: the
     /// convolutions of (2.3)-(2.5). Intervals: [spec (1.4)](crate::spec::scalars); f64: four partial sums.
     fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self;
+    /// `acc + sum_i ((first + i) x_i) y_{n-1-i}` (`acc - ...` when `neg`), `n = x.len() =
+    /// y.len()`: the weighted sums of (2.6)-(2.12). By default each weighted factor
+    /// `(first + i) x_i` is computed and added in turn with [`Coef::mul_acc`]; wide intervals
+    /// sum in one fused dot product with exact weights ([spec (12.2.9)](crate::spec::precision)).
+    fn weighted_conv(acc: Self, neg: bool, first: usize, x: &[Self], y: &[Self]) -> Self {
+        weighted_stepwise(acc, neg, first, x, y)
+    }
     /// `self / b`, with `b` proved non-zero where the recurrences divide (intervals: [spec
     /// (1.4)](crate::spec::scalars), inari's quotient).
     fn quot(self, b: Self) -> Self;
@@ -393,6 +405,10 @@ impl Coef for WideInterval {
     fn conv(acc: Self, neg: bool, x: &[Self], y: &[Self]) -> Self {
         WideInterval::conv(&acc, neg, x, y)
     }
+    fn weighted_conv(acc: Self, neg: bool, first: usize, x: &[Self], y: &[Self]) -> Self {
+        WideInterval::weighted_conv(&acc, neg, first as u64, x, y)
+            .unwrap_or_else(|| weighted_stepwise(acc, neg, first, x, y))
+    }
     fn quot(self, b: Self) -> Self {
         self / b
     }
@@ -446,6 +462,18 @@ impl Coef for f64 {
     }
 }
 
+/// [`Coef::weighted_conv`] term by term: `acc <- acc + ((first + i) x_i) y_{n-1-i}` (the
+/// weighted factor negated when `neg`), each step [`Coef::mul_acc`].
+fn weighted_stepwise<T: Coef>(acc: T, neg: bool, first: usize, x: &[T], y: &[T]) -> T {
+    let n = x.len();
+    let mut acc = acc;
+    for (i, &xi) in x.iter().enumerate() {
+        let ju = T::cst((first + i) as f64) * xi;
+        acc = acc.mul_acc(if neg { -ju } else { ju }, y[n - 1 - i]);
+    }
+    acc
+}
+
 /// A non-empty interval with finite endpoints.
 pub fn finite(x: Interval) -> bool {
     !x.is_empty() && x.inf().is_finite() && x.sup().is_finite()
@@ -480,6 +508,116 @@ mod tests {
                 assert!(iv[k][0].inf() == q.inf() && iv[k][0].sup() == q.sup());
             }
         }
+    }
+
+    /// The weighted sums of (2.6)-(2.12) over wide intervals (one fused dot product with exact
+    /// weights, spec (12.2.9)) are never wider than the term-by-term recurrence they replace,
+    /// for point, narrow, straddling and wide factors, at 160, 256 and 1024 bits.
+    #[test]
+    fn wide_weighted_sums_are_no_wider_than_term_by_term() {
+        use super::{weighted_stepwise, Coef};
+        use crate::precision::wide::{with_bits, WideInterval as W};
+        for bits in [160, 256, 1024] {
+            with_bits(bits, || {
+                let c = |x: f64| W::cst(x);
+                let seven = c(7.0);
+                let x: Vec<W> = (0..23)
+                    .map(|i| match i % 4 {
+                        0 => c(i as f64 + 0.5),
+                        1 => c(i as f64 + 1.0) / seven,
+                        2 => c(i as f64) / seven - c(1.5),
+                        _ => c(-(i as f64)) / seven + c(2.0).hull(&c(-0.25)),
+                    })
+                    .collect();
+                let y: Vec<W> = x.iter().rev().map(|v| *v / c(3.0) - c(0.125)).collect();
+                for first in [1usize, 5, 300] {
+                    for neg in [false, true] {
+                        for acc in [W::zero(), c(1.0) / seven] {
+                            let fused = W::weighted_conv(&acc, neg, first as u64, &x, &y)
+                                .expect("bounded");
+                            let old = weighted_stepwise(acc, neg, first, &x, &y);
+                            assert!(fused.subset(&old), "{bits}: {fused:?} wider than {old:?}");
+                            assert_eq!(<W as Coef>::weighted_conv(acc, neg, first, &x, &y), fused);
+                        }
+                    }
+                }
+            })
+        }
+    }
+
+    /// `Series::new` does not clear the reused storage: a series computed after a larger one
+    /// that left other values everywhere equals the same series computed on a fresh thread
+    /// (fresh storage), bit for bit, for every operation, constants read past order 0 (by
+    /// `+`, `ln`, `atan`) and a constant output, over f64, intervals and wide intervals.
+    #[test]
+    fn stale_storage_is_never_read() {
+        use super::Coef;
+        use crate::precision::wide::{with_bits, WideInterval};
+        let dirty = Tape::record(3, |x| {
+            let mut v = vec![];
+            for i in 0..40 {
+                let c = Tracer::cst(1.0 + i as f64 / 8.0);
+                v.push((x[i % 3].exp() * c).sinh() + x[0].atan() * c);
+            }
+            v.truncate(3);
+            v
+        });
+        let tape = Tape::record(3, |x| {
+            let c = Tracer::cst(0.75);
+            let p = Tracer::pi();
+            vec![
+                (x[0] + c).ln() + c.ln() * x[1] + c.atan() + (x[1] - p).sin() * x[2].cos(),
+                (x[2] / (x[0] + Tracer::cst(2.0))).exp() + (c + x[1] * x[1]).sqrt()
+                    - x[0].sinh() * x[1].cosh()
+                    + (-x[2]).atan()
+                    + Tracer::cst(3.0) * x[0],
+                c + p,
+            ]
+        });
+        fn run<T: Coef + Send + std::fmt::Debug>(
+            dirty: &Tape,
+            tape: &Tape,
+            dirty_x: &[T],
+            x: &[T],
+        ) -> (String, String) {
+            assert!(dirty.ode_taylor(dirty_x, 30).is_some());
+            let after = format!("{:?}", tape.ode_taylor(x, 12).unwrap());
+            let (tape, x) = (tape.clone(), x.to_vec());
+            let fresh = std::thread::spawn(move || format!("{:?}", tape.ode_taylor(&x, 12).unwrap()))
+                .join()
+                .unwrap();
+            (after, fresh)
+        }
+        let (a, b) = run(&dirty, &tape, &[0.5f64, 0.25, 0.125], &[0.3f64, 0.2, 0.1]);
+        assert_eq!(a, b);
+        let iv = |v: f64| point(v);
+        let (a, b) = run(
+            &dirty,
+            &tape,
+            &[iv(0.5), iv(0.25), iv(0.125)],
+            &[iv(0.3), iv(0.2), iv(0.1)],
+        );
+        assert_eq!(a, b);
+        let w = |v: f64| WideInterval::cst(v);
+        let a = with_bits(160, || {
+            run(
+                &dirty,
+                &tape,
+                &[w(0.5), w(0.25), w(0.125)],
+                &[w(0.3), w(0.2), w(0.1)],
+            )
+            .0
+        });
+        let t = tape.clone();
+        let fresh = std::thread::spawn(move || {
+            with_bits(160, || {
+                let w = |v: f64| WideInterval::cst(v);
+                format!("{:?}", t.ode_taylor(&[w(0.3), w(0.2), w(0.1)], 12).unwrap())
+            })
+        })
+        .join()
+        .unwrap();
+        assert_eq!(a, fresh);
     }
 
     #[test]

@@ -341,3 +341,146 @@ fn straddling_products_with_close_ends() {
     }
     assert!(tight > 2800, "{tight}");
 }
+
+/// A weighted term: `w x` and `y`.
+type Weighted = (u64, MpInterval, MpInterval);
+
+fn weighted_dot(acc: &MpInterval, neg: bool, terms: &[Weighted]) -> MpInterval {
+    let p = acc.prec();
+    MpInterval::dot_acc_weighted(acc, neg, terms.iter().map(|(w, x, y)| (x, y, *w)), p)
+        .expect("bounded")
+}
+
+/// The term-by-term computation of the Taylor recurrences (2.6)-(2.12) that the weighted
+/// product replaces: `w x` rounded outward, then each multiply-add rounded.
+fn weighted_stepwise(acc: &MpInterval, neg: bool, terms: &[Weighted]) -> MpInterval {
+    let p = acc.prec();
+    let mut s = *acc;
+    for (w, x, y) in terms {
+        let wx = MpInterval::from_f64(*w as f64, p).mul_ref(x);
+        let wx = if neg { wx.neg() } else { wx };
+        s = wx.mul_add(y, &s);
+    }
+    s
+}
+
+/// Each end of the weighted product on its side of the exact end of the range (`w x_j y_j`
+/// with `w x_j` exact), at most one step of the precision outside the tightest; returns how
+/// many ends are the tightest.
+fn check_weighted(acc: &MpInterval, neg: bool, terms: &[Weighted]) -> usize {
+    let p = acc.prec();
+    let r = weighted_dot(acc, neg, terms);
+    let scaled_pairs: Vec<_> = terms.iter().map(|(_, x, y)| (*x, *y)).collect();
+    // the exact ends, each term's candidates times its weight (w > 0 keeps min and max)
+    let (mut lo, mut hi) = (scaled(acc.inf()), scaled(acc.sup()));
+    for ((w, _, _), (x, y)) in terms.iter().zip(&scaled_pairs) {
+        let c = [
+            scaled(x.inf()) * scaled(y.inf()),
+            scaled(x.inf()) * scaled(y.sup()),
+            scaled(x.sup()) * scaled(y.inf()),
+            scaled(x.sup()) * scaled(y.sup()),
+        ];
+        let mn = (c.iter().min().unwrap() * BigInt::from(*w)) >> (SCALE as u64);
+        let mx = (c.iter().max().unwrap() * BigInt::from(*w)) >> (SCALE as u64);
+        if neg {
+            lo -= &mx;
+            hi -= &mn;
+        } else {
+            lo += &mn;
+            hi += &mx;
+        }
+    }
+    assert!(scaled(r.inf()) <= lo && hi <= scaled(r.sup()), "{r}");
+    let mut tight = 0;
+    for (end, e, mode) in [(r.inf(), &lo, Round::Down), (r.sup(), &hi, Round::Up)] {
+        let t = round_scaled(e, p, mode);
+        if *end == t {
+            tight += 1;
+            continue;
+        }
+        if t.is_zero() {
+            continue;
+        }
+        let one_off = next(&t, p, mode);
+        assert!(
+            if mode == Round::Down {
+                *end >= one_off
+            } else {
+                *end <= one_off
+            },
+            "{r} vs tightest {t:?}"
+        );
+    }
+    tight
+}
+
+/// The weighted fused product (spec (12.2.9)) against exact rationals, with the weights of
+/// the recurrences (1 to 400) and with weights that carry out of a limb (`2^64 - 1`); no
+/// wider than the term-by-term recurrence with the weighted factor rounded; with every
+/// weight 1 it is the unweighted product.
+#[test]
+fn weighted_dot_products_against_exact_rationals() {
+    let mut g = Gen(4_612);
+    let mut tight = 0;
+    for case in 0..1400 {
+        let p = [113u32, 160, 192, 256, 320, 512, 1024][case % 7];
+        let n = 1 + (g.next() % 24) as usize;
+        let acc = g.interval(p);
+        let big = case % 5 == 0;
+        let terms: Vec<Weighted> = (0..n)
+            .map(|_| {
+                let w = if big {
+                    [u64::MAX, 1 << 63, 3][(g.next() % 3) as usize]
+                } else {
+                    1 + g.next() % 400
+                };
+                (w, g.interval(p), g.interval(p))
+            })
+            .collect();
+        let neg = g.next() & 1 == 0;
+        tight += check_weighted(&acc, neg, &terms);
+        if !big {
+            let old = weighted_stepwise(&acc, neg, &terms);
+            let r = weighted_dot(&acc, neg, &terms);
+            assert!(r.subset(&old), "{r} wider than {old}");
+        }
+        let ones: Vec<_> = terms.iter().map(|(_, x, y)| (1, *x, *y)).collect();
+        let pairs: Vec<_> = terms.iter().map(|(_, x, y)| (*x, *y)).collect();
+        assert_eq!(weighted_dot(&acc, neg, &ones), dot(&acc, neg, &pairs));
+    }
+    assert!(tight > 2600, "{tight}");
+}
+
+/// Weights at the extremes: a carry of the weight out of every limb of the product, the
+/// window's lowest bit, cancellation to zero, a zero weight (the term is 0).
+#[test]
+fn weighted_carries_cancellation_and_zero_weights() {
+    for p in [128u32, 192, 320, 576, 1024] {
+        let ones = Mp::from_parts(
+            false,
+            (BigUint::from(1u32) << p) - 1u32,
+            -(p as i64),
+            p,
+            Round::Near,
+        );
+        let one = pt(&Mp::from_i64(1), p);
+        let zero = MpInterval::from_f64(0.0, p);
+        // (2^64 - 1)(1 - 2^-p) + (2^64 - 1) 2^-p = 2^64 - 1 exactly
+        let w = u64::MAX;
+        let r = weighted_dot(
+            &zero,
+            false,
+            &[(w, pt(&ones, p), one), (w, pt(&two(-(p as i64)), p), one)],
+        );
+        let want = Mp::from_parts(false, BigUint::from(w), 0, p, Round::Near);
+        assert_eq!((*r.inf(), *r.sup()), (want, want), "{p}");
+        // 3 a b - a (3 b) = 0 exactly
+        let a = pt(&ones, p);
+        let three_b = pt(&ones.mul(&Mp::from_i64(3), 2 * p, Round::Near), 2 * p);
+        let r = weighted_dot(&zero, false, &[(3, a, a), (1, a, three_b.neg())]);
+        assert!(r.is_exact_zero(), "{p}: {r}");
+        // a weight of 0 leaves the sum unchanged
+        let r = weighted_dot(&one, true, &[(0, a, a)]);
+        assert_eq!(r, one);
+    }
+}
