@@ -26,6 +26,8 @@ pub fn field_with_action<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
 pub struct Model {
     /// The scene's data recorded on tapes: every later computation reads the scene here.
     pub(crate) scene: CompiledScene,
+    /// The same, shared with the recorders of the tapes recorded on first use.
+    shared: std::sync::Arc<CompiledScene>,
     /// Number of coordinates n.
     pub(crate) n: usize,
     /// Number of constraints k.
@@ -532,11 +534,12 @@ impl Model {
     pub(crate) fn reversed(&self) -> &System {
         self.reversed.get_or_init(|| {
             let s = &self.scene;
+            let shared = self.shared.clone();
             System::record(
                 self.state_dim(),
                 self.n - self.k,
                 |x| reversed_field(s, x),
-                |x| reversed_field(s, x),
+                move |x| reversed_field(&*shared, x),
             )
         })
     }
@@ -546,11 +549,12 @@ impl Model {
     pub(crate) fn action_system(&self) -> &System {
         self.with_action.get_or_init(|| {
             let s = &self.scene;
+            let shared = self.shared.clone();
             System::record(
                 self.state_dim() + 1,
                 0,
                 |x| field_with_action(s, x),
-                |x| field_with_action(s, x),
+                move |x| field_with_action(&*shared, x),
             )
         })
     }
@@ -632,10 +636,17 @@ impl Model {
     /// Compile any scene ([spec eq. (4.11)](crate::spec::dynamics)): record its data and check their structure
     /// ([`CompiledScene::compile`]), then record the dynamics and the derived maps on tapes.
     pub fn new<Sc: Scene + ?Sized>(scene: &Sc) -> Result<Model, Error> {
-        let s = &CompiledScene::compile(scene)?;
+        let scene = std::sync::Arc::new(CompiledScene::compile(scene)?);
+        let s = &*scene;
         let (n, k) = (s.n, s.k);
         let d = 2 * n - k;
-        let dynamics = System::record(d, n - k, |x| reduced_field(s, x), |x| reduced_field(s, x));
+        let shared = scene.clone();
+        let dynamics = System::record(
+            d,
+            n - k,
+            |x| reduced_field(s, x),
+            move |x| reduced_field(&*shared, x),
+        );
         let velocity = Tape::record(d, |x| Geometry::at(s, &x[..n]).velocity(&x[n..]));
         let velocity_jac =
             Tape::record_with_jacobian(d, |x| Geometry::at(s, &x[..n]).velocity(&x[n..]));
@@ -644,6 +655,7 @@ impl Model {
         let nh_force = Tape::record(2 * n, |x| Geometry::at(s, &x[..n]).nh_force(&x[n..]));
         Ok(Model {
             scene: s.clone(),
+            shared: scene.clone(),
             n,
             k,
             dynamics,

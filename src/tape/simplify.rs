@@ -676,7 +676,7 @@ mod tests {
             vec![
                 m.dynamics.field.clone(),
                 m.dynamics.field_var.clone(),
-                m.dynamics.field_var_tail.clone(),
+                m.dynamics.field_var_tail().clone(),
                 m.action_system().field.clone(),
                 m.velocity.clone(),
                 m.velocity_jac.clone(),
