@@ -192,6 +192,15 @@ fn derived_pivot<Sc: Scene + ?Sized>(
     Some((free.to_vec(), pivot))
 }
 
+/// `q` as [`fmt_q`] writes it, formatted only when displayed.
+struct AtQ<'a>(&'a [Interval]);
+
+impl std::fmt::Display for AtQ<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&fmt_q(self.0))
+    }
+}
+
 fn fmt_q(q: &[Interval]) -> String {
     let v: Vec<String> = q
         .iter()
@@ -335,7 +344,8 @@ impl CompiledScene {
         at_use: bool,
     ) -> Option<Violation> {
         let (n, k) = (self.n, self.k);
-        let at = fmt_q(q);
+        // written out only into a message (most calls find nothing)
+        let at = AtQ(q);
         // `what`: the datum not proved finite, named in the message
         let undefined = |what: &str| {
             Violation::Undefined(format!(
