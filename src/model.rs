@@ -26,6 +26,8 @@ pub fn field_with_action<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
 pub struct Model {
     /// The scene's data recorded on tapes: every later computation reads the scene here.
     pub(crate) scene: CompiledScene,
+    /// The same, shared with the recorders of the tapes recorded on first use.
+    shared: std::sync::Arc<CompiledScene>,
     /// Number of coordinates n.
     pub(crate) n: usize,
     /// Number of constraints k.
@@ -190,6 +192,15 @@ fn derived_pivot<Sc: Scene + ?Sized>(
     Some((free.to_vec(), pivot))
 }
 
+/// `q` as [`fmt_q`] writes it, formatted only when displayed.
+struct AtQ<'a>(&'a [Interval]);
+
+impl std::fmt::Display for AtQ<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&fmt_q(self.0))
+    }
+}
+
 fn fmt_q(q: &[Interval]) -> String {
     let v: Vec<String> = q
         .iter()
@@ -333,7 +344,8 @@ impl CompiledScene {
         at_use: bool,
     ) -> Option<Violation> {
         let (n, k) = (self.n, self.k);
-        let at = fmt_q(q);
+        // written out only into a message (most calls find nothing)
+        let at = AtQ(q);
         // `what`: the datum not proved finite, named in the message
         let undefined = |what: &str| {
             Violation::Undefined(format!(
@@ -532,11 +544,12 @@ impl Model {
     pub(crate) fn reversed(&self) -> &System {
         self.reversed.get_or_init(|| {
             let s = &self.scene;
+            let shared = self.shared.clone();
             System::record(
                 self.state_dim(),
                 self.n - self.k,
                 |x| reversed_field(s, x),
-                |x| reversed_field(s, x),
+                move |x| reversed_field(&*shared, x),
             )
         })
     }
@@ -546,11 +559,12 @@ impl Model {
     pub(crate) fn action_system(&self) -> &System {
         self.with_action.get_or_init(|| {
             let s = &self.scene;
+            let shared = self.shared.clone();
             System::record(
                 self.state_dim() + 1,
                 0,
                 |x| field_with_action(s, x),
-                |x| field_with_action(s, x),
+                move |x| field_with_action(&*shared, x),
             )
         })
     }
@@ -632,10 +646,17 @@ impl Model {
     /// Compile any scene ([spec eq. (4.11)](crate::spec::dynamics)): record its data and check their structure
     /// ([`CompiledScene::compile`]), then record the dynamics and the derived maps on tapes.
     pub fn new<Sc: Scene + ?Sized>(scene: &Sc) -> Result<Model, Error> {
-        let s = &CompiledScene::compile(scene)?;
+        let scene = std::sync::Arc::new(CompiledScene::compile(scene)?);
+        let s = &*scene;
         let (n, k) = (s.n, s.k);
         let d = 2 * n - k;
-        let dynamics = System::record(d, n - k, |x| reduced_field(s, x), |x| reduced_field(s, x));
+        let shared = scene.clone();
+        let dynamics = System::record(
+            d,
+            n - k,
+            |x| reduced_field(s, x),
+            move |x| reduced_field(&*shared, x),
+        );
         let velocity = Tape::record(d, |x| Geometry::at(s, &x[..n]).velocity(&x[n..]));
         let velocity_jac =
             Tape::record_with_jacobian(d, |x| Geometry::at(s, &x[..n]).velocity(&x[n..]));
@@ -644,6 +665,7 @@ impl Model {
         let nh_force = Tape::record(2 * n, |x| Geometry::at(s, &x[..n]).nh_force(&x[n..]));
         Ok(Model {
             scene: s.clone(),
+            shared: scene.clone(),
             n,
             k,
             dynamics,

@@ -20,7 +20,7 @@ pub fn float_flow_tail_counted(
 ) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
     let (d, c) = (x0.len(), sys.tail());
     let w0 = DMatrix::from_fn(d, c, |i, j| if i + c == d + j { 1.0 } else { 0.0 });
-    float_flow_var(&sys.field_var_tail, x0, w0, t, opts)
+    float_flow_var(sys.field_var_tail(), x0, w0, t, opts)
 }
 
 /// A float Taylor integration of `x' = F(x)` alone over time `t` (the state at `t` and the

@@ -4,13 +4,16 @@
 
 use crate::scalar::Dual;
 use crate::tape::{Tape, Tracer};
+use std::sync::OnceLock;
+
+/// A recording of the variational equation for a given number of columns.
+type VarRecorder = Box<dyn Fn(usize) -> Tape + Send + Sync>;
 
 /// An autonomous ODE `x' = F(x)` as tapes: `field: x -> F(x)`,
 /// `field_var: (x, V) -> (F(x), DF(x) V)` with V a d x c matrix row-major, its columns
 /// those of `var_cols` ([spec eq. (5.6)](crate::spec::enclosure)), and `field_var_tail`, the same for a d x `tail`
 /// matrix W: the derivatives with respect to the last `tail` components of the initial
 /// state only (the shooting Jacobian of the retraction needs D x / D u0, not D x / D q0).
-#[derive(Debug)]
 pub struct System {
     /// `x -> F(x)`, `d` inputs and outputs.
     pub field: Tape,
@@ -20,26 +23,48 @@ pub struct System {
     /// `D x(t) / D x(0)` for a component `j` not read is the unit vector `e_j`, exactly
     /// ([spec eq. (5.6')](crate::spec::enclosure), cyclic components): only the others are carried by `field_var`.
     pub var_cols: Vec<usize>,
-    /// `(x, W) -> (F(x), DF(x) W)`, `W` a `d x tail` matrix row-major.
-    pub field_var_tail: Tape,
+    /// `(x, W) -> (F(x), DF(x) W)`, `W` a `d x tail` matrix row-major: recorded on first
+    /// use ([`System::field_var_tail`]), since only the float shooting of the retraction
+    /// reads it and recording it is about a third of a model's start-up.
+    field_var_tail: OnceLock<Tape>,
+    tail: usize,
+    record_var: VarRecorder,
+}
+
+/// The tapes (the recorder is a closure).
+impl std::fmt::Debug for System {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("System")
+            .field("field", &self.field)
+            .field("field_var", &self.field_var)
+            .field("var_cols", &self.var_cols)
+            .field("field_var_tail", &self.field_var_tail.get())
+            .field("tail", &self.tail)
+            .finish_non_exhaustive()
+    }
 }
 
 impl System {
     /// The number of columns of `field_var_tail` (its inputs are `d + d tail`).
     pub fn tail(&self) -> usize {
-        let d = self.field.n_inputs();
-        (self.field_var_tail.n_inputs() - d)
-            .checked_div(d)
-            .unwrap_or(0)
+        self.tail
+    }
+
+    /// `(x, W) -> (F(x), DF(x) W)`, `W` a `d x tail` matrix row-major; recorded on the
+    /// first call (the same tape as recorded with the others: one recording of the same
+    /// closure).
+    pub fn field_var_tail(&self) -> &Tape {
+        self.field_var_tail
+            .get_or_init(|| (self.record_var)(self.tail))
     }
     /// Record `f` and its variational equation, f written once over any scalar.
     pub(crate) fn record(
         d: usize,
         tail: usize,
         f: impl Fn(&[Tracer]) -> Vec<Tracer>,
-        fd: impl Fn(&[Dual<Tracer>]) -> Vec<Dual<Tracer>>,
+        fd: impl Fn(&[Dual<Tracer>]) -> Vec<Dual<Tracer>> + Send + Sync + 'static,
     ) -> System {
-        let var = |c: usize| {
+        let var = move |c: usize| {
             Tape::record_simplified(d + d * c, |xv| {
                 let x: Vec<Dual<Tracer>> = (0..d)
                     .map(|i| Dual::new(xv[i], xv[d + i * c..d + (i + 1) * c].to_vec()))
@@ -59,7 +84,9 @@ impl System {
             field_var: var(var_cols.len()),
             field,
             var_cols,
-            field_var_tail: var(tail),
+            field_var_tail: OnceLock::new(),
+            tail,
+            record_var: Box::new(var),
         }
     }
 }

@@ -67,6 +67,9 @@ thread_local! {
     static CURRENT: Cell<u32> = const { Cell::new(0) };
 }
 
+/// The operations a recording makes room for when it opens (only the speed depends on it).
+const RECORDING_ROOM: usize = 256;
+
 /// The id of the next recording opened, in any thread.
 static NEXT_ID: AtomicU32 = AtomicU32::new(1);
 
@@ -91,7 +94,9 @@ impl Open {
         OPEN.with(|r| {
             r.borrow_mut().push(Recording {
                 id,
-                ..Recording::default()
+                // room for a model's tapes (a few hundred operations) without regrowing
+                ops: Vec::with_capacity(RECORDING_ROOM),
+                seen: HashMap::with_capacity_and_hasher(RECORDING_ROOM, Default::default()),
             })
         });
         CURRENT.with(|c| c.set(id));
@@ -172,12 +177,17 @@ fn foreign(current: u32) -> ! {
 
 /// Records `op` on the innermost open recording, or finds it there.
 pub(super) fn push(op: Op) -> Tracer {
-    let op = fold(op);
     OPEN.with(|r| {
         let mut r = r.borrow_mut();
         let Some(t) = r.last_mut() else {
             foreign(0);
         };
+        // (the constants read from the recording already borrowed, not through the
+        // thread-local once per operand)
+        let op = fold(op, |i| match t.ops[i as usize] {
+            Op::Const(c) => Some(c),
+            _ => None,
+        });
         let k = key(&op);
         if let Some(i) = t.seen.get(&k) {
             return Tracer {
@@ -212,8 +222,7 @@ fn constant_at(i: u32) -> Option<f64> {
 /// f64 (so the real result is that f64) becomes a constant; a product with one constant
 /// operand, or a quotient by a constant whose reciprocal is an f64 (a power of two), becomes
 /// a scaling, whose Taylor recurrence costs O(1) instead of O(k).
-fn fold(op: Op) -> Op {
-    let c = constant_at;
+fn fold(op: Op, c: impl Fn(u32) -> Option<f64>) -> Op {
     let exact = |x: Interval| (x.inf() == x.sup() && x.inf().is_finite()).then(|| x.inf());
     let folded = match op {
         Op::Add(a, b) => c(a).zip(c(b)).and_then(|(x, y)| exact(point(x) + point(y))),

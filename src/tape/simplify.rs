@@ -87,9 +87,11 @@ enum Atom {
 /// A monomial: (atom, power) pairs sorted by atom; the empty monomial is 1.
 type Mono = Vec<(Atom, u32)>;
 
-/// A polynomial in atoms: monomial -> nonzero coefficient.
+/// A polynomial in atoms: (monomial, nonzero coefficient) pairs sorted by monomial, each
+/// monomial once (a sorted vector rather than a map: the forms have at most [`MAX_TERMS`]
+/// terms, and building the models' tapes allocates a good deal less).
 #[derive(Clone, Debug, PartialEq)]
-struct Poly(BTreeMap<Mono, f64>);
+struct Poly(Vec<(Mono, f64)>);
 
 /// The normal form of the constant `c`. A constant whose square is an f64 (a short
 /// significand: 0.5, 3, -2) is a coefficient. Any other constant of magnitude at most
@@ -100,10 +102,7 @@ struct Poly(BTreeMap<Mono, f64>);
 fn constant_form(c: f64) -> Poly {
     let atom = c.abs() <= ATOM_CONSTANT_MAX && exact(point(c) * point(c)).is_none();
     if atom {
-        Poly(BTreeMap::from([(
-            vec![(Atom::Const(c.abs().to_bits()), 1)],
-            c.signum(),
-        )]))
+        Poly(vec![(vec![(Atom::Const(c.abs().to_bits()), 1)], c.signum())])
     } else {
         Poly::constant(c)
     }
@@ -122,17 +121,27 @@ fn exact(x: inari::Interval) -> Option<f64> {
 
 impl Poly {
     fn constant(c: f64) -> Poly {
-        let mut m = BTreeMap::new();
         if c != 0.0 {
-            m.insert(Vec::new(), c);
+            Poly(vec![(Vec::new(), c)])
+        } else {
+            Poly(Vec::new())
         }
-        Poly(m)
     }
     fn atom(a: u32) -> Poly {
-        Poly(BTreeMap::from([(vec![(Atom::Node(a), 1)], 1.0)]))
+        Poly(vec![(vec![(Atom::Node(a), 1)], 1.0)])
     }
     fn terms(&self) -> usize {
         self.0.len()
+    }
+    fn contains(&self, m: &Mono) -> bool {
+        self.0.binary_search_by(|(k, _)| k.cmp(m)).is_ok()
+    }
+    /// The value if `self` is a nonzero constant.
+    fn as_constant(&self) -> Option<f64> {
+        match self.0.as_slice() {
+            [(m, c)] if m.is_empty() => Some(*c),
+            _ => None,
+        }
     }
     /// `self + s * other` (s = 1 or -1), exactly; `None` if a coefficient is not an f64.
     fn add(&self, other: &Poly, s: f64) -> Option<Poly> {
@@ -143,28 +152,39 @@ impl Poly {
     /// `self += s * other` as [`Poly::add`], in place (`None`: `self` is then garbage).
     fn add_assign(&mut self, other: &Poly, s: f64) -> Option<()> {
         for (m, c) in &other.0 {
-            let e = self.0.entry(m.clone()).or_insert(0.0);
-            *e = exact(point(*e) + point(s * c))?;
-            if *e == 0.0 {
-                self.0.remove(m);
+            match self.0.binary_search_by(|(k, _)| k.cmp(m)) {
+                Ok(i) => {
+                    let e = exact(point(self.0[i].1) + point(s * c))?;
+                    if e == 0.0 {
+                        self.0.remove(i);
+                    } else {
+                        self.0[i].1 = e;
+                    }
+                }
+                Err(i) => {
+                    let e = exact(point(0.0) + point(s * c))?;
+                    if e != 0.0 {
+                        self.0.insert(i, (m.clone(), e));
+                    }
+                }
             }
         }
         (self.0.len() <= MAX_TERMS).then_some(())
     }
     /// `c * self`, exactly.
     fn scale(&self, c: f64) -> Option<Poly> {
-        let mut out = BTreeMap::new();
+        let mut out = Vec::with_capacity(self.0.len());
         for (m, x) in &self.0 {
             let y = exact(point(*x) * point(c))?;
             if y != 0.0 {
-                out.insert(m.clone(), y);
+                out.push((m.clone(), y));
             }
         }
         Some(Poly(out))
     }
     /// `self * other`, exactly, with `sin(x)^2 = 1 - cos(x)^2` applied.
     fn mul(&self, other: &Poly, atoms: &mut Atoms) -> Option<Poly> {
-        let mut out = Poly(BTreeMap::new());
+        let mut out = Poly(Vec::new());
         for (m1, c1) in &self.0 {
             for (m2, c2) in &other.0 {
                 let c = exact(point(*c1) * point(*c2))?;
@@ -178,8 +198,8 @@ impl Poly {
     fn partial_atoms(&self, atoms: &Atoms) -> Vec<u32> {
         let mut v: Vec<u32> = self
             .0
-            .keys()
-            .flatten()
+            .iter()
+            .flat_map(|(m, _)| m)
             .filter_map(|(a, _)| match a {
                 Atom::Node(i) => Some(*i),
                 Atom::Const(_) => None,
@@ -192,12 +212,30 @@ impl Poly {
     }
 }
 
+/// The product of two monomials (each sorted by atom, each atom once): their merge.
 fn mono_mul(a: &Mono, b: &Mono) -> Mono {
-    let mut m: BTreeMap<Atom, u32> = a.iter().copied().collect();
-    for (x, p) in b {
-        *m.entry(*x).or_insert(0) += p;
+    let mut m = Vec::with_capacity(a.len() + b.len());
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        match a[i].0.cmp(&b[j].0) {
+            std::cmp::Ordering::Less => {
+                m.push(a[i]);
+                i += 1;
+            }
+            std::cmp::Ordering::Greater => {
+                m.push(b[j]);
+                j += 1;
+            }
+            std::cmp::Ordering::Equal => {
+                m.push((a[i].0, a[i].1 + b[j].1));
+                i += 1;
+                j += 1;
+            }
+        }
     }
-    m.into_iter().collect()
+    m.extend_from_slice(&a[i..]);
+    m.extend_from_slice(&b[j..]);
+    m
 }
 
 /// What is known of the nodes of the new recording: which are partial, which are sines
@@ -226,7 +264,7 @@ impl Atoms {
             let x = *self.sin_of.get(&i)?;
             (k >= 2).then_some((a, k, x))
         }) else {
-            return Some(Poly(BTreeMap::from([(m, c)])));
+            return Some(Poly(vec![(m, c)]));
         };
         let cos = push(Op::Cos(x));
         self.note(cos, self.partial(x));
@@ -252,7 +290,7 @@ impl Atoms {
 /// new cancellation of large terms (merging `a q - 2 q` style terms would: `(q2 - q1) r -
 /// (q1 - q0) r` as `q2 r - 2 q1 r + q0 r` loses the exact differences).
 fn only_cancels(x: &Poly, y: &Poly, sum: &Poly) -> bool {
-    let common = x.0.keys().filter(|m| y.0.contains_key(*m)).count();
+    let common = x.0.iter().filter(|(m, _)| y.contains(m)).count();
     common > 0 && sum.terms() + 2 * common == x.terms() + y.terms()
 }
 
@@ -292,6 +330,8 @@ fn emit(p: &Poly) -> Tracer {
 pub(super) fn rerecord(ops: &[Op], fold_zeros: bool) -> (Vec<Tracer>, Vec<u32>) {
     let mut atoms = Atoms::default();
     let mut new: Vec<Tracer> = Vec::with_capacity(ops.len());
+    // the new node of every old one, as indices for `remap`
+    let mut index: Vec<u32> = Vec::with_capacity(ops.len());
     let mut forms: Vec<Option<Poly>> = Vec::with_capacity(ops.len());
     let mut folded_divisors = Vec::new();
     for op in ops {
@@ -342,11 +382,7 @@ pub(super) fn rerecord(ops: &[Op], fold_zeros: bool) -> (Vec<Tracer>, Vec<u32>) 
             }
             Op::Div(a, b) => {
                 // a quotient by a nonzero constant is a scaling of the numerator's form
-                let by = f(b).and_then(|y| match y.0.len() {
-                    0 => None,
-                    1 => y.0.get(&Vec::new()).copied(),
-                    _ => None,
-                });
+                let by = f(b).and_then(Poly::as_constant);
                 let form = by
                     .and_then(|c| exact(point(1.0) / point(c)))
                     .and_then(|r| f(a).and_then(|x| x.scale(r)));
@@ -359,7 +395,7 @@ pub(super) fn rerecord(ops: &[Op], fold_zeros: bool) -> (Vec<Tracer>, Vec<u32>) 
                 (push(Op::Scale(t(a).index(), c)), form)
             }
             other => {
-                let node = push(remap(&other, &indices(&new)));
+                let node = push(remap(&other, &index));
                 (node, None)
             }
         };
@@ -387,7 +423,7 @@ pub(super) fn rerecord(ops: &[Op], fold_zeros: bool) -> (Vec<Tracer>, Vec<u32>) 
         };
         // an atom: partial if it is a quotient, root or logarithm or built on a partial node
         // (a folded quotient is the constant 0: its check is the caller's to keep)
-        let by_constant = matches!(*op, Op::Div(_, b) if matches!(ops[b as usize], Op::Const(c) if c != 0.0) || (matches!(forms[b as usize].as_ref().map(|y| y.0.len()), Some(1)) && forms[b as usize].as_ref().is_some_and(|y| y.0.contains_key(&Vec::new()))));
+        let by_constant = matches!(*op, Op::Div(_, b) if matches!(ops[b as usize], Op::Const(c) if c != 0.0) || forms[b as usize].as_ref().and_then(Poly::as_constant).is_some());
         let partial_op = matches!(op, Op::Sqrt(_) | Op::Ln(_)) || (matches!(op, Op::Div(..)) && !by_constant);
         let on_partial = args(op)
             .iter()
@@ -398,13 +434,10 @@ pub(super) fn rerecord(ops: &[Op], fold_zeros: bool) -> (Vec<Tracer>, Vec<u32>) 
         }
         let form = form.unwrap_or_else(|| Poly::atom(node.index()));
         new.push(node);
+        index.push(node.index());
         forms.push(Some(form));
     }
     (new, folded_divisors)
-}
-
-fn indices(new: &[Tracer]) -> Vec<u32> {
-    new.iter().map(|t| t.index()).collect()
 }
 
 #[cfg(test)]
@@ -643,7 +676,7 @@ mod tests {
             vec![
                 m.dynamics.field.clone(),
                 m.dynamics.field_var.clone(),
-                m.dynamics.field_var_tail.clone(),
+                m.dynamics.field_var_tail().clone(),
                 m.action_system().field.clone(),
                 m.velocity.clone(),
                 m.velocity_jac.clone(),

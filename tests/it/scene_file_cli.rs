@@ -86,8 +86,8 @@ fn a_built_in_written_as_a_file_compiles_to_identical_tapes() {
         );
         assert!(a
             .dynamics()
-            .field_var_tail
-            .same_program(&b.dynamics().field_var_tail));
+            .field_var_tail()
+            .same_program(b.dynamics().field_var_tail()));
         assert!(
             a.with_action().field.same_program(&b.with_action().field),
             "{name}: action"
