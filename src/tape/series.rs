@@ -126,8 +126,8 @@ impl<T: Coef> Series<T> {
                     } else {
                         let (lo, hi) = self.nz[a as usize];
                         let (sp, cp) = if is_sin { (false, true) } else { (true, false) };
-                        let s = self.weighted(false, a, (me, cp), lo.max(1), hi.min(k), k);
-                        let c = self.weighted(true, a, (me, sp), lo.max(1), hi.min(k), k);
+                        let (s, c) =
+                            self.weighted_pair(true, a, (me, cp), (me, sp), lo.max(1), hi.min(k), k);
                         (s.quot(kf), c.quot(kf))
                     };
                     if is_sin {
@@ -195,8 +195,8 @@ impl<T: Coef> Series<T> {
                     } else {
                         let (lo, hi) = self.nz[a as usize];
                         let (sp, cp) = if is_sinh { (false, true) } else { (true, false) };
-                        let s = self.weighted(false, a, (me, cp), lo.max(1), hi.min(k), k);
-                        let c = self.weighted(false, a, (me, sp), lo.max(1), hi.min(k), k);
+                        let (s, c) =
+                            self.weighted_pair(false, a, (me, cp), (me, sp), lo.max(1), hi.min(k), k);
                         (s.quot(kf), c.quot(kf))
                     };
                     if is_sinh {
@@ -237,6 +237,34 @@ impl<T: Coef> Series<T> {
             lo,
             &self.c[a + lo..=a + hi],
             &self.c[b + k - hi..=b + k - lo],
+        )
+    }
+
+    /// The two sums of [`Series::weighted`] over the same `a` and weights that a sine and
+    /// cosine (or sinh and cosh) recurrence takes, `b` for the first and `c` for the second
+    /// (`-sum` when `neg_c`), as one [`Coef::weighted_conv_pair`].
+    #[allow(clippy::too_many_arguments)]
+    fn weighted_pair(
+        &self,
+        neg_c: bool,
+        a: u32,
+        b: (u32, bool),
+        c: (u32, bool),
+        lo: usize,
+        hi: usize,
+        k: usize,
+    ) -> (T, T) {
+        if lo > hi {
+            return (T::zero(), T::zero());
+        }
+        let at = |node: (u32, bool)| node.0 as usize * self.n + if node.1 { self.aux_at } else { 0 };
+        let (a, b, c) = (a as usize * self.n, at(b), at(c));
+        T::weighted_conv_pair(
+            neg_c,
+            lo,
+            &self.c[a + lo..=a + hi],
+            &self.c[b + k - hi..=b + k - lo],
+            &self.c[c + k - hi..=c + k - lo],
         )
     }
 
@@ -320,6 +348,19 @@ pub trait Coef: Scalar + Copy + 'static {
     /// sum in one fused dot product with exact weights ([spec (12.2.9)](crate::spec::precision)).
     fn weighted_conv(acc: Self, neg: bool, first: usize, x: &[Self], y: &[Self]) -> Self {
         weighted_stepwise(acc, neg, first, x, y)
+    }
+    /// `(weighted_conv(0, false, first, x, y), weighted_conv(0, neg_z, first, x, z))`. By
+    /// default in one pass that computes each weighted factor `(first + i) x_i` once for
+    /// both sums (the same operations, in the same order, as two [`Coef::weighted_conv`]).
+    fn weighted_conv_pair(neg_z: bool, first: usize, x: &[Self], y: &[Self], z: &[Self]) -> (Self, Self) {
+        let n = x.len();
+        let (mut s, mut c) = (Self::zero(), Self::zero());
+        for (i, &xi) in x.iter().enumerate() {
+            let ju = Self::cst((first + i) as f64) * xi;
+            s = s.mul_acc(ju, y[n - 1 - i]);
+            c = c.mul_acc(if neg_z { -ju } else { ju }, z[n - 1 - i]);
+        }
+        (s, c)
     }
     /// `self / b`, with `b` proved non-zero where the recurrences divide (intervals: [spec
     /// (1.4)](crate::spec::scalars), inari's quotient).
@@ -408,6 +449,13 @@ impl Coef for WideInterval {
     fn weighted_conv(acc: Self, neg: bool, first: usize, x: &[Self], y: &[Self]) -> Self {
         WideInterval::weighted_conv(&acc, neg, first as u64, x, y)
             .unwrap_or_else(|| weighted_stepwise(acc, neg, first, x, y))
+    }
+    fn weighted_conv_pair(neg_z: bool, first: usize, x: &[Self], y: &[Self], z: &[Self]) -> (Self, Self) {
+        let zero = Self::zero();
+        (
+            <Self as Coef>::weighted_conv(zero, false, first, x, y),
+            <Self as Coef>::weighted_conv(zero, neg_z, first, x, z),
+        )
     }
     fn quot(self, b: Self) -> Self {
         self / b
