@@ -49,17 +49,20 @@ impl<T: Coef> Series<T> {
             nz,
         }
     }
-    /// Room for `n` coefficients per node (and companion), those computed kept.
+    /// Room for `n` coefficients per node (and companion), those computed kept. In place:
+    /// the rows move up, last first, in the storage grown (a fresh buffer per growth cost
+    /// page faults); the room past each row's coefficients is left as it was, since every
+    /// coefficient is written before it is read (as in `new`).
     pub(super) fn widen(&mut self, n: usize) {
-        if n <= self.n {
+        let old = self.n;
+        if n <= old {
             return;
         }
-        let rows = 2 * self.aux_at / self.n;
-        let mut c = vec![T::zero(); rows * n];
-        for (to, from) in c.chunks_mut(n).zip(self.c.chunks(self.n)) {
-            to[..self.n].copy_from_slice(from);
+        let rows = 2 * self.aux_at / old;
+        self.c.resize(rows * n, T::zero());
+        for r in (1..rows).rev() {
+            self.c.copy_within(r * old..(r + 1) * old, r * n);
         }
-        self.c = c;
         self.aux_at = rows / 2 * n;
         self.n = n;
     }
