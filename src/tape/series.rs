@@ -12,7 +12,9 @@ use std::thread::LocalKey;
 
 /// Storage of the Taylor coefficients of every node, node-major. The storage (and the
 /// record of non-zero coefficients) is per-thread scratch, reused from one evaluation to the
-/// next (it is reset first).
+/// next: a small pool per thread, so that series alive at once (a step's centre series while
+/// its a priori and variational series are computed) each reuse a buffer instead of
+/// allocating one (a fresh buffer of a large tape costs page faults).
 pub(super) struct Series<T: Coef> {
     n: usize,
     /// False once a singular operation (divisor or sqrt argument not proved safe) was met.
@@ -35,10 +37,10 @@ impl<T: Coef> Series<T> {
     /// never are; clearing megabytes of wide intervals per series was a measurable part of
     /// the work above 106 bits.
     pub(super) fn new(nodes: usize, n: usize) -> Self {
-        let mut c = T::scratch().with(|s| s.take());
+        let mut c = T::scratch().with(|s| s.borrow_mut().pop()).unwrap_or_default();
         c.truncate(2 * nodes * n);
         c.resize(2 * nodes * n, T::zero());
-        let mut nz = SCRATCH_NZ.with(|s| s.take());
+        let mut nz = SCRATCH_NZ.with(|s| s.borrow_mut().pop()).unwrap_or_default();
         nz.clear();
         nz.resize(nodes, (usize::MAX, 0));
         Series {
@@ -312,25 +314,40 @@ impl<T: Coef> Series<T> {
 impl<T: Coef> Drop for Series<T> {
     fn drop(&mut self) {
         let c = std::mem::take(&mut self.c);
-        T::scratch().with(|s| s.replace(c));
+        let _ = T::scratch().try_with(|s| keep(s, c));
         let nz = std::mem::take(&mut self.nz);
-        SCRATCH_NZ.with(|s| s.replace(nz));
+        let _ = SCRATCH_NZ.try_with(|s| keep(s, nz));
+    }
+}
+
+/// Buffers kept per thread and type for the series to come (more series are seldom alive at
+/// once).
+const POOL: usize = 4;
+
+/// A per-thread pool of buffers.
+pub(super) type Pool<T> = RefCell<Vec<Vec<T>>>;
+
+/// Back into the pool, unless it is full.
+fn keep<T>(pool: &Pool<T>, buffer: Vec<T>) {
+    let mut pool = pool.borrow_mut();
+    if pool.len() < POOL {
+        pool.push(buffer);
     }
 }
 
 thread_local! {
-    static SCRATCH_INTERVAL: RefCell<Vec<Interval>> = const { RefCell::new(Vec::new()) };
-    static SCRATCH_F64: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
-    static SCRATCH_DD: RefCell<Vec<DdInterval>> = const { RefCell::new(Vec::new()) };
-    static SCRATCH_WIDE: RefCell<Vec<WideInterval>> = const { RefCell::new(Vec::new()) };
-    static SCRATCH_NZ: RefCell<Vec<(usize, usize)>> = const { RefCell::new(Vec::new()) };
+    static SCRATCH_INTERVAL: Pool<Interval> = const { RefCell::new(Vec::new()) };
+    static SCRATCH_F64: Pool<f64> = const { RefCell::new(Vec::new()) };
+    static SCRATCH_DD: Pool<DdInterval> = const { RefCell::new(Vec::new()) };
+    static SCRATCH_WIDE: Pool<WideInterval> = const { RefCell::new(Vec::new()) };
+    static SCRATCH_NZ: Pool<(usize, usize)> = const { RefCell::new(Vec::new()) };
 }
 
 /// A coefficient type for the Taylor recurrences: intervals (rigorous, with the domain
 /// checks of [spec eq. (2.8)](crate::spec::taylor)) or f64 (only to *choose* things, e.g. Newton guesses).
 pub trait Coef: Scalar + Copy + 'static {
     /// The per-thread storage reused by the Taylor series of this coefficient type.
-    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>>;
+    fn scratch() -> &'static LocalKey<Pool<Self>>;
     /// Exactly 0 (terms with such a factor are skipped).
     fn is_exact_zero(&self) -> bool;
     /// Proved non-zero (Interval: 0 not in it).
@@ -371,7 +388,7 @@ pub trait Coef: Scalar + Copy + 'static {
 }
 
 impl Coef for Interval {
-    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>> {
+    fn scratch() -> &'static LocalKey<Pool<Self>> {
         &SCRATCH_INTERVAL
     }
     fn is_exact_zero(&self) -> bool {
@@ -398,7 +415,7 @@ impl Coef for Interval {
 }
 
 impl Coef for DdInterval {
-    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>> {
+    fn scratch() -> &'static LocalKey<Pool<Self>> {
         &SCRATCH_DD
     }
     fn is_exact_zero(&self) -> bool {
@@ -428,7 +445,7 @@ impl Coef for DdInterval {
 
 /// Intervals of more than 106 bits ([spec (12.3)](crate::spec::precision)).
 impl Coef for WideInterval {
-    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>> {
+    fn scratch() -> &'static LocalKey<Pool<Self>> {
         &SCRATCH_WIDE
     }
     fn is_exact_zero(&self) -> bool {
@@ -466,7 +483,7 @@ impl Coef for WideInterval {
 }
 
 impl Coef for f64 {
-    fn scratch() -> &'static LocalKey<RefCell<Vec<Self>>> {
+    fn scratch() -> &'static LocalKey<Pool<Self>> {
         &SCRATCH_F64
     }
     fn is_exact_zero(&self) -> bool {
