@@ -204,17 +204,22 @@ fn two(k: i64) -> Mp {
     Mp::from_i64(1).ldexp(k, Round::Near)
 }
 
+/// `1 - 2^-p`: every bit of a `p`-bit significand set.
+fn below_one(p: u32) -> Mp {
+    Mp::from_parts(
+        false,
+        (BigUint::from(1u32) << p) - 1u32,
+        -(p as i64),
+        p,
+        Round::Near,
+    )
+}
+
 #[test]
 fn carries_and_borrows_run_through_every_limb() {
     for p in [128u32, 192, 320, 576, 1024] {
         // (1 - 2^-p) + 2^-p = 1: a carry out of every limb of the window
-        let ones = Mp::from_parts(
-            false,
-            (BigUint::from(1u32) << p) - 1u32,
-            -(p as i64),
-            p,
-            Round::Near,
-        );
+        let ones = below_one(p);
         let one = pt(&Mp::from_i64(1), p);
         let r = dot(&pt(&two(-(p as i64)), p), false, &[(pt(&ones, p), one)]);
         assert_eq!(r, one, "{p}");
@@ -442,13 +447,7 @@ fn weighted_dot_products_against_exact_rationals() {
 #[test]
 fn weighted_carries_cancellation_and_zero_weights() {
     for p in [128u32, 192, 320, 576, 1024] {
-        let ones = Mp::from_parts(
-            false,
-            (BigUint::from(1u32) << p) - 1u32,
-            -(p as i64),
-            p,
-            Round::Near,
-        );
+        let ones = below_one(p);
         let one = pt(&Mp::from_i64(1), p);
         let zero = MpInterval::from_f64(0.0, p);
         // (2^64 - 1)(1 - 2^-p) + (2^64 - 1) 2^-p = 2^64 - 1 exactly
