@@ -608,11 +608,10 @@ pub(super) fn step_jacobian<I: Ival>(
         return None;
     }
     let (y_ext, t0) = a_priori(&sys.field_var, w.rows(), h, q0, 4.0).ok()?;
-    // the series over the a priori box for the remainders above q0, grown likewise; `None`
-    // before the first, or once a coefficient was not proved (as it then is not at any
-    // higher order)
+    // the series over the a priori box for the remainders above q0, grown likewise (made at
+    // the first rung above q0); once a coefficient was not proved it is not at any higher
+    // order, and the rungs above have no remainder
     let mut over: Option<crate::tape::OdeSeries<'_, I>> = None;
-    let mut over_failed = false;
     // the last two (order, ratio) tried, for the orders above the state's (5.6)
     let mut tried: [Option<(usize, f64)>; 2] = [None, None];
     loop {
@@ -641,14 +640,9 @@ pub(super) fn step_jacobian<I: Ival>(
         let tw = if q == q0 {
             Some(t0.rows())
         } else {
-            if !over_failed {
-                let grown = match over.as_mut() {
-                    Some(g) => g.grow(q + 1),
-                    None => over.insert(sys.field_var.ode_series(&y_ext, q + 1)).grow(q + 1),
-                };
-                over_failed = !grown;
-            }
-            over.as_ref().filter(|_| !over_failed).map(|g| g.rows())
+            // a series that failed once grows no more (`OdeSeries::grow`)
+            let g = over.get_or_insert_with(|| sys.field_var.ode_series(&y_ext, q + 1));
+            g.grow(q + 1).then(|| g.rows())
         };
         if let Some(tw) = tw {
             let hq = (0..=q).fold(I::cst(1.0), |a, _| a * h);
