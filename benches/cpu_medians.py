@@ -8,6 +8,8 @@ the machine's load falls on all of them alike) and prints, per case, the median 
 (user + system, from getrusage) of each binary in ms and its ratio to the first one. The
 cases are the flows of docs/peers.md and docs/benchmarks.md, with and without --jacobian.
 `CASES=word1;word2` keeps the cases whose command line contains one of the words.
+`SET=precision` runs instead the knife (T = 50) and the trailer (T = 2) of docs/precision.md at
+106, 160, 256 and 512 bits, and the knife at 1024.
 """
 import os
 import resource
@@ -40,12 +42,20 @@ CASES = [
     "flow --scene sleigh --q 0,0,0 --u 0.8,0.8 --t 20",
 ]
 
+PRECISION_CASES = [
+    f"flow --scene knife --q 0,0,0 --u 0.8,0.8 --t 50 --precision {bits}"
+    for bits in [106, 160, 256, 512, 1024]
+] + [
+    f"flow --scene-file examples/scenes/trailer.toml --q 0,0,0,0 --u 1,0.3 --t 2 --precision {bits}"
+    for bits in [106, 160, 256, 512]
+]
+
 
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     n, bins = int(sys.argv[1]), sys.argv[2:]
-    cases = CASES
+    cases = PRECISION_CASES if os.environ.get("SET") == "precision" else CASES
     if os.environ.get("CASES"):
         words = os.environ["CASES"].split(";")
         cases = [c for c in cases if any(w in c for w in words)]

@@ -49,6 +49,11 @@ pub trait Ival: Coef + PartialEq + Debug + Send + Sync {
     }
     /// The lower orders a last step may take instead of the flow's ([spec (5.8')](crate::spec::enclosure)).
     fn low_orders() -> &'static [usize];
+    /// Whether the Taylor series over a priori boxes are tried first in inari's f64
+    /// intervals ([spec (5.5''')](crate::spec::enclosure)).
+    fn box_series_in_f64() -> bool {
+        false
+    }
     /// The field `F` (the tape `field`) at the point `m`, enclosed at a higher precision and
     /// rounded outward to this type ([spec (5.10'')](crate::spec::enclosure)); `None` when the type has no
     /// higher precision at hand or an evaluation is not proved.
@@ -360,6 +365,9 @@ impl Ival for WideInterval {
     }
     fn low_orders() -> &'static [usize] {
         wide::low_orders()
+    }
+    fn box_series_in_f64() -> bool {
+        true
     }
     fn pt(x: Wide) -> Self {
         WideInterval::point(x)

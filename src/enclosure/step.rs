@@ -6,7 +6,7 @@ use super::linalg::{self, IMat};
 use super::options::{Basis, FlowOptions};
 use super::set::*;
 use super::system::System;
-use crate::tape::{Coeffs, Rows};
+use crate::tape::{Coef, Coeffs, Rows};
 use nalgebra::DMatrix;
 
 pub(super) enum StepFail {
@@ -439,7 +439,7 @@ pub(super) fn a_priori<I: Ival>(
     let series = |top: &[I]| horner(b.first(q), 0..dim, Some(top), h0);
     let mut y = inflate(&series(&b[q]));
     for _ in 0..4 {
-        let ty = tape.ode_taylor(&y, q + 1).ok_or(StepFail::Shrink)?;
+        let ty = box_taylor(tape, &y, q + 1).ok_or(StepFail::Shrink)?;
         let z = series(&ty[q]);
         if z.iter().zip(&y).all(|(a, b)| a.subset(*b)) {
             return Ok((y, ty));
@@ -458,6 +458,55 @@ pub(super) fn a_priori<I: Ival>(
             .collect();
     }
     Err(StepFail::Shrink)
+}
+
+/// (5.5''') The share of an entry's magnitude under which its width is taken to hold
+/// more than f64 rounding: `2^-36`.
+pub(super) const F64_SHARE: f64 = 1.0 / (1u64 << 36) as f64;
+
+/// (5.5''') The width under which an entry of an f64 series may be the noise of underflows
+/// (each at most `2^-1075`) rather than the box's: `2^-924`, so that `F64_SHARE` times it,
+/// `2^-960`, is still `2^100` times that noise.
+pub(super) const F64_FLOOR: f64 = f64::from_bits(((1023 - 924) as u64) << 52);
+
+/// (5.5''') The rows an f64 series over a box grows between two looks at its last row.
+pub(super) const F64_ROWS: usize = 8;
+
+/// (5.5''') The Taylor coefficients `0..=order` of the solutions through the box `y` (an a
+/// priori box, or a slice of one), read for an a priori test (row `order - 1`) and a
+/// Lagrange remainder (row `order`). Where [`Ival::box_series_in_f64`], the series is first
+/// computed in inari's f64 intervals from `y` rounded outward to f64 ends: it encloses the
+/// same coefficients (spec (2.2) for a box containing `y`), and f64 ends are points of every
+/// precision, so it is taken as it is when the rounding of f64 is a negligible share of the
+/// two rows read: each of their entries is exactly 0 or wider than [`F64_SHARE`] times its
+/// magnitude and than `F64_SHARE` times [`F64_FLOOR`] (far above the noise of underflows).
+/// Otherwise (or when the f64 series is not finite) the series at this precision.
+/// A choice of evaluation only: both enclose the coefficients.
+pub(super) fn box_taylor<I: Ival>(tape: &crate::tape::Tape, y: &[I], order: usize) -> Option<Coeffs<I>> {
+    if I::box_series_in_f64() {
+        let y64: Vec<inari::Interval> = y.iter().map(|x| crate::scalar::iv(x.inf(), x.sup())).collect();
+        let negligible = |x: &inari::Interval| {
+            x.is_exact_zero() || (x.is_finite() && x.wid() >= F64_SHARE * x.mag().max(F64_FLOOR))
+        };
+        // grown F64_ROWS rows at a time; a row with an entry under F64_FLOOR stops it there
+        // (the coefficients of such a box shrink with the order: the rows read would be
+        // the noise of underflows), so that a series that will not be taken costs little
+        let mut s = tape.ode_series(&y64, order);
+        let mut k = 0;
+        let taken = loop {
+            k = (k + F64_ROWS).min(order);
+            if !s.grow(k) || s.rows()[k].iter().any(|x| !x.is_exact_zero() && x.mag() < F64_FLOOR) {
+                break false;
+            }
+            if k == order {
+                break s.rows().iter().skip(order.saturating_sub(1)).flatten().all(negligible);
+            }
+        };
+        if taken {
+            return Some(s.coeffs().map(|x| I::iv(x.inf(), x.sup())));
+        }
+    }
+    tape.ode_taylor(y, order)
 }
 
 /// (5.4)-(5.5): with `b` the Taylor coefficients at the initial set (its centre, or its
@@ -531,7 +580,7 @@ pub(super) fn remainder_over<I: Ival>(
                 .zip(y)
                 .map(|(a, b)| a.intersection(*b))
                 .collect();
-            let tj = sys.field.ode_taylor(&yj, p + 1).ok_or(StepFail::Shrink)?;
+            let tj = box_taylor(&sys.field, &yj, p + 1).ok_or(StepFail::Shrink)?;
             let part = &tj[p + 1];
             // The hull over the SLICES is at least as wide as this slice: in strict mode a
             // slice already over the tolerance decides the rejection, without the others.
@@ -764,4 +813,94 @@ pub(super) fn inflate<I: Ival>(x: &[I]) -> Vec<I> {
             I::iv(v.inf() - w, v.sup() + w)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::precision::mp::MpInterval;
+    use crate::precision::wide::{with_bits, WideInterval};
+    use crate::scalar::Scalar;
+    use crate::tape::Tape;
+
+    /// `x' = y, y' = -x`: the solution `x(t) = x0 cos t + y0 sin t` gives the coefficients
+    /// in closed form, `x_k = (x0 cos(k pi/2) + y0 sin(k pi/2)) / k!` and
+    /// `y_k = (k + 1) x_(k+1)`: over the box `[a, b] x [c, d]` each is `+-[a, b] / k!` or
+    /// `+-[c, d] / k!`. Returns, for row `k` and component `i`, the sign and which interval.
+    fn exact_row(k: usize, i: usize) -> (bool, usize) {
+        // (negative, index of the interval: 0 for [a, b], 1 for [c, d])
+        match (k % 4, i) {
+            (0, 0) => (false, 0),
+            (1, 0) => (false, 1),
+            (2, 0) => (true, 0),
+            (3, 0) => (true, 1),
+            (0, _) => (false, 1),
+            (1, _) => (true, 0),
+            (2, _) => (true, 1),
+            _ => (false, 0),
+        }
+    }
+
+    /// Every coefficient of `c` (rows `0..=order`) times `k!` contains the exact range
+    /// over the box (compared exactly at 1024 bits: the products are exact there), and
+    /// is at most `slack` wider than it.
+    fn check_exact(c: &Coeffs<WideInterval>, ends: [(&MpInterval, &MpInterval); 2], order: usize, slack: f64) {
+        let mut fact = 1u64;
+        for k in 0..=order {
+            if k > 0 {
+                fact *= k as u64;
+            }
+            for i in 0..2 {
+                let (neg, which) = exact_row(k, i);
+                let (lo, hi) = ends[which];
+                let range = lo.hull(hi);
+                let range = if neg { range.neg() } else { range };
+                let scaled = c[k][i].to_mp().with_prec(1024).mul_ref(&MpInterval::from_f64(fact as f64, 1024));
+                assert!(range.subset(&scaled), "row {k}, component {i}: {scaled} misses {range}");
+                assert!(
+                    scaled.wid_up() <= range.wid_up() * (1.0 + 1e-12) + slack,
+                    "row {k}, component {i}: {scaled} is wider than {range}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn box_series_in_f64_enclose_the_closed_form_and_are_taken_only_where_their_rounding_is_negligible() {
+        let tape = Tape::record(2, |x| vec![x[1], -x[0]]);
+        let order = 13; // 13! < 2^53: exact as an f64
+        with_bits(256, || {
+            // a box of the width of an a priori box: the f64 series is taken (its ends are
+            // f64 values) and it is as tight as the closed form up to f64 rounding
+            let (a, b, c, d) = (0.5, 0.625, -0.25, 0.125);
+            let y = [WideInterval::iv(a, b), WideInterval::iv(c, d)];
+            let s = box_taylor(&tape, &y, order).expect("a series");
+            for x in s.iter().flatten() {
+                assert_eq!(WideInterval::iv(Ival::inf(x), Ival::sup(x)), *x, "{x:?} has an end that is no f64");
+            }
+            let mp = |v: f64| MpInterval::from_f64(v, 1024);
+            let (ma, mb, mc, md) = (mp(a), mp(b), mp(c), mp(d));
+            check_exact(&s, [(&ma, &mb), (&mc, &md)], order, 0.0);
+
+            // a box 2^-200 wide: f64 would round it to 2^-53, so the series is computed at
+            // 256 bits (its widths are those of the box, not of f64)
+            let tiny = WideInterval::cst(2f64.powi(-100)) * WideInterval::cst(2f64.powi(-100));
+            let y = [WideInterval::cst(a) + WideInterval::iv(0.0, 1.0) * tiny, WideInterval::cst(c)];
+            let s = box_taylor(&tape, &y, order).expect("a series");
+            let hi = y[0].to_mp().with_prec(1024);
+            let hi = MpInterval::point(hi.sup(), 1024);
+            check_exact(&s, [(&ma, &hi), (&mc, &mc)], order, 2f64.powi(-240));
+            assert!(s[order][0].wid() < 2f64.powi(-200));
+
+            // a box below f64's range (2^-1100 to 2^-1099): an f64 series would be the noise
+            // of underflows; the series is computed at 256 bits
+            let lo = (0..5).fold(WideInterval::cst(2f64.powi(-100)), |a, _| a * tiny);
+            let y = [lo * WideInterval::iv(1.0, 2.0), WideInterval::cst(0.0)];
+            let s = box_taylor(&tape, &y, order).expect("a series");
+            let (la, lb) = (y[0].to_mp().with_prec(1024), y[0].to_mp().with_prec(1024));
+            let (la, lb) = (MpInterval::point(la.inf(), 1024), MpInterval::point(lb.sup(), 1024));
+            let zero = mp(0.0);
+            check_exact(&s, [(&la, &lb), (&zero, &zero)], order, 0.0);
+        });
+    }
 }
