@@ -465,9 +465,9 @@ pub(super) fn a_priori<I: Ival>(
 pub(super) const F64_SHARE: f64 = 1.0 / (1u64 << 36) as f64;
 
 /// (5.5''') The width under which an entry of an f64 series may be the noise of underflows
-/// (each at most `2^-1075`) rather than the box's: `2^-924`, so that `F64_SHARE` times it,
-/// `2^-960`, is still `2^100` times that noise.
-pub(super) const F64_FLOOR: f64 = f64::from_bits(((1023 - 924) as u64) << 52);
+/// rather than the box's: `2^-1024`, `2^50` times the largest error of one operation whose
+/// result underflows (`2^-1074`; sums of subnormal numbers are exact).
+pub(super) const F64_FLOOR: f64 = f64::from_bits(1 << 50);
 
 /// (5.5''') The rows an f64 series over a box grows between two looks at its last row.
 pub(super) const F64_ROWS: usize = 8;
@@ -479,14 +479,14 @@ pub(super) const F64_ROWS: usize = 8;
 /// same coefficients (spec (2.2) for a box containing `y`), and f64 ends are points of every
 /// precision, so it is taken as it is when the rounding of f64 is a negligible share of the
 /// two rows read: each of their entries is exactly 0 or wider than [`F64_SHARE`] times its
-/// magnitude and than `F64_SHARE` times [`F64_FLOOR`] (far above the noise of underflows).
+/// magnitude and than [`F64_FLOOR`] (far above the noise of underflows).
 /// Otherwise (or when the f64 series is not finite) the series at this precision.
 /// A choice of evaluation only: both enclose the coefficients.
 pub(super) fn box_taylor<I: Ival>(tape: &crate::tape::Tape, y: &[I], order: usize) -> Option<Coeffs<I>> {
     if I::box_series_in_f64() {
         let y64: Vec<inari::Interval> = y.iter().map(|x| crate::scalar::iv(x.inf(), x.sup())).collect();
         let negligible = |x: &inari::Interval| {
-            x.is_exact_zero() || (x.is_finite() && x.wid() >= F64_SHARE * x.mag().max(F64_FLOOR))
+            x.is_exact_zero() || (x.is_finite() && x.wid() >= (F64_SHARE * x.mag()).max(F64_FLOOR))
         };
         // grown F64_ROWS rows at a time; a row with an entry under F64_FLOOR stops it there
         // (the coefficients of such a box shrink with the order: the rows read would be
@@ -781,10 +781,7 @@ pub(super) fn variational_remainder<I: Ival>(
     let mut yv = inflate(&horner(cv.first(p + 1), cols.clone(), None, h0));
     for _ in 0..4 {
         let ext: Vec<I> = y.iter().chain(&yv).copied().collect();
-        let tv = sys
-            .field_var
-            .ode_taylor(&ext, p + 1)
-            .ok_or(StepFail::Shrink)?;
+        let tv = box_taylor(&sys.field_var, &ext, p + 1).ok_or(StepFail::Shrink)?;
         let zv = horner(cv.first(p), cols.clone(), Some(&tv[p]), h0);
         if zv.iter().zip(&yv).all(|(a, b)| a.subset(*b)) {
             let hp = (0..=p).fold(I::cst(1.0), |a, _| a * h);
