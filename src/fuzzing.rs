@@ -612,7 +612,15 @@ fn used_exactly(given: &Value, q: &Query) {
         );
     };
     let scene_of = |s: &SceneSpec| {
-        assert_eq!(o["scene"].as_str(), Some(s.name.as_str()));
+        match &s.definition {
+            None => assert_eq!(o["scene"].as_str(), Some(s.name.as_str())),
+            // a scene defined in the line (contract E26): the one read from it
+            Some(def) => {
+                let read =
+                    crate::scene::SceneFile::from_json(&o["scene"]).expect("the line's scene");
+                assert_eq!(read.key(), def.key(), "the scene used is not the one given");
+            }
+        }
         let mut line: Vec<(String, u64)> = o
             .get("params")
             .and_then(Value::as_object)
