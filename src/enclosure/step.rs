@@ -479,34 +479,44 @@ pub(super) const F64_ROWS: usize = 8;
 /// same coefficients (spec (2.2) for a box containing `y`), and f64 ends are points of every
 /// precision, so it is taken as it is when the rounding of f64 is a negligible share of the
 /// two rows read: each of their entries is exactly 0 or wider than [`F64_SHARE`] times its
-/// magnitude and than [`F64_FLOOR`] (far above the noise of underflows).
-/// Otherwise (or when the f64 series is not finite) the series at this precision.
+/// magnitude and than [`F64_FLOOR`] (far above the noise of underflows). Not tried for a box
+/// nearly a point in every component. Otherwise (or when the f64 series is not finite) the
+/// series at this precision.
 /// A choice of evaluation only: both enclose the coefficients.
 pub(super) fn box_taylor<I: Ival>(tape: &crate::tape::Tape, y: &[I], order: usize) -> Option<Coeffs<I>> {
     if I::box_series_in_f64() {
         let y64: Vec<inari::Interval> = y.iter().map(|x| crate::scalar::iv(x.inf(), x.sup())).collect();
-        let negligible = |x: &inari::Interval| {
-            x.is_exact_zero() || (x.is_finite() && x.wid() >= (F64_SHARE * x.mag()).max(F64_FLOOR))
-        };
-        // grown F64_ROWS rows at a time; a row with an entry under F64_FLOOR stops it there
-        // (the coefficients of such a box shrink with the order: the rows read would be
-        // the noise of underflows), so that a series that will not be taken costs little
-        let mut s = tape.ode_series(&y64, order);
-        let mut k = 0;
-        let taken = loop {
-            k = (k + F64_ROWS).min(order);
-            if !s.grow(k) || s.rows()[k].iter().any(|x| !x.is_exact_zero() && x.mag() < F64_FLOOR) {
-                break false;
+        // a box nearly a point in every component (a very short step's): its f64 series
+        // would be f64's rounding rather than the box's width, and is not tried
+        if y64.iter().any(|x| x.wid() > F64_SHARE * x.mag()) {
+            if let Some(c) = f64_series(tape, &y64, order) {
+                return Some(c.map(|x| I::iv(x.inf(), x.sup())));
             }
-            if k == order {
-                break s.rows().iter().skip(order.saturating_sub(1)).flatten().all(negligible);
-            }
-        };
-        if taken {
-            return Some(s.coeffs().map(|x| I::iv(x.inf(), x.sup())));
         }
     }
     tape.ode_taylor(y, order)
+}
+
+/// (5.5''') The f64 series of [`box_taylor`] over `y64` when its rows read pass the test, or
+/// `None`. Grown [`F64_ROWS`] rows at a time: a row with a non-zero entry under
+/// [`F64_FLOOR`] stops it (the coefficients of such a box shrink with the order, so the rows
+/// read would be the noise of underflows), so that a series that is not taken costs little.
+fn f64_series(tape: &crate::tape::Tape, y64: &[inari::Interval], order: usize) -> Option<Coeffs<inari::Interval>> {
+    let negligible = |x: &inari::Interval| {
+        x.is_exact_zero() || (x.is_finite() && x.wid() >= (F64_SHARE * x.mag()).max(F64_FLOOR))
+    };
+    let mut s = tape.ode_series(y64, order);
+    let mut k = 0;
+    loop {
+        k = (k + F64_ROWS).min(order);
+        if !s.grow(k) || s.rows()[k].iter().any(|x| !x.is_exact_zero() && x.mag() < F64_FLOOR) {
+            return None;
+        }
+        if k == order {
+            let read = s.rows().iter().skip(order.saturating_sub(1)).flatten().all(negligible);
+            return read.then(|| s.coeffs());
+        }
+    }
 }
 
 /// (5.4)-(5.5): with `b` the Taylor coefficients at the initial set (its centre, or its
