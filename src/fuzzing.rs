@@ -277,7 +277,7 @@ fn newton_invariant(scene: usize, mla: bool, qm: &[f64], qk: &[f64], h: f64) -> 
             // lower bound must not exceed what was reported, up to rounding of the report.
             let pts = |v: &[f64]| v.iter().map(|x| point(*x)).collect::<Vec<_>>();
             let r = step_residual::<_, inari::Interval>(
-                &model.scene,
+                &*model.scene,
                 kind,
                 &pts(qm),
                 &pts(qk),

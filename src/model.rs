@@ -24,10 +24,9 @@ pub fn field_with_action<Sc: Scene, S: Scalar>(sc: &Sc, x: &[S]) -> Vec<S> {
 /// A scene compiled once into tapes ([spec eq. (4.11)](crate::spec::dynamics)); the reduced state is x = (q, u), of
 /// dimension n + (n - k). Built by [`Model::new`], read through its methods.
 pub struct Model {
-    /// The scene's data recorded on tapes: every later computation reads the scene here.
-    pub(crate) scene: CompiledScene,
-    /// The same, shared with the recorders of the tapes recorded on first use.
-    shared: std::sync::Arc<CompiledScene>,
+    /// The scene's data recorded on tapes: every later computation reads the scene here
+    /// (shared with the recorders of the tapes recorded on first use).
+    pub(crate) scene: std::sync::Arc<CompiledScene>,
     /// Number of coordinates n.
     pub(crate) n: usize,
     /// Number of constraints k.
@@ -543,8 +542,8 @@ impl Model {
     /// x' = F(x) over -s ([spec (5.17)](crate::spec::enclosure)). Recorded on first use.
     pub(crate) fn reversed(&self) -> &System {
         self.reversed.get_or_init(|| {
-            let s = &self.scene;
-            let shared = self.shared.clone();
+            let s = &*self.scene;
+            let shared = self.scene.clone();
             System::record(
                 self.state_dim(),
                 self.n - self.k,
@@ -558,8 +557,8 @@ impl Model {
     /// Recorded on first use: a model that only flows never pays for it.
     pub(crate) fn action_system(&self) -> &System {
         self.with_action.get_or_init(|| {
-            let s = &self.scene;
-            let shared = self.shared.clone();
+            let s = &*self.scene;
+            let shared = self.scene.clone();
             System::record(
                 self.state_dim() + 1,
                 0,
@@ -572,7 +571,7 @@ impl Model {
     /// (q, v) -> p_a ([spec eq. (4.8)](crate::spec::dynamics)). Recorded on first use.
     pub(crate) fn momentum_tape(&self) -> &Tape {
         self.momentum_d.get_or_init(|| {
-            let (s, n) = (&self.scene, self.n);
+            let (s, n) = (&*self.scene, self.n);
             Tape::record(2 * n, |x| Geometry::at(s, &x[..n]).momentum_d(&x[n..]))
         })
     }
@@ -580,7 +579,7 @@ impl Model {
     /// (q, v) -> E_L(q, v) ([spec eq. (4.9)](crate::spec::dynamics)). Recorded on first use.
     pub(crate) fn energy_tape(&self) -> &Tape {
         self.energy.get_or_init(|| {
-            let (s, n) = (&self.scene, self.n);
+            let (s, n) = (&*self.scene, self.n);
             Tape::record(2 * n, |x| {
                 vec![crate::dynamics::energy(s, &x[..n], &x[n..])]
             })
@@ -664,8 +663,7 @@ impl Model {
         #[cfg(feature = "internals")]
         let nh_force = Tape::record(2 * n, |x| Geometry::at(s, &x[..n]).nh_force(&x[n..]));
         Ok(Model {
-            scene: s.clone(),
-            shared: scene.clone(),
+            scene: scene.clone(),
             n,
             k,
             dynamics,

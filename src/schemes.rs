@@ -335,7 +335,7 @@ impl Scheme {
     /// `H|_{D*}` (7.7).
     pub fn new(model: &Model, kind: SchemeKind) -> Scheme {
         let (n, k) = (model.n, model.k);
-        let s = &model.scene;
+        let s = &*model.scene;
         let residual = record_with_jacobian(2 * n + 1, n, |f, u| {
             step_residual(s, kind, &f[..n], &f[n..2 * n], u, &f[2 * n])
         });

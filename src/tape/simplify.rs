@@ -162,10 +162,8 @@ impl Poly {
                     }
                 }
                 Err(i) => {
-                    let e = exact(point(0.0) + point(s * c))?;
-                    if e != 0.0 {
-                        self.0.insert(i, (m.clone(), e));
-                    }
+                    // (s = 1 or -1: s c is exact, and c is nonzero)
+                    self.0.insert(i, (m.clone(), s * c));
                 }
             }
         }
