@@ -184,7 +184,13 @@ pub(super) fn lohner_step<I: Ival>(
     }
     // (5.6) the flow's Jacobian at the lowest order (from `jac_order` on) whose remainder
     // is negligible there; otherwise (5.6'') over the whole set.
-    let (rem, jac, ratio) = match step_jacobian(sys, &xbox, h, p, scale, extent, precise, high, jac_order) {
+    let jac = if c1 {
+        None
+    } else {
+        step_jacobian_in_f64(sys, &xbox, h, p, scale, extent, jac_order)
+    };
+    let jac = jac.or_else(|| step_jacobian(sys, &xbox, h, p, scale, extent, I::eps(), precise, high, jac_order));
+    let (rem, jac, ratio) = match jac {
         Some(jac) => (rem, jac, ratio),
         None => box_enclosure(sys, &xbox, h, p, scale, tol, c1)?,
     };
@@ -615,12 +621,52 @@ pub(super) fn remainder_over<I: Ival>(
     Ok((t_rem.iter().map(|t| *t * hp).collect(), ratio))
 }
 
+/// (5.6''') The Jacobian of a step of a C^0 flow over a set of small extent, computed in
+/// inari's f64 intervals from the box `xbox` and the span `h` rounded outward to f64 ends:
+/// [`step_jacobian`] over the larger f64 box, its orders chosen by the same test at this
+/// precision's `eps` (the remainder times the set's extent below the state's rounding
+/// level). Taken when the whole f64 enclosure (its rounding included) passes that test:
+/// every entry's width times the extent times `d` at most `scale eps`. `None` at 53 bits,
+/// when the extent is too large for f64's rounding to pass, or when the test fails; the
+/// Jacobian is then computed at this precision. A choice of evaluation only: both enclose
+/// the same Jacobian (spec (5.6)), and f64 ends are points of every precision.
+fn step_jacobian_in_f64<I: Ival>(
+    sys: &System,
+    xbox: &[I],
+    h: I,
+    p: usize,
+    scale: f64,
+    extent: f64,
+    order: &mut usize,
+) -> Option<IMat<I>> {
+    let d = xbox.len();
+    // the test, NaN failing it
+    let passes = |width: f64| width * extent * d as f64 <= scale * I::eps();
+    // f64's rounding alone, about 2^-50 of entries of size about 1, must pass it
+    if I::eps() >= f64::EPSILON || !passes(F64_JAC_ROUNDING) {
+        return None;
+    }
+    let iv = |x: &I| crate::scalar::iv(x.inf(), x.sup());
+    let x64: Vec<inari::Interval> = xbox.iter().map(iv).collect();
+    let jac = step_jacobian(sys, &x64, iv(&h), p, scale, extent, I::eps(), false, false, order)?;
+    if !jac.entries().iter().all(|x| passes(x.wid())) {
+        return None;
+    }
+    let flat = jac.entries().iter().map(|x| I::iv(x.inf(), x.sup())).collect();
+    Some(IMat::from_flat(d, d, flat))
+}
+
+/// (5.6''') The width f64's rounding gives an entry of a step's Jacobian, at the least:
+/// `2^-50` (the entries are near the identity's for the steps taken).
+const F64_JAC_ROUNDING: f64 = 1.0 / (1u64 << 50) as f64;
+
 /// (5.6) An interval matrix containing `D x(h; x0) / D x0` for every `x0` in the hull
 /// `[X]`, from the Taylor series of order `q` of the variational equation
 /// `V' = DF(x) V, V(0) = I`, with the Lagrange remainder over an a priori box of the
 /// extended system `(x, V)`. The orders of [`JAC_ORDERS`] up to `p` are tried from
 /// `*order` (an index, updated for the next step) on until the remainder's share of the new
-/// set's width (`wid(remainder) |x0 - m| d`) is below the rounding level of the state and,
+/// set's width (`wid(remainder) |x0 - m| d`) is below the rounding level of the state
+/// (`scale eps`: `eps` is the state's precision, which (5.6''') passes to a series in f64) and,
 /// if `precise`, the remainder itself below 1 ulp of the Jacobian's size (the C^1 output
 /// of [`flow_set_jacobian`]). `None` when no order does: the step is then taken over the
 /// whole set (`box_enclosure`).
@@ -632,6 +678,7 @@ pub(super) fn step_jacobian<I: Ival>(
     p: usize,
     scale: f64,
     extent: f64,
+    eps: f64,
     precise: bool,
     high: bool,
     order: &mut usize,
@@ -710,7 +757,7 @@ pub(super) fn step_jacobian<I: Ival>(
             let mut jac = variational_polynomial(w.rows(), d, h);
             let size = jac.entries().iter().fold(1.0f64, |a, x| a.max(x.mag()));
             // (NaN fails the tests too)
-            let share = widest * extent * d as f64 / (scale * I::eps());
+            let share = widest * extent * d as f64 / (scale * eps);
             let own = if precise {
                 widest / (size * I::eps())
             } else {
@@ -870,6 +917,47 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// `x' = y, y' = -x` as a system: its flow's Jacobian over `h` is the rotation
+    /// `[[cos h, sin h], [-sin h, cos h]]` at every state.
+    fn rotation<S: Scalar>(x: &[S]) -> Vec<S> {
+        vec![x[1].clone(), -x[0].clone()]
+    }
+
+    #[test]
+    fn a_small_sets_step_jacobian_in_f64_encloses_the_rotation_and_a_large_sets_is_not_tried() {
+        let sys = System::record(2, 0, rotation, rotation);
+        with_bits(256, || {
+            let w = |x: f64| WideInterval::cst(x);
+            let tiny = w(2f64.powi(-110)) * w(2f64.powi(-110));
+            let around = |c: f64| w(c) + WideInterval::iv(-1.0, 1.0) * tiny;
+            let xbox = [around(0.5), around(-0.25)];
+            let h = w(0.125);
+            let mut order = 0;
+            // the extent 2^-220: f64's rounding (2^-52) times it is below 2^-255
+            let jac = step_jacobian_in_f64(&sys, &xbox, h, 96, 1.0, 2f64.powi(-220), &mut order)
+                .expect("the f64 Jacobian is taken for a set this small");
+            // the closed form at 256 bits (about 2^-250 wide) lies inside each entry, whose
+            // ends are f64 values, and each entry is as tight as f64 allows up to 2^-40
+            let (c, s) = (h.cos(), h.sin());
+            let exact = [[c, s], [-s, c]];
+            for (i, row) in exact.iter().enumerate() {
+                for (j, e) in row.iter().enumerate() {
+                    let x = jac[i][j];
+                    assert_eq!(WideInterval::iv(Ival::inf(&x), Ival::sup(&x)), x, "J[{i}][{j}] has an end that is no f64");
+                    assert!(e.subset(&x), "J[{i}][{j}] = {x:?} misses the rotation's {e:?}");
+                    assert!(x.wid() < 2f64.powi(-40), "J[{i}][{j}] = {x:?} is wide");
+                }
+            }
+            // a set 2^-20 wide: f64's rounding alone would not pass the test at 256 bits
+            let wide = [w(0.5) + WideInterval::iv(-1.0, 1.0) * w(2f64.powi(-20)), around(-0.25)];
+            assert!(step_jacobian_in_f64(&sys, &wide, h, 96, 1.0, 2f64.powi(-20), &mut order).is_none());
+        });
+        // at 53 bits it is never tried
+        let xbox = [crate::scalar::iv(0.5, 0.5), crate::scalar::iv(-0.25, -0.25)];
+        let mut order = 0;
+        assert!(step_jacobian_in_f64(&sys, &xbox, crate::scalar::iv(0.125, 0.125), 20, 1.0, 0.0, &mut order).is_none());
     }
 
     #[test]
