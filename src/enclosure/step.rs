@@ -445,7 +445,7 @@ pub(super) fn a_priori<I: Ival>(
     let series = |top: &[I]| horner(b.first(q), 0..dim, Some(top), h0);
     let mut y = inflate(&series(&b[q]));
     for _ in 0..4 {
-        let ty = box_taylor(tape, &y, q + 1).ok_or(StepFail::Shrink)?;
+        let ty = box_taylor(tape, &y, q + 1, time_scale(h)).ok_or(StepFail::Shrink)?;
         let z = series(&ty[q]);
         if z.iter().zip(&y).all(|(a, b)| a.subset(*b)) {
             return Ok((y, ty));
@@ -487,31 +487,64 @@ pub(super) const F64_ROWS: usize = 8;
 /// two rows read: each of their entries is exactly 0 or wider than [`F64_SHARE`] times its
 /// magnitude and than [`F64_FLOOR`] (far above the noise of underflows). Not tried for a box
 /// nearly a point in every component. Otherwise (or when the f64 series is not finite) the
-/// series at this precision.
+/// series at this precision. The f64 series is that of `y(s) = x(h s)` (its rows, about the
+/// remainder's size rather than `1/k!`, stay in f64's range at high orders), row `k` divided
+/// back by `h^k` at this precision.
 /// A choice of evaluation only: both enclose the coefficients.
-pub(super) fn box_taylor<I: Ival>(tape: &crate::tape::Tape, y: &[I], order: usize) -> Option<Coeffs<I>> {
+pub(super) fn box_taylor<I: Ival>(tape: &crate::tape::Tape, y: &[I], order: usize, h: f64) -> Option<Coeffs<I>> {
     if I::box_series_in_f64() {
         let y64: Vec<inari::Interval> = y.iter().map(|x| crate::scalar::iv(x.inf(), x.sup())).collect();
         // a box nearly a point in every component (a very short step's): its f64 series
         // would be f64's rounding rather than the box's width, and is not tried
         if y64.iter().any(|x| x.wid() > F64_SHARE * x.mag()) {
-            if let Some(c) = f64_series(tape, &y64, order) {
-                return Some(c.map(|x| I::iv(x.inf(), x.sup())));
+            if let Some(c) = f64_series(tape, &y64, order, h) {
+                return Some(unscaled(&c, h));
             }
         }
     }
     tape.ode_taylor(y, order)
 }
 
+/// The time scale of the f64 series of a step over `[0, h]` ((5.5'''): `h`'s upper end, an
+/// f64; 1 for a span that is not positive and finite).
+fn time_scale<I: Ival>(h: I) -> f64 {
+    let t = h.sup();
+    if t > 0.0 && t.is_finite() {
+        t
+    } else {
+        1.0
+    }
+}
+
+/// The coefficients `x_k = y_k / h^k` of an f64 series of `y(s) = x(h s)` (the time scale
+/// `h` exact, 1 when not scaled), at this precision, each quotient rounded outward.
+fn unscaled<I: Ival>(c: &Coeffs<inari::Interval>, h: f64) -> Coeffs<I> {
+    let c = c.map(|x| I::iv(x.inf(), x.sup()));
+    if h == 1.0 {
+        return c;
+    }
+    let mut hk = I::cst(1.0);
+    let rows: Vec<Vec<I>> = c
+        .iter()
+        .map(|row| {
+            let out = row.iter().map(|x| x.quot(hk)).collect();
+            hk = hk * I::cst(h);
+            out
+        })
+        .collect();
+    Coeffs::from_rows(c.rows().width(), rows.iter().map(|r| r.as_slice()))
+}
+
 /// (5.5''') The f64 series of [`box_taylor`] over `y64` when its rows read pass the test, or
 /// `None`. Grown [`F64_ROWS`] rows at a time: a row with a non-zero entry under
 /// [`F64_FLOOR`] stops it (the coefficients of such a box shrink with the order, so the rows
 /// read would be the noise of underflows), so that a series that is not taken costs little.
-fn f64_series(tape: &crate::tape::Tape, y64: &[inari::Interval], order: usize) -> Option<Coeffs<inari::Interval>> {
+fn f64_series(tape: &crate::tape::Tape, y64: &[inari::Interval], order: usize, h: f64) -> Option<Coeffs<inari::Interval>> {
     let negligible = |x: &inari::Interval| {
         x.is_exact_zero() || (x.is_finite() && x.wid() >= (F64_SHARE * x.mag()).max(F64_FLOOR))
     };
-    let mut s = tape.ode_series(y64, order);
+    let scale = (h != 1.0).then(|| crate::scalar::iv(h, h));
+    let mut s = tape.ode_series_scaled(y64, order, scale);
     let mut k = 0;
     loop {
         k = (k + F64_ROWS).min(order);
@@ -596,7 +629,7 @@ pub(super) fn remainder_over<I: Ival>(
                 .zip(y)
                 .map(|(a, b)| a.intersection(*b))
                 .collect();
-            let tj = box_taylor(&sys.field, &yj, p + 1).ok_or(StepFail::Shrink)?;
+            let tj = box_taylor(&sys.field, &yj, p + 1, time_scale(h)).ok_or(StepFail::Shrink)?;
             let part = &tj[p + 1];
             // The hull over the SLICES is at least as wide as this slice: in strict mode a
             // slice already over the tolerance decides the rejection, without the others.
@@ -838,7 +871,7 @@ pub(super) fn variational_remainder<I: Ival>(
     let mut yv = inflate(&horner(cv.first(p + 1), cols.clone(), None, h0));
     for _ in 0..4 {
         let ext: Vec<I> = y.iter().chain(&yv).copied().collect();
-        let tv = box_taylor(&sys.field_var, &ext, p + 1).ok_or(StepFail::Shrink)?;
+        let tv = box_taylor(&sys.field_var, &ext, p + 1, time_scale(h)).ok_or(StepFail::Shrink)?;
         let zv = horner(cv.first(p), cols.clone(), Some(&tv[p]), h0);
         if zv.iter().zip(&yv).all(|(a, b)| a.subset(*b)) {
             let hp = (0..=p).fold(I::cst(1.0), |a, _| a * h);
@@ -969,19 +1002,29 @@ mod tests {
             // f64 values) and it is as tight as the closed form up to f64 rounding
             let (a, b, c, d) = (0.5, 0.625, -0.25, 0.125);
             let y = [WideInterval::iv(a, b), WideInterval::iv(c, d)];
-            let s = box_taylor(&tape, &y, order).expect("a series");
+            let s = box_taylor(&tape, &y, order, 1.0).expect("a series");
             for x in s.iter().flatten() {
                 assert_eq!(WideInterval::iv(Ival::inf(x), Ival::sup(x)), *x, "{x:?} has an end that is no f64");
             }
             let mp = |v: f64| MpInterval::from_f64(v, 1024);
             let (ma, mb, mc, md) = (mp(a), mp(b), mp(c), mp(d));
             check_exact(&s, [(&ma, &mb), (&mc, &md)], order, 0.0);
+            // the same series through the time scale h = 3 (the f64 series of y(s) = x(3 s),
+            // its row k divided back by 3^k at 256 bits): the same enclosure
+            let s = box_taylor(&tape, &y, order, 3.0).expect("a series");
+            check_exact(&s, [(&ma, &mb), (&mc, &md)], order, 0.0);
+            // at order 200 the coefficients (about 1/200!, 1e-375) fall below f64's range,
+            // those of y(s) = x(8 s) (about 8^200/200!, 1e-195) do not: the f64 series is
+            // taken only with the time scale
+            let y64 = [crate::scalar::iv(a, b), crate::scalar::iv(c, d)];
+            assert!(f64_series(&tape, &y64, 200, 1.0).is_none());
+            assert!(f64_series(&tape, &y64, 200, 8.0).is_some());
 
             // a box 2^-200 wide: f64 would round it to 2^-53, so the series is computed at
             // 256 bits (its widths are those of the box, not of f64)
             let tiny = WideInterval::cst(2f64.powi(-100)) * WideInterval::cst(2f64.powi(-100));
             let y = [WideInterval::cst(a) + WideInterval::iv(0.0, 1.0) * tiny, WideInterval::cst(c)];
-            let s = box_taylor(&tape, &y, order).expect("a series");
+            let s = box_taylor(&tape, &y, order, 1.0).expect("a series");
             let hi = y[0].to_mp().with_prec(1024);
             let hi = MpInterval::point(hi.sup(), 1024);
             check_exact(&s, [(&ma, &hi), (&mc, &mc)], order, 2f64.powi(-240));
@@ -991,7 +1034,7 @@ mod tests {
             // of underflows; the series is computed at 256 bits
             let lo = (0..5).fold(WideInterval::cst(2f64.powi(-100)), |a, _| a * tiny);
             let y = [lo * WideInterval::iv(1.0, 2.0), WideInterval::cst(0.0)];
-            let s = box_taylor(&tape, &y, order).expect("a series");
+            let s = box_taylor(&tape, &y, order, 1.0).expect("a series");
             let (la, lb) = (y[0].to_mp().with_prec(1024), y[0].to_mp().with_prec(1024));
             let (la, lb) = (MpInterval::point(la.inf(), 1024), MpInterval::point(lb.sup(), 1024));
             let zero = mp(0.0);

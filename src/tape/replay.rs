@@ -83,6 +83,13 @@ impl Tape {
     /// (each coefficient's recurrence reads only the coefficients below it, [spec eqs.
     /// (2.3)-(2.7)](crate::spec::taylor)). `room`: the order it is expected to reach (it may grow past it).
     pub(crate) fn ode_series<T: Coef>(&self, x0: &[T], room: usize) -> OdeSeries<'_, T> {
+        self.ode_series_scaled(x0, room, None)
+    }
+    /// [`Tape::ode_series`] of `y(s) = x(h s)`, the solution of `y' = h F(y)`, when `h` is
+    /// given: its coefficients are `h^k x_k` ([spec (5.5''')](crate::spec::enclosure)),
+    /// each made by `y_{k+1} = (h F_k) / (k + 1)` with `F_k` the field's coefficients along
+    /// `y` (for `x' = F(x)` autonomous, as every tape's field is).
+    pub(crate) fn ode_series_scaled<T: Coef>(&self, x0: &[T], room: usize, h: Option<T>) -> OdeSeries<'_, T> {
         let d = self.n_inputs;
         let mut flat: Vec<T> = Vec::with_capacity((room + 1) * d);
         flat.extend_from_slice(x0);
@@ -96,6 +103,7 @@ impl Tape {
             steps: 0,
             order: 0,
             broken: false,
+            h,
         }
     }
     /// Rigorous evaluation over intervals, with the same smoothness checks as
@@ -120,6 +128,8 @@ pub(crate) struct OdeSeries<'t, T: Coef> {
     order: usize,
     /// a check of (2.8) or a finite coefficient failed: the series grows no further
     broken: bool,
+    /// the time scale of [`Tape::ode_series_scaled`]
+    h: Option<T>,
 }
 
 impl<T: Coef> OdeSeries<'_, T> {
@@ -151,7 +161,8 @@ impl<T: Coef> OdeSeries<'_, T> {
             if !failed && k < order {
                 let kk = T::cst((k + 1) as f64);
                 for i in 0..d {
-                    let next = self.s.get(self.tape.outputs[i], k).quot(kk);
+                    let f = self.s.get(self.tape.outputs[i], k);
+                    let next = self.h.map_or(f, |h| f * h).quot(kk);
                     failed |= !next.is_finite_coef();
                     self.flat.push(next);
                 }
