@@ -497,8 +497,15 @@ pub(super) fn box_taylor<I: Ival>(tape: &crate::tape::Tape, y: &[I], order: usiz
         // a box nearly a point in every component (a very short step's): its f64 series
         // would be f64's rounding rather than the box's width, and is not tried
         if y64.iter().any(|x| x.wid() > F64_SHARE * x.mag()) {
-            if let Some(c) = f64_series(tape, &y64, order, h) {
-                return Some(unscaled(&c, h));
+            // the series of x itself first; the time scale only where its rows underflow
+            match f64_series(tape, &y64, order, 1.0) {
+                Ok(c) => return Some(c.map(|x| I::iv(x.inf(), x.sup()))),
+                Err(F64Series::Underflow) if h != 1.0 => {
+                    if let Ok(c) = f64_series(tape, &y64, order, h) {
+                        return Some(unscaled(&c, h));
+                    }
+                }
+                Err(_) => {}
             }
         }
     }
@@ -520,15 +527,14 @@ fn time_scale<I: Ival>(h: I) -> f64 {
 /// `h` exact, 1 when not scaled), at this precision, each quotient rounded outward.
 fn unscaled<I: Ival>(c: &Coeffs<inari::Interval>, h: f64) -> Coeffs<I> {
     let c = c.map(|x| I::iv(x.inf(), x.sup()));
-    if h == 1.0 {
-        return c;
-    }
-    let mut hk = I::cst(1.0);
+    // h^-k by products of an enclosure of 1/h (a product costs less than a quotient)
+    let inv = I::cst(1.0).quot(I::cst(h));
+    let mut inv_k = I::cst(1.0);
     let rows: Vec<Vec<I>> = c
         .iter()
         .map(|row| {
-            let out = row.iter().map(|x| x.quot(hk)).collect();
-            hk = hk * I::cst(h);
+            let out = row.iter().map(|x| *x * inv_k).collect();
+            inv_k = inv_k * inv;
             out
         })
         .collect();
@@ -539,7 +545,12 @@ fn unscaled<I: Ival>(c: &Coeffs<inari::Interval>, h: f64) -> Coeffs<I> {
 /// `None`. Grown [`F64_ROWS`] rows at a time: a row with a non-zero entry under
 /// [`F64_FLOOR`] stops it (the coefficients of such a box shrink with the order, so the rows
 /// read would be the noise of underflows), so that a series that is not taken costs little.
-fn f64_series(tape: &crate::tape::Tape, y64: &[inari::Interval], order: usize, h: f64) -> Option<Coeffs<inari::Interval>> {
+fn f64_series(
+    tape: &crate::tape::Tape,
+    y64: &[inari::Interval],
+    order: usize,
+    h: f64,
+) -> Result<Coeffs<inari::Interval>, F64Series> {
     let negligible = |x: &inari::Interval| {
         x.is_exact_zero() || (x.is_finite() && x.wid() >= (F64_SHARE * x.mag()).max(F64_FLOOR))
     };
@@ -548,14 +559,26 @@ fn f64_series(tape: &crate::tape::Tape, y64: &[inari::Interval], order: usize, h
     let mut k = 0;
     loop {
         k = (k + F64_ROWS).min(order);
-        if !s.grow(k) || s.rows()[k].iter().any(|x| !x.is_exact_zero() && x.mag() < F64_FLOOR) {
-            return None;
+        if !s.grow(k) {
+            return Err(F64Series::Other);
+        }
+        if s.rows()[k].iter().any(|x| !x.is_exact_zero() && x.mag() < F64_FLOOR) {
+            return Err(F64Series::Underflow);
         }
         if k == order {
             let read = s.rows().iter().skip(order.saturating_sub(1)).flatten().all(negligible);
-            return read.then(|| s.coeffs());
+            return if read { Ok(s.coeffs()) } else { Err(F64Series::Other) };
         }
     }
+}
+
+/// Why an f64 series of [`box_taylor`] was not taken.
+#[derive(Debug, PartialEq)]
+enum F64Series {
+    /// A row has an entry under [`F64_FLOOR`].
+    Underflow,
+    /// A coefficient was not proved, or a row read is not wide enough.
+    Other,
 }
 
 /// (5.4)-(5.5): with `b` the Taylor coefficients at the initial set (its centre, or its
@@ -1010,15 +1033,15 @@ mod tests {
             let (ma, mb, mc, md) = (mp(a), mp(b), mp(c), mp(d));
             check_exact(&s, [(&ma, &mb), (&mc, &md)], order, 0.0);
             // the same series through the time scale h = 3 (the f64 series of y(s) = x(3 s),
-            // its row k divided back by 3^k at 256 bits): the same enclosure
-            let s = box_taylor(&tape, &y, order, 3.0).expect("a series");
-            check_exact(&s, [(&ma, &mb), (&mc, &md)], order, 0.0);
+            // its row k multiplied back by 3^-k at 256 bits): the same enclosure
+            let y64 = [crate::scalar::iv(a, b), crate::scalar::iv(c, d)];
+            let scaled = f64_series(&tape, &y64, order, 3.0).expect("an f64 series");
+            check_exact(&unscaled(&scaled, 3.0), [(&ma, &mb), (&mc, &md)], order, 0.0);
             // at order 200 the coefficients (about 1/200!, 1e-375) fall below f64's range,
             // those of y(s) = x(8 s) (about 8^200/200!, 1e-195) do not: the f64 series is
             // taken only with the time scale
-            let y64 = [crate::scalar::iv(a, b), crate::scalar::iv(c, d)];
-            assert!(f64_series(&tape, &y64, 200, 1.0).is_none());
-            assert!(f64_series(&tape, &y64, 200, 8.0).is_some());
+            assert_eq!(f64_series(&tape, &y64, 200, 1.0).err(), Some(F64Series::Underflow));
+            assert!(f64_series(&tape, &y64, 200, 8.0).is_ok());
 
             // a box 2^-200 wide: f64 would round it to 2^-53, so the series is computed at
             // 256 bits (its widths are those of the box, not of f64)
