@@ -487,9 +487,9 @@ pub(super) const F64_ROWS: usize = 8;
 /// two rows read: each of their entries is exactly 0 or wider than [`F64_SHARE`] times its
 /// magnitude and than [`F64_FLOOR`] (far above the noise of underflows). Not tried for a box
 /// nearly a point in every component. Otherwise (or when the f64 series is not finite) the
-/// series at this precision. The f64 series is that of `y(s) = x(h s)` (its rows, about the
-/// remainder's size rather than `1/k!`, stay in f64's range at high orders), row `k` divided
-/// back by `h^k` at this precision.
+/// series at this precision. Where the f64 series underflows, it is tried again as that of
+/// `y(s) = x(h s)` (its rows, about the remainder's size rather than `1/k!`, stay in f64's
+/// range at high orders), row `k` multiplied back by an enclosure of `h^-k` at this precision.
 /// A choice of evaluation only: both enclose the coefficients.
 pub(super) fn box_taylor<I: Ival>(tape: &crate::tape::Tape, y: &[I], order: usize, h: f64) -> Option<Coeffs<I>> {
     if I::box_series_in_f64() {
@@ -523,8 +523,8 @@ fn time_scale<I: Ival>(h: I) -> f64 {
     }
 }
 
-/// The coefficients `x_k = y_k / h^k` of an f64 series of `y(s) = x(h s)` (the time scale
-/// `h` exact, 1 when not scaled), at this precision, each quotient rounded outward.
+/// The coefficients `x_k = y_k h^-k` of an f64 series of `y(s) = x(h s)` (`h > 0` an exact
+/// f64), at this precision: row `k` times an enclosure of `h^-k`.
 fn unscaled<I: Ival>(c: &Coeffs<inari::Interval>, h: f64) -> Coeffs<I> {
     let c = c.map(|x| I::iv(x.inf(), x.sup()));
     // h^-k by products of an enclosure of 1/h (a product costs less than a quotient)
@@ -541,8 +541,8 @@ fn unscaled<I: Ival>(c: &Coeffs<inari::Interval>, h: f64) -> Coeffs<I> {
     Coeffs::from_rows(c.rows().width(), rows.iter().map(|r| r.as_slice()))
 }
 
-/// (5.5''') The f64 series of [`box_taylor`] over `y64` when its rows read pass the test, or
-/// `None`. Grown [`F64_ROWS`] rows at a time: a row with a non-zero entry under
+/// (5.5''') The f64 series of [`box_taylor`] over `y64` (that of `y(s) = x(h s)` when
+/// `h != 1`) when its rows read pass the test, or why not. Grown [`F64_ROWS`] rows at a time: a row with a non-zero entry under
 /// [`F64_FLOOR`] stops it (the coefficients of such a box shrink with the order, so the rows
 /// read would be the noise of underflows), so that a series that is not taken costs little.
 fn f64_series(
