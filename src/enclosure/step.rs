@@ -526,14 +526,14 @@ fn time_scale<I: Ival>(h: I) -> f64 {
 /// The coefficients `x_k = y_k h^-k` of an f64 series of `y(s) = x(h s)` (`h > 0` an exact
 /// f64), at this precision: row `k` times an enclosure of `h^-k`.
 fn unscaled<I: Ival>(c: &Coeffs<inari::Interval>, h: f64) -> Coeffs<I> {
-    let c = c.map(|x| I::iv(x.inf(), x.sup()));
-    // h^-k by products of an enclosure of 1/h (a product costs less than a quotient)
+    // h^-k by products of an enclosure of 1/h (a product costs less than a quotient); the
+    // f64 ends converted exactly
     let inv = I::cst(1.0).quot(I::cst(h));
     let mut inv_k = I::cst(1.0);
     let rows: Vec<Vec<I>> = c
         .iter()
         .map(|row| {
-            let out = row.iter().map(|x| *x * inv_k).collect();
+            let out = row.iter().map(|x| I::iv(x.inf(), x.sup()) * inv_k).collect();
             inv_k = inv_k * inv;
             out
         })
