@@ -13,11 +13,14 @@ use crate::tape::Rows;
 use crate::{Error, Reason};
 
 /// What a flow computes besides the set.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub(super) enum C1 {
+#[derive(Clone, Copy, PartialEq)]
+pub(crate) enum C1 {
     No,
     /// The derivative, each step's factor as cheap as the state allows (5.6).
     Cheap,
+    /// The derivative as an enclosure only: each step's factor held to the test (5.6) at
+    /// this level instead of the state's precision, in f64 where (5.6''') passes at it.
+    Loose(f64),
     /// The derivative, each step's factor to the rounding level (5.6).
     Precise,
 }
@@ -41,7 +44,6 @@ pub(super) fn flow_set_general<I: Ival>(
     explain: Option<Explain<'_>>,
 ) -> Result<Flown<I>, Error> {
     let t = total.sup();
-    let c1 = c1_mode != C1::No;
     let precise = c1_mode == C1::Precise;
     let mut total_jac: Option<JacobianSet<I>> = None;
     let d = set.m.len();
@@ -207,9 +209,8 @@ pub(super) fn flow_set_general<I: Ival>(
                 hi,
                 p_step,
                 tol,
-                c1,
+                c1_mode,
                 opts,
-                precise,
                 high,
                 &mut jac_order,
                 &mut prior,

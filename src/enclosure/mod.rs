@@ -91,6 +91,24 @@ pub fn flow_set_c1<I: Ival>(
     Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
 }
 
+/// As [`flow_set_c1`], each step's Jacobian held to the test of (5.6) at the level `eps`
+/// (at least the set's precision) instead of the set's precision, and computed in f64
+/// where (5.6''') passes at that level ([spec (12.0.9)](crate::spec::precision)): the
+/// derivative and the set are enclosures all the same, the derivative's width f64's
+/// rounding or more, and the set's own width allowed the level `eps`.
+pub(crate) fn flow_set_c1_loose<I: Ival>(
+    sys: &System,
+    set: LohnerSet<I>,
+    t: f64,
+    opts: &FlowOptions,
+    eps: f64,
+) -> Result<(LohnerSet<I>, IMat<I>, FlowStats), Error> {
+    let (set, jac, stats) =
+        flow_set_general(sys, set, I::cst(t), opts, C1::Loose(eps), &mut Memo::default(), None)?;
+    let d = set.m.len();
+    Ok((set, jac.unwrap_or_else(|| linalg::identity(d)), stats))
+}
+
 /// As [`flow_set_c1`] with each step's Jacobian enclosed to the rounding level (its
 /// variational order raised until its remainder is below 1 ulp of its size, [spec eq.
 /// (5.6)](crate::spec::enclosure)): slower, but the derivative stays narrow over long times ([spec Theorem 5.3](crate::spec::enclosure)).

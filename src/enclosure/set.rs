@@ -183,6 +183,40 @@ impl<I: Ival> LohnerSet<I> {
         b
     }
 
+    /// (12.0.9) The states from a part of the initial set, around another initial centre.
+    /// For a set flown without reorganisation (5.10'), the state from the initial point
+    /// `c + a`, `a in [r0]`, lies in `m + C a + B [r]`. For an initial point `c' + a'` with
+    /// `c' - c in shift` and `a' in r0` (`r0` containing 0, and `shift + r0` inside the
+    /// set's `[r0]`), it lies in `w + C a' + B [r]`, `w = m + C shift`, so in
+    /// `m' + C a' + B ([r] + [B^-1] (w - m'))` with `m' = mid(w)`. `None` when `B^-1`
+    /// is not enclosed (5.9). The marked subset is dropped; the box still holds every state.
+    pub(crate) fn moved(&self, shift: &[I], r0: Vec<I>) -> Option<Self> {
+        let c = linalg::imat::<I>(&self.c);
+        let cs = linalg::mul_vec(&c, shift);
+        let w: Vec<I> = self.m.iter().zip(&cs).map(|(m, x)| I::pt(*m) + *x).collect();
+        let m: Vec<I::Pt> = w.iter().map(|x| x.mid_pt()).collect();
+        let e = relative(&w, &m);
+        let b_inv = linalg::enclose_inverse::<I>(&self.b, &self.b.clone().try_inverse()?)?;
+        let r: Vec<I> = self
+            .r
+            .iter()
+            .zip(linalg::mul_vec(&b_inv, &e))
+            .map(|(a, b)| *a + b)
+            .collect();
+        if !w.iter().chain(&r).all(|x| x.is_finite()) {
+            return None;
+        }
+        Some(LohnerSet {
+            m,
+            c: self.c.clone(),
+            r0,
+            b: self.b.clone(),
+            r,
+            boxed: self.boxed.clone(),
+            sub: None,
+        })
+    }
+
     /// An enclosure of `{ G(x) : x in the set }` by the centred form
     /// `G(m) + (DG([X]) C) [r0] + (DG([X]) B) [r]`, intersected with `G([X])` ([spec eq. (5.12)](crate::spec::enclosure)); `g_jac` is the
     /// tape of `(G, DG)` (`G` then `DG` row-major). `None` if an evaluation is not proved.
@@ -317,6 +351,62 @@ mod tests {
         // not vacuous: the fold wraps C r0 into B's frame, a few times wider at most here
         for (a, b) in after.iter().zip(&before) {
             assert!(a.wid() < 4.0 * b.wid(), "{} against {}", a.wid(), b.wid());
+        }
+    }
+
+    /// (12.0.9): the set moved to another initial centre holds the state of every initial
+    /// point it keeps, `m + C (shift + a') + B b` for the corners `a'` of the new `[r0]` and
+    /// `b` of `[r]` (enclosed in double-double intervals from the exact data, a few ulps of
+    /// 2^-106 wide, so that each lies inside the moved set's f64 hull only if that hull holds
+    /// the exact state), and is narrower than the whole set. The shift `0.1` makes
+    /// `m + C shift` round in f64, so that the rounding is carried by `[r]`.
+    #[test]
+    fn a_moved_set_holds_the_states_of_the_initial_points_it_keeps() {
+        use crate::precision::dd::DdInterval;
+        let m = vec![1.0, -2.0, 0.5];
+        let c = DMatrix::from_row_slice(3, 3, &[3.0, 0.7, 0.0, 0.5, 3.0, -1.1, 0.0, 1.3, 1.0]);
+        let b = DMatrix::from_row_slice(3, 3, &[1.0, 0.2, 0.0, 0.1, 1.0, 0.3, 0.0, 0.4, 1.0]);
+        let sym = |r: &[f64]| r.iter().map(|x| iv(-x, *x)).collect::<Vec<_>>();
+        let set = LohnerSet {
+            m: m.clone(),
+            c: c.clone(),
+            r0: sym(&[0.5, 0.25, 0.125]),
+            b: b.clone(),
+            r: sym(&[1e-6, 2e-6, 1e-6]),
+            boxed: vec![iv(-10.0, 10.0); 3],
+            sub: None,
+        };
+        let shift = [0.1, -0.1, 0.0];
+        let r0 = sym(&[0.2, 0.1, 0.05]);
+        let moved = set
+            .moved(&shift.map(point), r0.clone())
+            .expect("B is well conditioned");
+        assert!(moved.r.iter().all(|x| x.contains(0.0)));
+        assert_eq!(moved.r0, r0);
+        let (hull, whole) = (moved.hull(), set.hull());
+        let dd = |x: f64| DdInterval::from_f64(x);
+        let corner = |r: &[Interval], k: usize, i: usize| {
+            if k >> i & 1 == 1 {
+                r[i].sup()
+            } else {
+                r[i].inf()
+            }
+        };
+        for ka in 0..8 {
+            for kb in 0..8 {
+                for i in 0..3 {
+                    let mut x = dd(m[i]);
+                    for j in 0..3 {
+                        x = x + dd(c[(i, j)]) * (dd(shift[j]) + dd(corner(&r0, ka, j)));
+                        x = x + dd(b[(i, j)]) * dd(corner(&set.r, kb, j));
+                    }
+                    let h = DdInterval::from_f64_pair(hull[i].inf(), hull[i].sup()).unwrap();
+                    assert!(x.subset(h), "corners {ka}, {kb}: component {i}: {x} is not in {h}");
+                }
+            }
+        }
+        for (a, w) in hull.iter().zip(&whole) {
+            assert!(a.wid() < 0.6 * w.wid(), "{} against {}", a.wid(), w.wid());
         }
     }
 }

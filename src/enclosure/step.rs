@@ -91,13 +91,15 @@ pub(super) fn lohner_step<I: Ival>(
     h: I,
     p: usize,
     tol: Tolerance,
-    c1: bool,
+    c1_mode: super::control::C1,
     opts: &FlowOptions,
-    precise: bool,
     high: bool,
     jac_order: &mut usize,
     prior: &mut Option<Prior<I>>,
 ) -> Result<StepOut<I>, StepFail> {
+    use super::control::C1;
+    let (c1, precise) = (c1_mode != C1::No, c1_mode == C1::Precise);
+    let boxes64 = matches!(c1_mode, C1::Loose(_));
     let d = set.m.len();
     let fatal = |s: &str| StepFail::Fatal(s.to_string());
     if !set.r.iter().chain(&set.r0).all(|r| r.contains(0.0)) {
@@ -131,9 +133,9 @@ pub(super) fn lohner_step<I: Ival>(
     // try of this step over a longer span serves this one (5.4'), else a new one
     let (y, ty) = match prior.take() {
         Some(pr) if pr.order == p && h.sup() <= pr.span => (pr.y, pr.ty),
-        _ => a_priori(&sys.field, c, h, p, 0.0)?,
+        _ => a_priori(&sys.field, c, h, p, 0.0, boxes64)?,
     };
-    let (rem, ratio) = match remainder_over(sys, c, &y, &ty, h, p, scale, tol) {
+    let (rem, ratio) = match remainder_over(sys, c, &y, &ty, h, p, scale, tol, boxes64) {
         Err(fail @ StepFail::TooWide(_)) => {
             *prior = Some(Prior {
                 span: h.sup(),
@@ -184,12 +186,17 @@ pub(super) fn lohner_step<I: Ival>(
     }
     // (5.6) the flow's Jacobian at the lowest order (from `jac_order` on) whose remainder
     // is negligible there; otherwise (5.6'') over the whole set.
-    let jac = if c1 {
-        None
-    } else {
-        step_jacobian_in_f64(sys, &xbox, h, p, scale, extent, jac_order)
+    // A loose derivative (12.0.9) holds the step's factor to its own level
+    let eps = match c1_mode {
+        C1::Loose(eps) => eps.max(I::eps()),
+        _ => I::eps(),
     };
-    let jac = jac.or_else(|| step_jacobian(sys, &xbox, h, p, scale, extent, I::eps(), precise, high, jac_order));
+    let jac = match c1_mode {
+        C1::Cheap | C1::Precise => None,
+        C1::No | C1::Loose(_) => step_jacobian_in_f64(sys, &xbox, h, p, scale, extent, eps, jac_order),
+    };
+    let jac = jac.or_else(|| step_jacobian(sys, &xbox, h, p, scale, extent, eps, precise, high, jac_order));
+
     let (rem, jac, ratio) = match jac {
         Some(jac) => (rem, jac, ratio),
         None => box_enclosure(sys, &xbox, h, p, scale, tol, c1)?,
@@ -439,13 +446,14 @@ pub(super) fn a_priori<I: Ival>(
     h: I,
     q: usize,
     widen: f64,
+    boxes64: bool,
 ) -> Result<(Vec<I>, Coeffs<I>), StepFail> {
     let h0 = I::iv(0.0, h.sup());
     let dim = b.width();
     let series = |top: &[I]| horner(b.first(q), 0..dim, Some(top), h0);
     let mut y = inflate(&series(&b[q]));
     for _ in 0..4 {
-        let ty = box_taylor(tape, &y, q + 1, time_scale(h)).ok_or(StepFail::Shrink)?;
+        let ty = box_taylor(tape, &y, q + 1, time_scale(h), boxes64).ok_or(StepFail::Shrink)?;
         let z = series(&ty[q]);
         if z.iter().zip(&y).all(|(a, b)| a.subset(*b)) {
             return Ok((y, ty));
@@ -491,8 +499,8 @@ pub(super) const F64_ROWS: usize = 8;
 /// `y(s) = x(h s)` (its rows, about the remainder's size rather than `1/k!`, stay in f64's
 /// range at high orders), row `k` multiplied back by an enclosure of `h^-k` at this precision.
 /// A choice of evaluation only: both enclose the coefficients.
-pub(super) fn box_taylor<I: Ival>(tape: &crate::tape::Tape, y: &[I], order: usize, h: f64) -> Option<Coeffs<I>> {
-    if I::box_series_in_f64() {
+pub(super) fn box_taylor<I: Ival>(tape: &crate::tape::Tape, y: &[I], order: usize, h: f64, boxes64: bool) -> Option<Coeffs<I>> {
+    if I::box_series_in_f64() || boxes64 {
         let y64: Vec<inari::Interval> = y.iter().map(|x| crate::scalar::iv(x.inf(), x.sup())).collect();
         // a box nearly a point in every component (a very short step's): its f64 series
         // would be f64's rounding rather than the box's width, and is not tried
@@ -596,8 +604,8 @@ pub(super) fn remainder<I: Ival>(
     scale: f64,
     tol: Tolerance,
 ) -> Result<(Vec<I>, Vec<I>, f64), StepFail> {
-    let (y, ty) = a_priori(&sys.field, b, h, p, 0.0)?;
-    let (rem, ratio) = remainder_over(sys, b, &y, &ty, h, p, scale, tol)?;
+    let (y, ty) = a_priori(&sys.field, b, h, p, 0.0, false)?;
+    let (rem, ratio) = remainder_over(sys, b, &y, &ty, h, p, scale, tol, false)?;
     Ok((rem, y, ratio))
 }
 
@@ -614,6 +622,7 @@ pub(super) fn remainder_over<I: Ival>(
     p: usize,
     scale: f64,
     tol: Tolerance,
+    boxes64: bool,
 ) -> Result<(Vec<I>, f64), StepFail> {
     let strict = tol != Tolerance::Loose;
     let d = b.width();
@@ -652,7 +661,7 @@ pub(super) fn remainder_over<I: Ival>(
                 .zip(y)
                 .map(|(a, b)| a.intersection(*b))
                 .collect();
-            let tj = box_taylor(&sys.field, &yj, p + 1, time_scale(h)).ok_or(StepFail::Shrink)?;
+            let tj = box_taylor(&sys.field, &yj, p + 1, time_scale(h), boxes64).ok_or(StepFail::Shrink)?;
             let part = &tj[p + 1];
             // The hull over the SLICES is at least as wide as this slice: in strict mode a
             // slice already over the tolerance decides the rejection, without the others.
@@ -677,15 +686,17 @@ pub(super) fn remainder_over<I: Ival>(
     Ok((t_rem.iter().map(|t| *t * hp).collect(), ratio))
 }
 
-/// (5.6''') The Jacobian of a step of a C^0 flow over a set of small extent, computed in
-/// inari's f64 intervals from the box `xbox` and the span `h` rounded outward to f64 ends:
-/// [`step_jacobian`] over the larger f64 box, its orders chosen by the same test at this
-/// precision's `eps` (the remainder times the set's extent below the state's rounding
-/// level). Taken when the whole f64 enclosure (its rounding included) passes that test:
-/// every entry's width times the extent times `d` at most `scale eps`. `None` at 53 bits,
+/// (5.6''') The Jacobian of a step of a C^0 flow (or of a loose C^1 flow, spec (12.0.9))
+/// over a set of small extent, computed in inari's f64 intervals from the box `xbox` and the
+/// span `h` rounded outward to f64 ends: [`step_jacobian`] over the larger f64 box, its orders
+/// chosen by the same test at the level `eps` (the set's precision, or a loose flow's level:
+/// the remainder times the set's extent below `scale eps`). Taken when the whole f64
+/// enclosure (its rounding included) passes that test: every entry's width times the extent
+/// times `d` at most `scale eps`. `None` at 53 bits,
 /// when the extent is too large for f64's rounding to pass, or when the test fails; the
 /// Jacobian is then computed at this precision. A choice of evaluation only: both enclose
 /// the same Jacobian (spec (5.6)), and f64 ends are points of every precision.
+#[allow(clippy::too_many_arguments)]
 fn step_jacobian_in_f64<I: Ival>(
     sys: &System,
     xbox: &[I],
@@ -693,18 +704,19 @@ fn step_jacobian_in_f64<I: Ival>(
     p: usize,
     scale: f64,
     extent: f64,
+    eps: f64,
     order: &mut usize,
 ) -> Option<IMat<I>> {
     let d = xbox.len();
     // the test, NaN failing it
-    let passes = |width: f64| width * extent * d as f64 <= scale * I::eps();
+    let passes = |width: f64| width * extent * d as f64 <= scale * eps;
     // f64's rounding alone, about 2^-50 of entries of size about 1, must pass it
     if I::eps() >= f64::EPSILON || !passes(F64_JAC_ROUNDING) {
         return None;
     }
     let iv = |x: &I| crate::scalar::iv(x.inf(), x.sup());
     let x64: Vec<inari::Interval> = xbox.iter().map(iv).collect();
-    let jac = step_jacobian(sys, &x64, iv(&h), p, scale, extent, I::eps(), false, false, order)?;
+    let jac = step_jacobian(sys, &x64, iv(&h), p, scale, extent, eps, false, false, order)?;
     if !jac.entries().iter().all(|x| passes(x.wid())) {
         return None;
     }
@@ -769,7 +781,7 @@ pub(super) fn step_jacobian<I: Ival>(
     if !w.grow(q0) {
         return None;
     }
-    let (y_ext, t0) = a_priori(&sys.field_var, w.rows(), h, q0, 4.0).ok()?;
+    let (y_ext, t0) = a_priori(&sys.field_var, w.rows(), h, q0, 4.0, false).ok()?;
     // the series over the a priori box for the remainders above q0, grown likewise (made at
     // the first rung above q0); once a coefficient was not proved it is not at any higher
     // order, and the rungs above have no remainder
@@ -894,7 +906,7 @@ pub(super) fn variational_remainder<I: Ival>(
     let mut yv = inflate(&horner(cv.first(p + 1), cols.clone(), None, h0));
     for _ in 0..4 {
         let ext: Vec<I> = y.iter().chain(&yv).copied().collect();
-        let tv = box_taylor(&sys.field_var, &ext, p + 1, time_scale(h)).ok_or(StepFail::Shrink)?;
+        let tv = box_taylor(&sys.field_var, &ext, p + 1, time_scale(h), false).ok_or(StepFail::Shrink)?;
         let zv = horner(cv.first(p), cols.clone(), Some(&tv[p]), h0);
         if zv.iter().zip(&yv).all(|(a, b)| a.subset(*b)) {
             let hp = (0..=p).fold(I::cst(1.0), |a, _| a * h);
@@ -992,7 +1004,7 @@ mod tests {
             let h = w(0.125);
             let mut order = 0;
             // the extent 2^-220: f64's rounding (2^-52) times it is below 2^-255
-            let jac = step_jacobian_in_f64(&sys, &xbox, h, 96, 1.0, 2f64.powi(-220), &mut order)
+            let jac = step_jacobian_in_f64(&sys, &xbox, h, 96, 1.0, 2f64.powi(-220), 2f64.powi(-255), &mut order)
                 .expect("the f64 Jacobian is taken for a set this small");
             // the closed form at 256 bits (about 2^-250 wide) lies inside each entry, whose
             // ends are f64 values, and each entry is as tight as f64 allows up to 2^-40
@@ -1008,12 +1020,12 @@ mod tests {
             }
             // a set 2^-20 wide: f64's rounding alone would not pass the test at 256 bits
             let wide = [w(0.5) + WideInterval::iv(-1.0, 1.0) * w(2f64.powi(-20)), around(-0.25)];
-            assert!(step_jacobian_in_f64(&sys, &wide, h, 96, 1.0, 2f64.powi(-20), &mut order).is_none());
+            assert!(step_jacobian_in_f64(&sys, &wide, h, 96, 1.0, 2f64.powi(-20), 2f64.powi(-255), &mut order).is_none());
         });
         // at 53 bits it is never tried
         let xbox = [crate::scalar::iv(0.5, 0.5), crate::scalar::iv(-0.25, -0.25)];
         let mut order = 0;
-        assert!(step_jacobian_in_f64(&sys, &xbox, crate::scalar::iv(0.125, 0.125), 20, 1.0, 0.0, &mut order).is_none());
+        assert!(step_jacobian_in_f64(&sys, &xbox, crate::scalar::iv(0.125, 0.125), 20, 1.0, 0.0, f64::EPSILON, &mut order).is_none());
     }
 
     #[test]
@@ -1025,7 +1037,7 @@ mod tests {
             // f64 values) and it is as tight as the closed form up to f64 rounding
             let (a, b, c, d) = (0.5, 0.625, -0.25, 0.125);
             let y = [WideInterval::iv(a, b), WideInterval::iv(c, d)];
-            let s = box_taylor(&tape, &y, order, 1.0).expect("a series");
+            let s = box_taylor(&tape, &y, order, 1.0, false).expect("a series");
             for x in s.iter().flatten() {
                 assert_eq!(WideInterval::iv(Ival::inf(x), Ival::sup(x)), *x, "{x:?} has an end that is no f64");
             }
@@ -1047,7 +1059,7 @@ mod tests {
             // 256 bits (its widths are those of the box, not of f64)
             let tiny = WideInterval::cst(2f64.powi(-100)) * WideInterval::cst(2f64.powi(-100));
             let y = [WideInterval::cst(a) + WideInterval::iv(0.0, 1.0) * tiny, WideInterval::cst(c)];
-            let s = box_taylor(&tape, &y, order, 1.0).expect("a series");
+            let s = box_taylor(&tape, &y, order, 1.0, false).expect("a series");
             let hi = y[0].to_mp().with_prec(1024);
             let hi = MpInterval::point(hi.sup(), 1024);
             check_exact(&s, [(&ma, &hi), (&mc, &mc)], order, 2f64.powi(-240));
@@ -1057,7 +1069,7 @@ mod tests {
             // of underflows; the series is computed at 256 bits
             let lo = (0..5).fold(WideInterval::cst(2f64.powi(-100)), |a, _| a * tiny);
             let y = [lo * WideInterval::iv(1.0, 2.0), WideInterval::cst(0.0)];
-            let s = box_taylor(&tape, &y, order, 1.0).expect("a series");
+            let s = box_taylor(&tape, &y, order, 1.0, false).expect("a series");
             let (la, lb) = (y[0].to_mp().with_prec(1024), y[0].to_mp().with_prec(1024));
             let (la, lb) = (MpInterval::point(la.inf(), 1024), MpInterval::point(lb.sup(), 1024));
             let zero = mp(0.0);
