@@ -175,6 +175,31 @@ fn refine<I: Ival>(zt: &[I], cg: &[I], m: &IMat<I>, mut y: Vec<I>) -> Result<Vec
     Ok(y)
 }
 
+/// (12.0.9) A box `y` known to hold the zero `z*` (proved by [`krawczyk`]), narrowed
+/// around a new centre `zt` in `y`: with `[G(zt)]` = `g` and `[DG]` over `y` = `d`,
+/// `z* ∈ zt - C [G(zt)] + (I - C [DG](y)) (y - zt)` for any matrix `C` (the mean value
+/// theorem on the segment from `zt` to `z*`, inside the convex `y`), intersected with
+/// `y`, then the passes of (6.3') with the same enclosures. `C` is the float inverse of
+/// `mid([DG])`, else `c`.
+pub fn recentred<I: Ival>(
+    zt: &[I::Pt],
+    c: &DMatrix<f64>,
+    g: &[I],
+    d: &[Vec<I>],
+    y: Vec<I>,
+) -> Result<Vec<I>, Error> {
+    let zt: Vec<I> = zt.iter().map(|x| I::pt(*x)).collect();
+    let n = zt.len();
+    let c = DMatrix::from_fn(n, n, |i, j| d[i][j].mid())
+        .try_inverse()
+        .filter(|x| x.iter().all(|v| v.is_finite()))
+        .unwrap_or_else(|| c.clone());
+    let ci = linalg::imat(&c);
+    let cg = linalg::mul_vec(&ci, g);
+    let m = linalg::identity_minus(&linalg::mul(&ci, &IMat::from_rows(d)));
+    refine(&zt, &cg, &m, y)
+}
+
 /// `2 eps (|C| |C^-1| |guess|)_i`: the room component i needs for the rounding of the
 /// other components carried into it by `I - C DG` (`DG ~ C^-1`), per component.
 fn coupled_floor(guess: &[f64], c: &DMatrix<f64>) -> Vec<f64> {
@@ -244,5 +269,22 @@ mod tests {
         assert!(r[0].contains(std::f64::consts::SQRT_2));
         assert!(r[0].wid() < 0.0295, "not refined: {:?}", r[0]);
         assert!(r[0].subset(iv(17.0 / 12.0 - 0.027, 17.0 / 12.0 + 0.027)));
+    }
+
+    /// (12.0.9): narrowed around a new centre, a box proved to hold the zero keeps it and
+    /// comes down to the rounding level, whatever the `c` passed (the float inverse of
+    /// `mid([DG])` is used): `G(z) = z^2 - 2` over `y = sqrt 2 + [-1e-10, 2e-10]`, centre its
+    /// midpoint (`M (y - zt)` is then about `1e-10 * 1e-10`).
+    #[test]
+    fn a_recentred_box_keeps_the_zero_and_narrows_to_the_rounding_level() {
+        let r2 = std::f64::consts::SQRT_2;
+        let y = vec![iv(r2 - 1e-10, r2 + 2e-10)];
+        let zt = [y[0].mid()];
+        let g = vec![point(zt[0]) * point(zt[0]) - point(2.0)];
+        let d = vec![vec![point(2.0) * y[0]]];
+        let c = DMatrix::from_element(1, 1, 100.0);
+        let r = recentred(&zt, &c, &g, &d, y).unwrap();
+        assert!(r[0].contains(r2), "{:?}", r[0]);
+        assert!(r[0].wid() < 4.0 * f64::EPSILON, "not narrowed: {:?}", r[0]);
     }
 }

@@ -222,22 +222,16 @@ pub fn retract_box_in<I: Ival>(
     // The state set at time h from the last Krawczyk box (it contains the answer's).
     let last_set = std::cell::RefCell::new(None);
     let x0_of = |u: &[I]| q0.iter().chain(u).copied().collect::<Vec<_>>();
-    // One C^1 flow of the box X = (Q0, U) with the point (Q0, u~) marked (spec eq. (6.3)):
-    // G(z~; Q0, Q1) = q(h; Q0, u~) - Q1 - N(Q1) s~ from the marked subset, and
-    // DG = [D_u q(h) | -N(Q1)] over the box.
-    let centre: Vec<I::Pt> = q0
-        .iter()
-        .map(|x| x.mid_pt())
-        .chain(z_pt[..m].iter().copied())
-        .collect();
-    let at_guess: Vec<I> = z_pt.iter().map(|x| I::pt(*x)).collect();
-    let marked = x0_of(&at_guess[..m]);
-    let ns_guess = linalg::mul_vec(&nq1, &at_guess[m..]);
+    // (12.0.9) at double-double, the boxes' derivatives in f64 and a second, recentred test
+    let loose = I::eps() < f64::EPSILON && I::eps() >= f64::EPSILON * f64::EPSILON;
     // The validated flows of all Krawczyk boxes share KRAWCZYK_WORK * max_taylor_steps steps, so
     // that a hard pair costs a bounded amount of work whatever the inflations do.
     let work = std::cell::Cell::new(0usize);
     let work_budget = KRAWCZYK_WORK * opts.max_taylor_steps;
-    let gd = |z: &[I]| -> Result<(Vec<I>, Vec<Vec<I>>), Error> {
+    // One C^1 flow of the box X = (Q0, U) with the point (Q0, u~) of the centre z~ marked
+    // (spec eq. (6.3)): G(z~; Q0, Q1) = q(h; Q0, u~) - Q1 - N(Q1) s~ from the marked
+    // subset, DG = [D_u q(h) | -N(Q1)] over the box, and the set at h.
+    let shoot = |zt: &[I::Pt], u: &[I], level: f64| -> Result<Shot<I>, Error> {
         let left = work_budget.saturating_sub(work.get());
         if left == 0 {
             return Err(Error::over_limit(
@@ -255,8 +249,18 @@ pub fn retract_box_in<I: Ival>(
             reorganise: false,
             ..opts.clone()
         };
-        let set = LohnerSet::with_subset(&centre, &x0_of(&z[..m]), &marked);
-        let flown = flow_set_c1(&model.dynamics, set, h, &capped);
+        let centre: Vec<I::Pt> = q0
+            .iter()
+            .map(|x| x.mid_pt())
+            .chain(zt[..m].iter().copied())
+            .collect();
+        let at: Vec<I> = zt.iter().map(|x| I::pt(*x)).collect();
+        let set = LohnerSet::with_subset(&centre, &x0_of(u), &x0_of(&at[..m]));
+        let flown = if loose {
+            crate::enclosure::flow_set_c1_loose(&model.dynamics, set, h, &capped, level)
+        } else {
+            flow_set_c1(&model.dynamics, set, h, &capped)
+        };
         // a failed flow is charged all the steps it was allowed
         work.set(
             work.get()
@@ -268,7 +272,8 @@ pub fn retract_box_in<I: Ival>(
         let qh = set.sub_hull().ok_or_else(|| {
             Error::internal_at(crate::Invariant::Missing, "the marked point was lost")
         })?;
-        let g = (0..n).map(|i| qh[i] - q1[i] - ns_guess[i]).collect();
+        let ns = linalg::mul_vec(&nq1, &at[m..]);
+        let g = (0..n).map(|i| qh[i] - q1[i] - ns[i]).collect();
         let dg = (0..n)
             .map(|i| {
                 jac[i][n..]
@@ -278,7 +283,11 @@ pub fn retract_box_in<I: Ival>(
                     .collect()
             })
             .collect();
-        *last_set.borrow_mut() = Some(set);
+        Ok((g, dg, set))
+    };
+    let gd = |z: &[I]| -> Result<(Vec<I>, Vec<Vec<I>>), Error> {
+        let (g, dg, set) = shoot(&z_pt, &z[..m], LOOSE_LEVEL)?;
+        *last_set.borrow_mut() = Some((z_pt.clone(), set));
         Ok((g, dg))
     };
     // first radius: twice the float Newton correction still left at the guess, and what
@@ -289,10 +298,17 @@ pub fn retract_box_in<I: Ival>(
     let rad = (&c * residual).abs() * 2.0 + c.abs() * ulps;
     let rad: Vec<f64> = rad.iter().copied().collect();
     let scale = guess[..m].iter().fold(0.0f64, |a, x| a.max(x.abs()));
-    let z = krawczyk(&z_pt, &c, &rad, scale, gd)?;
+    let mut z = krawczyk(&z_pt, &c, &rad, scale, gd)?;
+    if loose {
+        // (12.0.9) the test again around the midpoint of K(X), over K(X) itself
+        let mid: Vec<I::Pt> = z.iter().map(|x| x.mid_pt()).collect();
+        let (g, dg, set) = shoot(&mid, &z[..m], I::eps())?;
+        z = krawczyk::recentred(&mid, &c, &g, &dg, z)?;
+        *last_set.borrow_mut() = Some((mid, set));
+    }
     let (u0, s) = (z[..m].to_vec(), z[m..].to_vec());
     let v0 = velocity(model, &x0_of(&u0))?;
-    let mut set = last_set.into_inner().ok_or_else(|| {
+    let (centre, mut set) = last_set.into_inner().ok_or_else(|| {
         Error::internal_at(
             crate::Invariant::Missing,
             "no state set from the Krawczyk box",
@@ -302,15 +318,33 @@ pub fn retract_box_in<I: Ival>(
     // (6.4') The set at h is the flow of the whole box X; the solution's u0 lies in
     // K(X) ⊂ X. Without reorganisations the states from x0 = centre + a lie in
     // m + C a + B [r] (spec (5.10')), so the propagated part may be restricted to
-    // a in K(X) - centre (with 0, which the set's invariant keeps).
-    for (i, u) in u0.iter().enumerate() {
-        let a = (*u - I::pt(centre[n + i])).convex_hull(I::zero());
-        set.r0[n + i] = set.r0[n + i].intersection(a);
+    // a in K(X) - centre (with 0, which the set's invariant keeps); (12.0.9) at
+    // double-double, around the midpoint of u0 instead of the box's centre.
+    let moved = if loose {
+        let mid: Vec<I::Pt> = u0.iter().map(|x| x.mid_pt()).collect();
+        let mut shift = vec![I::zero(); n + m];
+        let mut r0 = set.r0.clone();
+        for i in 0..m {
+            shift[n + i] = I::pt(mid[i]) - I::pt(centre[i]);
+            r0[n + i] = (u0[i] - I::pt(mid[i])).convex_hull(I::zero());
+        }
+        set.moved(&shift, r0)
+    } else {
+        None
+    };
+    match moved {
+        Some(moved) => set = moved,
+        None => {
+            for (i, u) in u0.iter().enumerate() {
+                let a = (*u - I::pt(centre[i])).convex_hull(I::zero());
+                set.r0[n + i] = set.r0[n + i].intersection(a);
+            }
+        }
     }
     // (6.4'') Above 53 bits the float centre is about 2^-53 from u0, which the restriction
     // keeps in the set's width; the set at h is then the flow of the box (Q0, u0) itself,
     // centred in it (one flow more, and an enclosure of the same states).
-    if I::eps() < f64::EPSILON {
+    if I::eps() < f64::EPSILON && !loose {
         set = flow_set(&model.dynamics, LohnerSet::from_box(&x0_of(&u0)), h, opts)?.0;
     }
     let hull = set.hull();
@@ -330,6 +364,14 @@ pub fn retract_box_in<I: Ival>(
         set,
     })
 }
+
+/// What one flow of a Krawczyk box gives: `[G]` at the marked centre, `[DG]` over the box
+/// (rows), and the set at `h`.
+type Shot<I> = (Vec<I>, Vec<Vec<I>>, LohnerSet<I>);
+
+/// (12.0.9) The level `2^-64` the first Krawczyk box's derivative is held to at
+/// double-double: its `K(X)` comes out about that wide, and the second test narrows it.
+const LOOSE_LEVEL: f64 = 1.0 / 18_446_744_073_709_551_616.0;
 
 /// Most Newton steps of [`refine_centre`].
 const CENTRE_STEPS: usize = 8;

@@ -290,3 +290,40 @@ fn a_float_exact_step_is_measured_in_ulps_at_106_bits() {
         "{textbook:?} {careful:?}"
     );
 }
+
+/// The retraction at 106 bits of a sleigh pair whose f64 centre is far from the zero in the
+/// shooting map's scale: its `u0` and defect lie at the double-double level (relative width at
+/// most 1e-30; with the f64 centre and one Krawczyk test they were 7.6e-29 and 9.3e-29 wide,
+/// spec (12.0.9)), and each contains the retraction at 256 bits (a high-precision solve by the
+/// other route of spec (12.0.7): a centre refined at 256 bits, one Krawczyk test), both read
+/// exactly from their outward decimals.
+#[test]
+fn a_double_double_retraction_is_at_its_rounding_level_and_holds_the_256_bit_one() {
+    use dalembert::precision::mp::MpInterval;
+    use dalembert::precision::wide::{self, WideInterval};
+    use dalembert::OutwardDecimal;
+    let m = model("sleigh", &[]);
+    let opts = FlowOptions::default();
+    let (q0, q1, h) = ([0.0, 0.0, 0.0], [0.05, 0.1, 0.02], 0.1);
+    let exact = |x: &dyn OutwardDecimal| {
+        let d = x.decimal();
+        let lo = MpInterval::from_decimal(&d.0, 1024).unwrap();
+        lo.hull(&MpInterval::from_decimal(&d.1, 1024).unwrap())
+    };
+    let dd = retract_in::<DdInterval>(&m, &q0, &q1, h, &opts).unwrap();
+    let wide: Vec<MpInterval> = wide::with_bits(256, || {
+        let r = retract_in::<WideInterval>(&m, &q0, &q1, h, &opts).unwrap();
+        r.u0.iter().chain(&r.s).map(|x| exact(x)).collect()
+    });
+    for (k, (x, w)) in dd.u0.iter().chain(&dd.s).zip(&wide).enumerate() {
+        assert!(
+            w.subset(&exact(x)),
+            "component {k}: the 256-bit {w} is not inside {x}"
+        );
+        assert!(
+            x.wid_up() <= 1e-30 * x.mag_up(),
+            "component {k}: {x} is {:e} wide",
+            x.wid_up()
+        );
+    }
+}
