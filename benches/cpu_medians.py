@@ -9,7 +9,8 @@ the machine's load falls on all of them alike) and prints, per case, the median 
 cases are the flows of docs/peers.md and docs/benchmarks.md, with and without --jacobian.
 `CASES=word1;word2` keeps the cases whose command line contains one of the words.
 `SET=precision` runs instead the knife (T = 50) and the trailer (T = 2) of docs/precision.md at
-106, 160, 256 and 512 bits, and the knife at 1024.
+106, 160, 256 and 512 bits, and the knife at 1024; `SET=exact` the exact step, retraction and
+discrete Lagrangian at 106 bits of docs/precision.md's sixth round.
 """
 import os
 import resource
@@ -50,12 +51,21 @@ PRECISION_CASES = [
     for bits in [106, 160, 256, 512]
 ]
 
+EXACT_CASES = [
+    "step --scene knife --q0 0,0,0 --q1 0.1,0.05,0.01 --h 0.1 --precision 106",
+    "retract --scene knife --q0 0,0,0 --q1 0.3,0.1,0.1 --h 0.5 --precision 106",
+    "step --scene sleigh --q0 0,0,0 --q1 0.05,0.1,0.02 --h 0.1 --precision 106",
+    "step --scene rolling-disk --q0 0,0,0,0 --q1 0.1,0.05,0.1,0.05 --h 0.1 --precision 106",
+    "step --scene contact-oscillator --q0 1,0.5,0.2 --q1 1.03,0.54,0.2 --h 0.1 --precision 106",
+    "lagrangian --scene knife --q0 0,0,0 --q1 0.1,0.05,0.01 --h 0.1 --precision 106",
+]
+
 
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     n, bins = int(sys.argv[1]), sys.argv[2:]
-    cases = PRECISION_CASES if os.environ.get("SET") == "precision" else CASES
+    cases = {"precision": PRECISION_CASES, "exact": EXACT_CASES}.get(os.environ.get("SET"), CASES)
     if os.environ.get("CASES"):
         words = os.environ["CASES"].split(";")
         cases = [c for c in cases if any(w in c for w in words)]
@@ -72,7 +82,7 @@ def main():
     for c in cases:
         med = [statistics.median(times[(c, b)]) for b in bins]
         ratios = " ".join(f"{m / med[0]:.3f}" for m in med[1:])
-        print(f"{c[5:]:72s} " + " ".join(f"{m * 1e3:8.2f}" for m in med)
+        print(f"{c.removeprefix('flow '):72s} " + " ".join(f"{m * 1e3:8.2f}" for m in med)
               + (f"  ratios {ratios}" if ratios else ""))
 
 
