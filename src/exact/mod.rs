@@ -341,9 +341,10 @@ pub fn retract_box_in<I: Ival>(
             }
         }
     }
-    // (6.4'') Above 53 bits the float centre is about 2^-53 from u0, which the restriction
+    // (6.4'') Above 106 bits the float centre is about 2^-53 from u0, which the restriction
     // keeps in the set's width; the set at h is then the flow of the box (Q0, u0) itself,
-    // centred in it (one flow more, and an enclosure of the same states).
+    // centred in it (one flow more, and an enclosure of the same states). At 106 bits the
+    // set was moved instead (12.0.9).
     if I::eps() < f64::EPSILON && !loose {
         set = flow_set(&model.dynamics, LohnerSet::from_box(&x0_of(&u0)), h, opts)?.0;
     }
