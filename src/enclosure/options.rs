@@ -43,6 +43,9 @@ pub struct FlowOptions {
     /// are, and a point's flow is the single parallelepiped `m + B r` of the previous
     /// version (for comparisons; on knife-eps at T = 600 it is 2.3 times wider).
     pub reorganise: bool,
+    /// (12.0.9) The series over a priori boxes tried in f64 by (5.5''') whatever the
+    /// precision (the exact step's second flow at 106 bits).
+    pub(crate) box_series_in_f64: bool,
 }
 
 /// The basis `B'` of the next set in Lohner's update ([spec eq. (5.10)](crate::spec::enclosure)).
@@ -140,6 +143,7 @@ impl Default for FlowOptions {
             work_limit: None,
             basis: Basis::Parallelepiped,
             reorganise: true,
+            box_series_in_f64: false,
         }
     }
 }

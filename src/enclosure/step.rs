@@ -99,7 +99,7 @@ pub(super) fn lohner_step<I: Ival>(
 ) -> Result<StepOut<I>, StepFail> {
     use super::control::C1;
     let (c1, precise) = (c1_mode != C1::No, c1_mode == C1::Precise);
-    let boxes64 = matches!(c1_mode, C1::Loose(_));
+    let boxes64 = matches!(c1_mode, C1::Loose(_)) || opts.box_series_in_f64;
     let d = set.m.len();
     let fatal = |s: &str| StepFail::Fatal(s.to_string());
     if !set.r.iter().chain(&set.r0).all(|r| r.contains(0.0)) {

@@ -718,7 +718,12 @@ pub fn step_box_in<I: Ival>(
     let r = retract_box_in(model, q0, q1, h, opts)?;
     let p_minus = momentum_in(model, q0, &private::<I>(&r.v0))?;
     let p_plus = momentum_in(model, &private::<I>(&r.q1), &private::<I>(&r.v1))?;
-    let (set2, _) = flow_set(&model.dynamics, r.set.clone(), h, opts)?;
+    let loose = I::eps() < f64::EPSILON && I::eps() >= f64::EPSILON * f64::EPSILON;
+    let second = FlowOptions {
+        box_series_in_f64: loose,
+        ..opts.clone()
+    };
+    let (set2, _) = flow_set(&model.dynamics, r.set.clone(), h, &second)?;
     let q2 = public(set2.hull()[..n].to_vec());
     Ok(ExactStep {
         q1: r.q1.clone(),
