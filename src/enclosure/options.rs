@@ -44,7 +44,7 @@ pub struct FlowOptions {
     /// version (for comparisons; on knife-eps at T = 600 it is 2.3 times wider).
     pub reorganise: bool,
     /// (12.0.9) The series over a priori boxes tried in f64 by (5.5''') whatever the
-    /// precision (the exact step's second flow at 106 bits).
+    /// precision (the retraction's flows and the exact step's second flow at 106 bits).
     pub(crate) box_series_in_f64: bool,
 }
 

@@ -99,7 +99,7 @@ pub(super) fn lohner_step<I: Ival>(
 ) -> Result<StepOut<I>, StepFail> {
     use super::control::C1;
     let (c1, precise) = (c1_mode != C1::No, c1_mode == C1::Precise);
-    let boxes64 = matches!(c1_mode, C1::Loose(_)) || opts.box_series_in_f64;
+    let boxes64 = opts.box_series_in_f64;
     let d = set.m.len();
     let fatal = |s: &str| StepFail::Fatal(s.to_string());
     if !set.r.iter().chain(&set.r0).all(|r| r.contains(0.0)) {
@@ -196,7 +196,6 @@ pub(super) fn lohner_step<I: Ival>(
         C1::No | C1::Loose(_) => step_jacobian_in_f64(sys, &xbox, h, p, scale, extent, eps, jac_order),
     };
     let jac = jac.or_else(|| step_jacobian(sys, &xbox, h, p, scale, extent, eps, precise, high, jac_order));
-
     let (rem, jac, ratio) = match jac {
         Some(jac) => (rem, jac, ratio),
         None => box_enclosure(sys, &xbox, h, p, scale, tol, c1)?,

@@ -223,7 +223,7 @@ pub fn retract_box_in<I: Ival>(
     let last_set = std::cell::RefCell::new(None);
     let x0_of = |u: &[I]| q0.iter().chain(u).copied().collect::<Vec<_>>();
     // (12.0.9) at double-double, the boxes' derivatives in f64 and a second, recentred test
-    let loose = I::eps() < f64::EPSILON && I::eps() >= f64::EPSILON * f64::EPSILON;
+    let loose = double_double::<I>();
     // The validated flows of all Krawczyk boxes share KRAWCZYK_WORK * max_taylor_steps steps, so
     // that a hard pair costs a bounded amount of work whatever the inflations do.
     let work = std::cell::Cell::new(0usize);
@@ -247,6 +247,7 @@ pub fn retract_box_in<I: Ival>(
         let capped = FlowOptions {
             max_taylor_steps: left.min(opts.max_taylor_steps),
             reorganise: false,
+            box_series_in_f64: loose,
             ..opts.clone()
         };
         let centre: Vec<I::Pt> = q0
@@ -364,6 +365,11 @@ pub fn retract_box_in<I: Ival>(
         q1: public(q_at_h),
         set,
     })
+}
+
+/// Whether `I` is double-double (106 bits), where the retraction runs (12.0.9).
+fn double_double<I: Ival>() -> bool {
+    I::eps() < f64::EPSILON && I::eps() >= f64::EPSILON * f64::EPSILON
 }
 
 /// What one flow of a Krawczyk box gives: `[G]` at the marked centre, `[DG]` over the box
@@ -718,9 +724,8 @@ pub fn step_box_in<I: Ival>(
     let r = retract_box_in(model, q0, q1, h, opts)?;
     let p_minus = momentum_in(model, q0, &private::<I>(&r.v0))?;
     let p_plus = momentum_in(model, &private::<I>(&r.q1), &private::<I>(&r.v1))?;
-    let loose = I::eps() < f64::EPSILON && I::eps() >= f64::EPSILON * f64::EPSILON;
     let second = FlowOptions {
-        box_series_in_f64: loose,
+        box_series_in_f64: double_double::<I>(),
         ..opts.clone()
     };
     let (set2, _) = flow_set(&model.dynamics, r.set.clone(), h, &second)?;
