@@ -110,6 +110,13 @@ fn precision(c: &mut Criterion) {
     g.bench_function("knife t=50/106", |b| {
         b.iter(|| dalembert::flow_at_in::<DdInterval>(&m, black_box(&q), &u, &[50.0], &opts))
     });
+    // the 1 / k of the Taylor recurrences at 106 bits: the general quotient and the
+    // quotient by an integer (spec (12.1.22))
+    let x = DdInterval::from_f64(1.0) / DdInterval::from_f64(3.0);
+    g.bench_function("quotient by 7/106", |b| {
+        b.iter(|| black_box(x) / DdInterval::from_f64(black_box(7.0)))
+    });
+    g.bench_function("div_int by 7/106", |b| b.iter(|| black_box(x).div_int(black_box(7))));
     for bits in [160u32, 256, 512] {
         g.bench_function(format!("knife t=50/{bits}"), |b| {
             wide::with_bits(bits, || {

@@ -159,10 +159,9 @@ impl<T: Coef> OdeSeries<'_, T> {
                 failed = !self.s.ok;
             }
             if !failed && k < order {
-                let kk = T::cst((k + 1) as f64);
                 for i in 0..d {
                     let f = self.s.get(self.tape.outputs[i], k);
-                    let next = self.h.map_or(f, |h| f * h).quot(kk);
+                    let next = self.h.map_or(f, |h| f * h).quot_int(k + 1);
                     failed |= !next.is_finite_coef();
                     self.flat.push(next);
                 }

@@ -78,7 +78,6 @@ impl<T: Coef> Series<T> {
     /// Coefficient k of every node, given all coefficients below k ([spec eq. (2.3)-(2.7)](crate::spec::taylor)).
     pub(super) fn step(&mut self, ops: &[Op], k: usize, input_k: &[T]) {
         let zero = T::zero();
-        let kf = T::cst(k as f64);
         for (idx, op) in ops.iter().enumerate() {
             let (val, aux) = match *op {
                 Op::Input(i) => (input_k[i], None),
@@ -133,7 +132,7 @@ impl<T: Coef> Series<T> {
                         let (sp, cp) = if is_sin { (false, true) } else { (true, false) };
                         let (s, c) =
                             self.weighted_pair(true, a, (me, cp), (me, sp), lo.max(1), hi.min(k), k);
-                        (s.quot(kf), c.quot(kf))
+                        (s.quot_int(k), c.quot_int(k))
                     };
                     if is_sin {
                         (s, Some(c))
@@ -149,7 +148,7 @@ impl<T: Coef> Series<T> {
                     } else {
                         let (lo, hi) = self.nz[a as usize];
                         let acc = self.weighted(false, a, (me, false), lo.max(1), hi.min(k), k);
-                        (acc.quot(kf), None)
+                        (acc.quot_int(k), None)
                     }
                 }
                 Op::Ln(a) => {
@@ -168,7 +167,7 @@ impl<T: Coef> Series<T> {
                             acc =
                                 acc.mul_acc(T::cst(j as f64) * self.get(me, j), self.get(a, k - j));
                         }
-                        ((self.get(a, k) - acc.quot(kf)).quot(a0), None)
+                        ((self.get(a, k) - acc.quot_int(k)).quot(a0), None)
                     }
                 }
                 Op::Atan(a) => {
@@ -187,7 +186,7 @@ impl<T: Coef> Series<T> {
                             acc = acc
                                 .mul_acc(T::cst(j as f64) * self.get(me, j), self.aux(me, k - j));
                         }
-                        ((self.get(a, k) - acc.quot(kf)).quot(self.aux(me, 0)), Some(g))
+                        ((self.get(a, k) - acc.quot_int(k)).quot(self.aux(me, 0)), Some(g))
                     }
                 }
                 Op::Sinh(a) | Op::Cosh(a) => {
@@ -202,7 +201,7 @@ impl<T: Coef> Series<T> {
                         let (sp, cp) = if is_sinh { (false, true) } else { (true, false) };
                         let (s, c) =
                             self.weighted_pair(false, a, (me, cp), (me, sp), lo.max(1), hi.min(k), k);
-                        (s.quot(kf), c.quot(kf))
+                        (s.quot_int(k), c.quot_int(k))
                     };
                     if is_sinh {
                         (s, Some(c))
@@ -385,6 +384,12 @@ pub trait Coef: Scalar + Copy + 'static {
     /// `self / b`, with `b` proved non-zero where the recurrences divide (intervals: [spec
     /// (1.4)](crate::spec::scalars), inari's quotient).
     fn quot(self, b: Self) -> Self;
+    /// `self / k` for the positive integer `k` of a recurrence's `1 / k`: [`Coef::quot`] by
+    /// the constant `k` unless the type divides by an integer more cheaply (double-double
+    /// intervals, [spec (12.1.22)](crate::spec::precision)).
+    fn quot_int(self, k: usize) -> Self {
+        self.quot(Self::cst(k as f64))
+    }
 }
 
 impl Coef for Interval {
@@ -440,6 +445,12 @@ impl Coef for DdInterval {
     }
     fn quot(self, b: Self) -> Self {
         self / b
+    }
+    fn quot_int(self, k: usize) -> Self {
+        match u32::try_from(k) {
+            Ok(k) => self.div_int(k),
+            Err(_) => self.quot(Self::cst(k as f64)),
+        }
     }
 }
 

@@ -417,3 +417,79 @@ fn printing_round_trip() {
         "1.01e-1"
     );
 }
+
+/// A double-double from `hi` and a `lo` at most half an ulp of it (normalised exactly).
+fn dd_of(hi: f64, frac: f64) -> Dd {
+    let lo = frac * hi * f64::EPSILON * 0.5;
+    let (s, t) = two_sum(hi, lo);
+    Dd::new(s, t)
+}
+
+/// `x k` as an exact expansion (TwoProd of each part: exact for an integer `k < 2^53` and
+/// parts far from underflow).
+fn times_int(x: Dd, k: f64) -> Vec<f64> {
+    let part = |p: f64| [p * k, p.mul_add(k, -(p * k))];
+    let (a, b) = (part(x.hi()), part(x.lo()));
+    vec![a[0], a[1], b[0], b[1]]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 3000, rng_seed: RngSeed::Fixed(46), ..ProptestConfig::default() })]
+
+    /// Spec (12.1.22): `x / k` for an integer `k`, checked exactly: `inf * k <= x_lo` and
+    /// `sup * k >= x_hi` (the products expanded by TwoProd); for `k <= 2^20` a point's quotient
+    /// at most `2^-103` of its size wide, and every quotient no wider than the general one of
+    /// (12.1.7) by more than that. The divisors run over 1 to
+    /// `2^20` (the direct division) and past it (the general quotient); the dividends over
+    /// points and intervals with non-zero low parts, of either sign, with exponents from
+    /// `2^-890` to `2^1000` (near the direct division's `2^-900` floor and the overflow).
+    #[test]
+    fn integer_quotients_enclose_exactly_and_tightly(
+        h1 in 0.5f64..1.0, neg in any::<bool>(), f1 in -1.0f64..1.0, e1 in -890i32..1000,
+        spread in prop_oneof![Just(0.0f64), 0.0f64..1e-20, 0.0f64..1.0],
+        f2 in -1.0f64..1.0,
+        k in prop_oneof![1u32..=64, 1u32..=(1 << 20), Just(1 << 20), (1u32 << 20)..u32::MAX],
+    ) {
+        let a = dd_of(if neg { -h1 } else { h1 } * 2f64.powi(e1), f1);
+        let x = if spread == 0.0 {
+            DdInterval::point(a)
+        } else {
+            let b = dd_of(a.hi() + spread * a.hi().abs(), f2);
+            prop_assume!(b.hi().is_finite() && (b.hi(), b.lo()) > (a.hi(), a.lo()));
+            DdInterval::new(a, b).expect("ordered")
+        };
+        let kf = f64::from(k);
+        let q = x.div_int(k);
+        prop_assert!(q.inf().hi().is_finite() && q.sup().hi().is_finite(), "{x} / {k} = {q}");
+        let mut lo = times_int(q.inf(), kf);
+        lo.extend([-x.inf().hi(), -x.inf().lo()]);
+        prop_assert!(exact_sign(&lo) != Ordering::Greater, "{x} / {k}: {q} lower end too high");
+        let mut hi = times_int(q.sup(), kf);
+        hi.extend([-x.sup().hi(), -x.sup().lo()]);
+        prop_assert!(exact_sign(&hi) != Ordering::Less, "{x} / {k}: {q} upper end too low");
+        let general = x / DdInterval::from_f64(kf);
+        let size = q.mag_up();
+        prop_assert!(q.wid_up() <= general.wid_up(), "{x} / {k}: {q} wider than {general}");
+        if spread == 0.0 && k <= 1 << 20 {
+            prop_assert!(q.wid_up() <= W * size, "{x} / {k}: {q} wider than 2^-104 of its size");
+        }
+    }
+}
+
+/// Spec (12.1.22) at its edges: a zero, exact quotients (a point), ends below `2^-900` and
+/// not finite, `k = 0` and the empty set take the general quotient's answers.
+#[test]
+fn integer_quotients_at_the_edges() {
+    let p = |x: f64| DdInterval::from_f64(x);
+    assert_eq!(p(0.0).div_int(7), p(0.0));
+    assert_eq!(p(21.0).div_int(7), p(3.0));
+    assert_eq!(p(-1.5).div_int(1), p(-1.5));
+    let tiny = p(f64::from_bits(3)).div_int(3);
+    assert!(tiny.contains(Dd::from_f64(f64::from_bits(1))), "{tiny}");
+    let small = DdInterval::from_f64(1e-280);
+    assert_eq!(small.div_int(10), small / p(10.0));
+    assert_eq!(p(5.0).div_int(0), p(5.0) / p(0.0));
+    assert!(DdInterval::EMPTY.div_int(3).is_empty());
+    let half = DdInterval::new(Dd::from_f64(1.0), Dd::from_f64(f64::INFINITY)).expect("a half-line");
+    assert_eq!(half.div_int(4), half / p(4.0));
+}
