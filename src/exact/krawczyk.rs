@@ -124,8 +124,14 @@ fn inflate<I: Ival>(
             ))));
         }
         // epsilon-inflation: grow the box towards K(X), and at least to twice the Newton
-        // correction C G(z~)
+        // correction C G(z~), in the components where K(X) is not inside X. A component
+        // that passed keeps its radius: growing it only widens DG(X), and with it what
+        // the others must hold (a component that is 0 at the zero, coupled to one that
+        // passed, chased that one's growth through every try).
         for i in 0..n {
+            if k[i].is_finite() && k[i].interior(x[i]) {
+                continue;
+            }
             let reach = (k[i] - zt[i]).mag();
             rad[i] = (rad[i] * 2.0).max(reach * 2.0).max(2.0 * cg[i].mag()) + floor[i];
         }

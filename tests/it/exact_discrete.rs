@@ -940,3 +940,31 @@ fn float_jacobian_when_only_the_variational_series_limits_the_step() {
         assert!(r.s[0].contains(0.0) && r.s[0].wid() < 1e-12, "{:?}", r.s);
     }
 }
+
+/// Spec (6.3), the inflation. On knife-eps with eps = 0.99, at phi = 0 the blade is
+/// e1 = (c, 0, 0), c = 1 - eps (exact in f64), and the flow from (x, 0, 0) with u = (u1, 0)
+/// stays on the x axis: x' = c u1, u1' = 1 / (2c) (tests/it/knife_eps.rs's reduced
+/// equations at phi = 0, u2 = 0). So the pair Q0 = Q1 = (x, 0, 0) is on M_h with
+/// u0 = (-h / (4c), 0) and defect 0; with h = 16c and 20c (exact doubles) u1 is -4 and -5.
+/// The components that are 0 at the zero (u2 and the defect) are coupled through
+/// `I - C DG` to u1, which passes the first test: doubling u1's radius with theirs made them
+/// chase its growth through all eight tries, and the pair was refused ("Krawczyk test
+/// failed"). Now certified at 53 and 106 bits, each containing the closed form.
+#[test]
+fn a_pair_whose_zero_components_couple_into_a_passed_one_is_certified() {
+    use dalembert::precision::dd::{Dd, DdInterval};
+    let m = model("knife-eps", &[("eps", 0.99)]);
+    let c = 1.0 - 0.99;
+    let q = [0.3046875, 0.0, 0.0];
+    for (k, u1) in [(16.0, -4.0), (20.0, -5.0)] {
+        let h: f64 = k * c;
+        let r = must_retract(&m, &q, &q, h);
+        assert!(r.u0[0].contains(u1) && r.u0[0].wid() < 1e-12 * u1.abs(), "h = {h}: {:?}", r.u0);
+        assert!(r.u0[1].contains(0.0) && r.s[0].contains(0.0), "h = {h}: {:?} {:?}", r.u0, r.s);
+        let r = exact::retract_in::<DdInterval>(&m, &q, &q, h, &opts())
+            .unwrap_or_else(|e| panic!("h = {h} at 106 bits: {e}"));
+        let u = r.u0[0];
+        assert!(u.contains(Dd::from_f64(u1)) && u.wid_up() < 1e-28 * u1.abs(), "h = {h}: {u}");
+        assert!(r.u0[1].contains(Dd::ZERO) && r.s[0].contains(Dd::ZERO), "h = {h}: {:?}", r.s);
+    }
+}
