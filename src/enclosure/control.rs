@@ -47,7 +47,9 @@ pub(super) fn flow_set_general<I: Ival>(
     let precise = c1_mode == C1::Precise;
     let mut total_jac: Option<JacobianSet<I>> = None;
     let d = set.m.len();
-    let mut p = opts.given_order().unwrap_or(I::order());
+    let level = opts.level::<I>();
+    let short_order = opts.order_at_level::<I>(I::short_order());
+    let mut p = opts.given_order().unwrap_or(opts.order_at_level::<I>(I::order()));
     // (5.8) (e) whether the order of a short span is still to be chosen (at the first step)
     let mut choose_order = opts.given_order().is_none() && opts.given_h().is_none();
     let mut stats = FlowStats {
@@ -117,7 +119,7 @@ pub(super) fn flow_set_general<I: Ival>(
             predicted.min(ceiling)
         };
         let rule_at = |mid: Rows<'_, f64>, p: usize| {
-            round_step_fine(step_size(mid.first(p + 1), p, &m_f64, I::eps()).min(cap(p)))
+            round_step_fine(step_size(mid.first(p + 1), p, &m_f64, level).min(cap(p)))
         };
         // (5.8) (e) A span that takes two or three steps at order `p` from its start is
         // taken at SHORT_ORDER: fewer, longer steps where the span sets their number. The
@@ -127,7 +129,7 @@ pub(super) fn flow_set_general<I: Ival>(
             short_span(rem.inf(), rem.sup(), h)
         };
         let fixed = opts.given_h().is_some();
-        let mut series = sys.field.ode_series(&centre, if choose_order { I::short_order() } else { p });
+        let mut series = sys.field.ode_series(&centre, if choose_order { short_order } else { p });
         let undefined = || Error::refused(Reason::Undefined, "vector field not defined at the state");
         // (5.8') A last step that a lower order also reaches in one step takes that order
         // (the work of a Taylor series grows like the square of its order): a short flow,
@@ -143,7 +145,7 @@ pub(super) fn flow_set_general<I: Ival>(
                     break;
                 }
                 let mid = series.rows().map(|x| x.mid());
-                if step_size(mid.rows(), q, &m_f64, I::eps()) >= rem.sup() {
+                if step_size(mid.rows(), q, &m_f64, level) >= rem.sup() {
                     low = Some(q);
                     break;
                 }
@@ -157,7 +159,7 @@ pub(super) fn flow_set_general<I: Ival>(
                     return Err(stop(undefined(), &set, last_h, done, &stats));
                 }
                 if choose_order {
-                    let more = I::short_order();
+                    let more = short_order;
                     if more > p && short(series.rows()) {
                         // past p a failure leaves the series at p
                         series.grow(more);

@@ -1,6 +1,7 @@
 //! The settings of the validated integrator and what it reports ([spec eqs. (5.8)](crate::spec::enclosure),
 //! (5.10), (5.13)).
 
+use super::ival::Ival;
 use crate::progress::Progress;
 use crate::Error;
 
@@ -46,6 +47,10 @@ pub struct FlowOptions {
     /// (12.0.9) The series over a priori boxes tried in f64 by (5.5''') whatever the
     /// precision (the retraction's flows and the exact step's second flow at 106 bits).
     pub(crate) box_series_in_f64: bool,
+    /// (12.0.10) The level the state is held to when it is above the precision's own
+    /// ([`Ival::eps`]): the step rule (5.8), the remainder's tolerance and the orders aim at
+    /// it (the first Krawczyk test of the retraction at 106 bits). `None`: the precision's.
+    pub(crate) level: Option<f64>,
 }
 
 /// The basis `B'` of the next set in Lohner's update ([spec eq. (5.10)](crate::spec::enclosure)).
@@ -108,6 +113,22 @@ impl FlowOptions {
         self.order.filter(|&p| p > 0)
     }
 
+    /// The level the flow holds its state to ([`FlowOptions::level`], at least `I::eps()`).
+    pub(crate) fn level<I: Ival>(&self) -> f64 {
+        self.level.map_or(I::eps(), |l| l.max(I::eps()))
+    }
+
+    /// `q`, one of `I`'s orders, scaled to the level (12.0.10): by the ratio of the bits of
+    /// [`FlowOptions::level`] to those of `I::eps()`, so that a series of the order aims at
+    /// the level as the type's order aims at its rounding; `q` itself at `I`'s own level.
+    pub(crate) fn order_at_level<I: Ival>(&self, q: usize) -> usize {
+        let (level, own) = (self.level::<I>(), I::eps());
+        if level <= own {
+            return q;
+        }
+        ((q as f64 * level.log2() / own.log2()).ceil() as usize).clamp(1, q)
+    }
+
     /// The step size every step tries, `None` when (5.8) chooses them.
     pub(crate) fn given_h(&self) -> Option<f64> {
         self.fixed_h.filter(|&h| h > 0.0)
@@ -144,6 +165,7 @@ impl Default for FlowOptions {
             basis: Basis::Parallelepiped,
             reorganise: true,
             box_series_in_f64: false,
+            level: None,
         }
     }
 }

@@ -100,6 +100,8 @@ pub(super) fn lohner_step<I: Ival>(
     use super::control::C1;
     let (c1, precise) = (c1_mode != C1::No, c1_mode == C1::Precise);
     let boxes64 = opts.box_series_in_f64;
+    // the level the state is held to (12.0.10)
+    let level = opts.level::<I>();
     let d = set.m.len();
     let fatal = |s: &str| StepFail::Fatal(s.to_string());
     if !set.r.iter().chain(&set.r0).all(|r| r.contains(0.0)) {
@@ -108,7 +110,7 @@ pub(super) fn lohner_step<I: Ival>(
     let scale = set.m.iter().fold(1.0f64, |a, x| a.max(I::pt_f64(*x).abs()));
     // (5.3) the Taylor polynomial at the centre (coefficients `c`)
     let phi = horner(c, 0..d, None, h);
-    if tol != Tolerance::Loose && phi.iter().any(|x| x.wid() > scale * (16.0 * I::eps())) {
+    if tol != Tolerance::Loose && phi.iter().any(|x| x.wid() > scale * (16.0 * level)) {
         return Err(StepFail::Shrink);
     }
     let point_set = set.r.iter().chain(&set.r0).all(|r| r.is_exact_zero());
@@ -135,7 +137,7 @@ pub(super) fn lohner_step<I: Ival>(
         Some(pr) if pr.order == p && h.sup() <= pr.span => (pr.y, pr.ty),
         _ => a_priori(&sys.field, c, h, p, 0.0, boxes64)?,
     };
-    let (rem, ratio) = match remainder_over(sys, c, &y, &ty, h, p, scale, tol, boxes64) {
+    let (rem, ratio) = match remainder_over(sys, c, &y, &ty, h, p, scale * level, tol, boxes64) {
         Err(fail @ StepFail::TooWide(_)) => {
             *prior = Some(Prior {
                 span: h.sup(),
@@ -156,7 +158,7 @@ pub(super) fn lohner_step<I: Ival>(
     let coarse = c
         .iter()
         .nth(1)
-        .is_some_and(|c1| c1[..d].iter().any(|x| x.wid() * h.sup() > FINER_AT * scale * I::eps()));
+        .is_some_and(|c1| c1[..d].iter().any(|x| x.wid() * h.sup() > FINER_AT * scale * level));
     let finer = coarse.then(|| I::field_finer(&sys.field, &set.m)).flatten();
     if point_set && !c1 {
         // a point set needs no Jacobian (J B r = 0 for r = 0)
@@ -188,8 +190,8 @@ pub(super) fn lohner_step<I: Ival>(
     // is negligible there; otherwise (5.6'') over the whole set.
     // A loose derivative (12.0.9) holds the step's factor to its own level
     let eps = match c1_mode {
-        C1::Loose(eps) => eps.max(I::eps()),
-        _ => I::eps(),
+        C1::Loose(eps) => eps.max(level),
+        _ => level,
     };
     let jac = match c1_mode {
         C1::Cheap | C1::Precise => None,
@@ -604,13 +606,14 @@ pub(super) fn remainder<I: Ival>(
     tol: Tolerance,
 ) -> Result<(Vec<I>, Vec<I>, f64), StepFail> {
     let (y, ty) = a_priori(&sys.field, b, h, p, 0.0, false)?;
-    let (rem, ratio) = remainder_over(sys, b, &y, &ty, h, p, scale, tol, false)?;
+    let (rem, ratio) = remainder_over(sys, b, &y, &ty, h, p, scale * I::eps(), tol, false)?;
     Ok((rem, y, ratio))
 }
 
 /// (5.5) from an a priori box `y` of every trajectory from the initial set over `[0, h]`
 /// (or over a longer span) and the coefficients `ty` over it up to `p + 1`: `[R]` and its
-/// width relative to the tolerance.
+/// width relative to the tolerance `REMAINDER_TOL unit` (`unit`: the state's size times the
+/// level it is held to, `I::eps()` or (12.0.10) a flow's own).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn remainder_over<I: Ival>(
     sys: &System,
@@ -619,7 +622,7 @@ pub(super) fn remainder_over<I: Ival>(
     ty: &Coeffs<I>,
     h: I,
     p: usize,
-    scale: f64,
+    unit: f64,
     tol: Tolerance,
     boxes64: bool,
 ) -> Result<(Vec<I>, f64), StepFail> {
@@ -629,7 +632,7 @@ pub(super) fn remainder_over<I: Ival>(
     // the widest component of T h^(p+1), relative to the tolerance (NaN if not finite)
     let ratio_of = |t: &[I]| {
         t.iter().fold(0.0f64, |a, t| {
-            let w = (*t * hp).wid() / (scale * REMAINDER_TOL * I::eps());
+            let w = (*t * hp).wid() / (REMAINDER_TOL * unit);
             if w.is_nan() || a.is_nan() {
                 f64::NAN
             } else {

@@ -231,7 +231,7 @@ pub fn retract_box_in<I: Ival>(
     // One C^1 flow of the box X = (Q0, U) with the point (Q0, u~) of the centre z~ marked
     // (spec eq. (6.3)): G(z~; Q0, Q1) = q(h; Q0, u~) - Q1 - N(Q1) s~ from the marked
     // subset, DG = [D_u q(h) | -N(Q1)] over the box, and the set at h.
-    let shoot = |zt: &[I::Pt], u: &[I], level: f64| -> Result<Shot<I>, Error> {
+    let shoot = |zt: &[I::Pt], u: &[I], first: bool| -> Result<Shot<I>, Error> {
         let left = work_budget.saturating_sub(work.get());
         if left == 0 {
             return Err(Error::over_limit(
@@ -248,6 +248,7 @@ pub fn retract_box_in<I: Ival>(
             max_taylor_steps: left.min(opts.max_taylor_steps),
             reorganise: false,
             box_series_in_f64: loose,
+            level: (loose && first).then_some(LOOSE_LEVEL),
             ..opts.clone()
         };
         let centre: Vec<I::Pt> = q0
@@ -258,7 +259,7 @@ pub fn retract_box_in<I: Ival>(
         let at: Vec<I> = zt.iter().map(|x| I::pt(*x)).collect();
         let set = LohnerSet::with_subset(&centre, &x0_of(u), &x0_of(&at[..m]));
         let flown = if loose {
-            crate::enclosure::flow_set_c1_loose(&model.dynamics, set, h, &capped, level)
+            crate::enclosure::flow_set_c1_loose(&model.dynamics, set, h, &capped, if first { LOOSE_LEVEL } else { I::eps() })
         } else {
             flow_set_c1(&model.dynamics, set, h, &capped)
         };
@@ -287,7 +288,7 @@ pub fn retract_box_in<I: Ival>(
         Ok((g, dg, set))
     };
     let gd = |z: &[I]| -> Result<(Vec<I>, Vec<Vec<I>>), Error> {
-        let (g, dg, set) = shoot(&z_pt, &z[..m], LOOSE_LEVEL)?;
+        let (g, dg, set) = shoot(&z_pt, &z[..m], true)?;
         *last_set.borrow_mut() = Some((z_pt.clone(), set));
         Ok((g, dg))
     };
@@ -303,7 +304,7 @@ pub fn retract_box_in<I: Ival>(
     if loose {
         // (12.0.9) the test again around the midpoint of K(X), over K(X) itself
         let mid: Vec<I::Pt> = z.iter().map(|x| x.mid_pt()).collect();
-        let (g, dg, set) = shoot(&mid, &z[..m], I::eps())?;
+        let (g, dg, set) = shoot(&mid, &z[..m], false)?;
         z = krawczyk::recentred(&mid, &c, &g, &dg, z)?;
         *last_set.borrow_mut() = Some((mid, set));
     }
