@@ -116,7 +116,9 @@ fn precision(c: &mut Criterion) {
     g.bench_function("quotient by 7/106", |b| {
         b.iter(|| black_box(x) / DdInterval::from_f64(black_box(7.0)))
     });
-    g.bench_function("div_int by 7/106", |b| b.iter(|| black_box(x).div_int(black_box(7))));
+    g.bench_function("div_int by 7/106", |b| {
+        b.iter(|| black_box(x).div_int(black_box(7)))
+    });
     for bits in [160u32, 256, 512] {
         g.bench_function(format!("knife t=50/{bits}"), |b| {
             wide::with_bits(bits, || {

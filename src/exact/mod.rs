@@ -259,7 +259,13 @@ pub fn retract_box_in<I: Ival>(
         let at: Vec<I> = zt.iter().map(|x| I::pt(*x)).collect();
         let set = LohnerSet::with_subset(&centre, &x0_of(u), &x0_of(&at[..m]));
         let flown = if loose {
-            crate::enclosure::flow_set_c1_loose(&model.dynamics, set, h, &capped, if first { LOOSE_LEVEL } else { I::eps() })
+            crate::enclosure::flow_set_c1_loose(
+                &model.dynamics,
+                set,
+                h,
+                &capped,
+                if first { LOOSE_LEVEL } else { I::eps() },
+            )
         } else {
             flow_set_c1(&model.dynamics, set, h, &capped)
         };

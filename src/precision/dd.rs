@@ -355,6 +355,7 @@ pub struct DdInterval {
 mod ball;
 mod decimal;
 mod interval;
+mod quotient;
 pub(super) use ball::Ball;
 pub(super) use decimal::{big_to_interval, dd_to_big};
 pub use decimal::{dd_to_decimal, DISPLAY_DIGITS};

@@ -959,12 +959,28 @@ fn a_pair_whose_zero_components_couple_into_a_passed_one_is_certified() {
     for (k, u1) in [(16.0, -4.0), (20.0, -5.0)] {
         let h: f64 = k * c;
         let r = must_retract(&m, &q, &q, h);
-        assert!(r.u0[0].contains(u1) && r.u0[0].wid() < 1e-12 * u1.abs(), "h = {h}: {:?}", r.u0);
-        assert!(r.u0[1].contains(0.0) && r.s[0].contains(0.0), "h = {h}: {:?} {:?}", r.u0, r.s);
+        assert!(
+            r.u0[0].contains(u1) && r.u0[0].wid() < 1e-12 * u1.abs(),
+            "h = {h}: {:?}",
+            r.u0
+        );
+        assert!(
+            r.u0[1].contains(0.0) && r.s[0].contains(0.0),
+            "h = {h}: {:?} {:?}",
+            r.u0,
+            r.s
+        );
         let r = exact::retract_in::<DdInterval>(&m, &q, &q, h, &opts())
             .unwrap_or_else(|e| panic!("h = {h} at 106 bits: {e}"));
         let u = r.u0[0];
-        assert!(u.contains(Dd::from_f64(u1)) && u.wid_up() < 1e-28 * u1.abs(), "h = {h}: {u}");
-        assert!(r.u0[1].contains(Dd::ZERO) && r.s[0].contains(Dd::ZERO), "h = {h}: {:?}", r.s);
+        assert!(
+            u.contains(Dd::from_f64(u1)) && u.wid_up() < 1e-28 * u1.abs(),
+            "h = {h}: {u}"
+        );
+        assert!(
+            r.u0[1].contains(Dd::ZERO) && r.s[0].contains(Dd::ZERO),
+            "h = {h}: {:?}",
+            r.s
+        );
     }
 }

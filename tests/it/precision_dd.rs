@@ -490,6 +490,7 @@ fn integer_quotients_at_the_edges() {
     assert_eq!(small.div_int(10), small / p(10.0));
     assert_eq!(p(5.0).div_int(0), p(5.0) / p(0.0));
     assert!(DdInterval::EMPTY.div_int(3).is_empty());
-    let half = DdInterval::new(Dd::from_f64(1.0), Dd::from_f64(f64::INFINITY)).expect("a half-line");
+    let half =
+        DdInterval::new(Dd::from_f64(1.0), Dd::from_f64(f64::INFINITY)).expect("a half-line");
     assert_eq!(half.div_int(4), half / p(4.0));
 }
