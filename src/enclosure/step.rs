@@ -135,7 +135,7 @@ pub(super) fn lohner_step<I: Ival>(
     // try of this step over a longer span serves this one (5.4'), else a new one
     let (y, ty) = match prior.take() {
         Some(pr) if pr.order == p && h.sup() <= pr.span => (pr.y, pr.ty),
-        _ => a_priori(&sys.field, c, h, p, 0.0, boxes64)?,
+        _ => a_priori(&sys.field, c, h, p, 0.0, boxes64, F64_SHARE * scale * level)?,
     };
     let (rem, ratio) = match remainder_over(sys, c, &y, &ty, h, p, scale * level, tol, boxes64) {
         Err(fail @ StepFail::TooWide(_)) => {
@@ -441,6 +441,7 @@ pub(super) fn box_enclosure<I: Ival>(
 /// `T_0..T_{q+1}` over `Y` (the last one for the Lagrange remainder). The first trial box
 /// is the Taylor range over `[0, h]` widened by 10%; after a failed trial, the hull of `Y`
 /// and `Z` widened by 10% and by `widen` times the excess of `Z` over `Y` (up to three times).
+/// `boxes64` and `floor` as in [`box_taylor`].
 pub(super) fn a_priori<I: Ival>(
     tape: &crate::tape::Tape,
     b: Rows<'_, I>,
@@ -448,13 +449,14 @@ pub(super) fn a_priori<I: Ival>(
     q: usize,
     widen: f64,
     boxes64: bool,
+    floor: f64,
 ) -> Result<(Vec<I>, Coeffs<I>), StepFail> {
     let h0 = I::iv(0.0, h.sup());
     let dim = b.width();
     let series = |top: &[I]| horner(b.first(q), 0..dim, Some(top), h0);
     let mut y = inflate(&series(&b[q]));
     for _ in 0..4 {
-        let ty = box_taylor(tape, &y, q + 1, time_scale(h), boxes64).ok_or(StepFail::Shrink)?;
+        let ty = box_taylor(tape, &y, q + 1, time_scale(h), boxes64, floor).ok_or(StepFail::Shrink)?;
         let z = series(&ty[q]);
         if z.iter().zip(&y).all(|(a, b)| a.subset(*b)) {
             return Ok((y, ty));
@@ -499,18 +501,30 @@ pub(super) const F64_ROWS: usize = 8;
 /// series at this precision. Where the f64 series underflows, it is tried again as that of
 /// `y(s) = x(h s)` (its rows, about the remainder's size rather than `1/k!`, stay in f64's
 /// range at high orders), row `k` multiplied back by an enclosure of `h^-k` at this precision.
+/// An entry of a row read whose whole part in the step, its magnitude times `h^k` for row
+/// `k`, is at most `floor` passes the test too, whatever its width: `floor` is `F64_SHARE`
+/// times the state's rounding unit, which the step's tolerance absorbs (0 where the rows
+/// are read against another tolerance).
 /// A choice of evaluation only: both enclose the coefficients.
-pub(super) fn box_taylor<I: Ival>(tape: &crate::tape::Tape, y: &[I], order: usize, h: f64, boxes64: bool) -> Option<Coeffs<I>> {
+pub(super) fn box_taylor<I: Ival>(
+    tape: &crate::tape::Tape,
+    y: &[I],
+    order: usize,
+    h: f64,
+    boxes64: bool,
+    floor: f64,
+) -> Option<Coeffs<I>> {
     if I::box_series_in_f64() || boxes64 {
         let y64: Vec<inari::Interval> = y.iter().map(|x| crate::scalar::iv(x.inf(), x.sup())).collect();
         // a box nearly a point in every component (a very short step's): its f64 series
         // would be f64's rounding rather than the box's width, and is not tried
         if y64.iter().any(|x| x.wid() > F64_SHARE * x.mag()) {
             // the series of x itself first; the time scale only where its rows underflow
-            match f64_series(tape, &y64, order, 1.0) {
+            let read = Read { span: h, floor };
+            match f64_series(tape, &y64, order, 1.0, read) {
                 Ok(c) => return Some(c.map(|x| I::iv(x.inf(), x.sup()))),
                 Err(F64Series::Underflow) if h != 1.0 => {
-                    if let Ok(c) = f64_series(tape, &y64, order, h) {
+                    if let Ok(c) = f64_series(tape, &y64, order, h, read) {
                         return Some(unscaled(&c, h));
                     }
                 }
@@ -550,18 +564,34 @@ fn unscaled<I: Ival>(c: &Coeffs<inari::Interval>, h: f64) -> Coeffs<I> {
     Coeffs::from_rows(c.rows().width(), rows.iter().map(|r| r.as_slice()))
 }
 
+/// How [`f64_series`] judges an entry of its rows: its part in a step over `[0, span]`
+/// ([`box_taylor`]'s `h`), and the amount under which that part is negligible.
+#[derive(Clone, Copy)]
+struct Read {
+    span: f64,
+    floor: f64,
+}
+
 /// (5.5''') The f64 series of [`box_taylor`] over `y64` (that of `y(s) = x(h s)` when
-/// `h != 1`) when its rows read pass the test, or why not. Grown [`F64_ROWS`] rows at a time: a row with a non-zero entry under
-/// [`F64_FLOOR`] stops it (the coefficients of such a box shrink with the order, so the rows
+/// `h != 1`) when its rows read pass the test, or why not. Grown [`F64_ROWS`] rows at a time:
+/// a row with a non-zero entry under [`F64_FLOOR`] whose part in the step is above
+/// `read.floor` stops it (the coefficients of such a box shrink with the order, so the rows
 /// read would be the noise of underflows), so that a series that is not taken costs little.
 fn f64_series(
     tape: &crate::tape::Tape,
     y64: &[inari::Interval],
     order: usize,
     h: f64,
+    read: Read,
 ) -> Result<Coeffs<inari::Interval>, F64Series> {
-    let negligible = |x: &inari::Interval| {
-        x.is_exact_zero() || (x.is_finite() && x.wid() >= (F64_SHARE * x.mag()).max(F64_FLOOR))
+    // row k holds `h^k x_k`: its part in the step is its magnitude times `(span / h)^k`
+    // (a choice only: rounded to nearest; an overflow is not small)
+    let small = |x: &inari::Interval, k: usize| {
+        read.floor > 0.0 && x.mag() * (read.span / h).powi(k as i32) <= read.floor
+    };
+    let negligible = |x: &inari::Interval, k: usize| {
+        x.is_exact_zero()
+            || (x.is_finite() && (x.wid() >= (F64_SHARE * x.mag()).max(F64_FLOOR) || small(x, k)))
     };
     let scale = (h != 1.0).then(|| crate::scalar::iv(h, h));
     let mut s = tape.ode_series_scaled(y64, order, scale);
@@ -571,12 +601,15 @@ fn f64_series(
         if !s.grow(k) {
             return Err(F64Series::Other);
         }
-        if s.rows()[k].iter().any(|x| !x.is_exact_zero() && x.mag() < F64_FLOOR) {
+        let under = |x: &inari::Interval| !x.is_exact_zero() && x.mag() < F64_FLOOR && !small(x, k);
+        if s.rows()[k].iter().any(under) {
             return Err(F64Series::Underflow);
         }
         if k == order {
-            let read = s.rows().iter().skip(order.saturating_sub(1)).flatten().all(negligible);
-            return if read { Ok(s.coeffs()) } else { Err(F64Series::Other) };
+            let first = order.saturating_sub(1);
+            let rows = s.rows();
+            let taken = (first..=order).all(|r| rows[r].iter().all(|x| negligible(x, r)));
+            return if taken { Ok(s.coeffs()) } else { Err(F64Series::Other) };
         }
     }
 }
@@ -584,7 +617,7 @@ fn f64_series(
 /// Why an f64 series of [`box_taylor`] was not taken.
 #[derive(Debug, PartialEq)]
 enum F64Series {
-    /// A row has an entry under [`F64_FLOOR`].
+    /// A row has an entry under [`F64_FLOOR`] (and above the floor of [`Read`]).
     Underflow,
     /// A coefficient was not proved, or a row read is not wide enough.
     Other,
@@ -605,7 +638,7 @@ pub(super) fn remainder<I: Ival>(
     scale: f64,
     tol: Tolerance,
 ) -> Result<(Vec<I>, Vec<I>, f64), StepFail> {
-    let (y, ty) = a_priori(&sys.field, b, h, p, 0.0, false)?;
+    let (y, ty) = a_priori(&sys.field, b, h, p, 0.0, false, F64_SHARE * scale * I::eps())?;
     let (rem, ratio) = remainder_over(sys, b, &y, &ty, h, p, scale * I::eps(), tol, false)?;
     Ok((rem, y, ratio))
 }
@@ -663,7 +696,8 @@ pub(super) fn remainder_over<I: Ival>(
                 .zip(y)
                 .map(|(a, b)| a.intersection(*b))
                 .collect();
-            let tj = box_taylor(&sys.field, &yj, p + 1, time_scale(h), boxes64).ok_or(StepFail::Shrink)?;
+            let tj = box_taylor(&sys.field, &yj, p + 1, time_scale(h), boxes64, F64_SHARE * unit)
+                .ok_or(StepFail::Shrink)?;
             let part = &tj[p + 1];
             // The hull over the SLICES is at least as wide as this slice: in strict mode a
             // slice already over the tolerance decides the rejection, without the others.
@@ -783,7 +817,7 @@ pub(super) fn step_jacobian<I: Ival>(
     if !w.grow(q0) {
         return None;
     }
-    let (y_ext, t0) = a_priori(&sys.field_var, w.rows(), h, q0, 4.0, false).ok()?;
+    let (y_ext, t0) = a_priori(&sys.field_var, w.rows(), h, q0, 4.0, false, 0.0).ok()?;
     // the series over the a priori box for the remainders above q0, grown likewise (made at
     // the first rung above q0); once a coefficient was not proved it is not at any higher
     // order, and the rungs above have no remainder
@@ -908,7 +942,7 @@ pub(super) fn variational_remainder<I: Ival>(
     let mut yv = inflate(&horner(cv.first(p + 1), cols.clone(), None, h0));
     for _ in 0..4 {
         let ext: Vec<I> = y.iter().chain(&yv).copied().collect();
-        let tv = box_taylor(&sys.field_var, &ext, p + 1, time_scale(h), false).ok_or(StepFail::Shrink)?;
+        let tv = box_taylor(&sys.field_var, &ext, p + 1, time_scale(h), false, 0.0).ok_or(StepFail::Shrink)?;
         let zv = horner(cv.first(p), cols.clone(), Some(&tv[p]), h0);
         if zv.iter().zip(&yv).all(|(a, b)| a.subset(*b)) {
             let hp = (0..=p).fold(I::cst(1.0), |a, _| a * h);
@@ -1039,7 +1073,7 @@ mod tests {
             // f64 values) and it is as tight as the closed form up to f64 rounding
             let (a, b, c, d) = (0.5, 0.625, -0.25, 0.125);
             let y = [WideInterval::iv(a, b), WideInterval::iv(c, d)];
-            let s = box_taylor(&tape, &y, order, 1.0, false).expect("a series");
+            let s = box_taylor(&tape, &y, order, 1.0, false, 0.0).expect("a series");
             for x in s.iter().flatten() {
                 assert_eq!(WideInterval::iv(Ival::inf(x), Ival::sup(x)), *x, "{x:?} has an end that is no f64");
             }
@@ -1049,19 +1083,20 @@ mod tests {
             // the same series through the time scale h = 3 (the f64 series of y(s) = x(3 s),
             // its row k multiplied back by 3^-k at 256 bits): the same enclosure
             let y64 = [crate::scalar::iv(a, b), crate::scalar::iv(c, d)];
-            let scaled = f64_series(&tape, &y64, order, 3.0).expect("an f64 series");
+            let read = Read { span: 1.0, floor: 0.0 };
+            let scaled = f64_series(&tape, &y64, order, 3.0, read).expect("an f64 series");
             check_exact(&unscaled(&scaled, 3.0), [(&ma, &mb), (&mc, &md)], order, 0.0);
             // at order 200 the coefficients (about 1/200!, 1e-375) fall below f64's range,
             // those of y(s) = x(8 s) (about 8^200/200!, 1e-195) do not: the f64 series is
             // taken only with the time scale
-            assert_eq!(f64_series(&tape, &y64, 200, 1.0).err(), Some(F64Series::Underflow));
-            assert!(f64_series(&tape, &y64, 200, 8.0).is_ok());
+            assert_eq!(f64_series(&tape, &y64, 200, 1.0, read).err(), Some(F64Series::Underflow));
+            assert!(f64_series(&tape, &y64, 200, 8.0, read).is_ok());
 
             // a box 2^-200 wide: f64 would round it to 2^-53, so the series is computed at
             // 256 bits (its widths are those of the box, not of f64)
             let tiny = WideInterval::cst(2f64.powi(-100)) * WideInterval::cst(2f64.powi(-100));
             let y = [WideInterval::cst(a) + WideInterval::iv(0.0, 1.0) * tiny, WideInterval::cst(c)];
-            let s = box_taylor(&tape, &y, order, 1.0, false).expect("a series");
+            let s = box_taylor(&tape, &y, order, 1.0, false, 0.0).expect("a series");
             let hi = y[0].to_mp().with_prec(1024);
             let hi = MpInterval::point(hi.sup(), 1024);
             check_exact(&s, [(&ma, &hi), (&mc, &mc)], order, 2f64.powi(-240));
@@ -1071,11 +1106,46 @@ mod tests {
             // of underflows; the series is computed at 256 bits
             let lo = (0..5).fold(WideInterval::cst(2f64.powi(-100)), |a, _| a * tiny);
             let y = [lo * WideInterval::iv(1.0, 2.0), WideInterval::cst(0.0)];
-            let s = box_taylor(&tape, &y, order, 1.0, false).expect("a series");
+            let s = box_taylor(&tape, &y, order, 1.0, false, 0.0).expect("a series");
             let (la, lb) = (y[0].to_mp().with_prec(1024), y[0].to_mp().with_prec(1024));
             let (la, lb) = (MpInterval::point(la.inf(), 1024), MpInterval::point(lb.sup(), 1024));
             let zero = mp(0.0);
             check_exact(&s, [(&la, &lb), (&zero, &zero)], order, 0.0);
+        });
+    }
+
+    /// (5.5''') A component of an a priori box that is 0 over the step becomes `[-f, f]` with
+    /// `f = 1e-300` (the trial box's floor, `inflate`): its coefficients fall under f64's
+    /// normal range (`1e-300 / 13!`, about `1.6e-310`, at order 13), where f64's rounding is
+    /// all of their width. Their part in a step of 1 is that small, so with a floor above it
+    /// the f64 series is taken and encloses the closed form; with none (or one below it) the
+    /// series is computed at the set's precision.
+    #[test]
+    fn box_series_in_f64_take_entries_under_the_normal_range_whose_part_is_below_the_floor() {
+        let tape = Tape::record(2, |x| vec![x[1], -x[0]]);
+        let order = 13;
+        let (a, b, f) = (0.5, 0.625, 1e-300);
+        with_bits(256, || {
+            let y = [WideInterval::iv(a, b), WideInterval::iv(-f, f)];
+            let is_f64 = |s: &Coeffs<WideInterval>| {
+                s.iter()
+                    .flatten()
+                    .all(|x| WideInterval::iv(Ival::inf(x), Ival::sup(x)) == *x)
+            };
+            let mp = |v: f64| MpInterval::from_f64(v, 1024);
+            for (floor, taken) in [(0.0, false), (1e-311, false), (2f64.powi(-140), true), (1e-300, true)] {
+                let s = box_taylor(&tape, &y, order, 1.0, false, floor).expect("a series");
+                assert_eq!(is_f64(&s), taken, "floor {floor:e}");
+                check_exact(&s, [(&mp(a), &mp(b)), (&mp(-f), &mp(f))], order, 2f64.powi(-1000));
+            }
+            // the part of row k is its magnitude times span^k: over a span of 2^72 the same
+            // entries are too large for the floor 2^-140, and stop the series unscaled
+            let y64 = [crate::scalar::iv(a, b), crate::scalar::iv(-f, f)];
+            let floor = 2f64.powi(-140);
+            let unit = Read { span: 1.0, floor };
+            assert!(f64_series(&tape, &y64, order, 1.0, unit).is_ok());
+            let long = Read { span: 2f64.powi(72), floor };
+            assert_eq!(f64_series(&tape, &y64, order, 1.0, long).err(), Some(F64Series::Underflow));
         });
     }
 }
