@@ -2,18 +2,20 @@
 //! where the Taylor method spends its arithmetic ([spec (1.4)](crate::spec::scalars)). The crate's one module with
 //! `unsafe` ([spec/design.md](crate::spec::design)).
 //!
-//! Each kernel has one claim and two paths that give the same doubles: the portable chain of
+//! Each kernel has one claim and two paths that give the same doubles: the portable chains of
 //! inari's fused multiply-adds, each rounded outward, and, where the target has AVX-512,
-//! a path computing that chain's tightest ends with the fused multiply-add (or division)
-//! rounded upward by the instruction: eight entries, or eight sign choices, at a time in
-//! vectors; a dot product of at most three terms, and a quotient, in scalars (there the
-//! vector set-up costs more than it saves, while for longer rows the vectors pay). Any input
-//! not finite sends the call down the portable path.
+//! a path computing those chains' tightest ends with the fused multiply-add (or division)
+//! rounded upward by the instruction: eight entries, or eight terms, at a time in vectors; a
+//! dot product of at most three terms, and a quotient, in scalars (there the vector set-up
+//! costs more than it saves, while for longer rows the vectors pay). Any input not finite
+//! sends the call down the portable path.
 
 use inari::Interval;
 
 /// `acc + sum_j x_j y_j` when `!neg`, `acc - sum_j x_j y_j` when `neg`; `y_j` is
-/// `y[y.len() - 1 - j]` when `rev`. `x` and `y` have the same length.
+/// `y[y.len() - 1 - j]` when `rev`. `x` and `y` have the same length. Summed in [`LANES`]
+/// chains (term `j` in chain `j mod LANES`, chain 0 from `acc`), then the chains in order
+/// ([`chain`]).
 ///
 /// # Containment
 /// Spec (1.4): the result contains the real value for every choice of reals in the
@@ -99,7 +101,14 @@ fn lanewise(rows: &[&[Interval]], scheme: Scheme, out: &mut Vec<Interval>) {
 
 const ZERO: Interval = inari::const_interval!(0.0, 0.0);
 
-/// The portable path: one inari fused multiply-add per term, each outward rounded.
+/// The chains of a dot product: eight, one per lane of an AVX-512 vector of doubles.
+pub(crate) const LANES: usize = 8;
+
+/// The portable path: one inari fused multiply-add per term, each outward rounded, into
+/// [`LANES`] chains (term `j` into chain `j mod LANES`; chain 0 starts from `acc`, the
+/// others from 0), then the chains added in order, each sum outward rounded. Independent
+/// chains let the vector path run eight terms at once (one chain through every term made
+/// the fuzz target `precision_step` wait on each term's rounding in turn).
 pub(crate) fn chain(
     acc: Interval,
     neg: bool,
@@ -108,11 +117,15 @@ pub(crate) fn chain(
     rev: bool,
 ) -> Interval {
     let n = x.len().min(y.len());
-    (0..n).fold(acc, |s, j| {
+    let mut lanes = [ZERO; LANES];
+    lanes[0] = acc;
+    for j in 0..n {
         let yj = if rev { y[n - 1 - j] } else { y[j] };
         let xj = if neg { -x[j] } else { x[j] };
-        xj.mul_add(yj, s)
-    })
+        lanes[j % LANES] = xj.mul_add(yj, lanes[j % LANES]);
+    }
+    let used = n.clamp(1, LANES);
+    lanes[1..used].iter().fold(lanes[0], |s, l| s + *l)
 }
 
 #[cfg(all(
@@ -181,8 +194,10 @@ mod wide {
     #[target_feature(enable = "avx512f")]
     fn terms(acc: &[f64], neg: bool, x: &[f64], y: &[f64], rev: bool) -> Option<(f64, f64)> {
         let n = x.len() / 2;
-        let (mut up, mut down) = (acc[1], acc[0]);
+        // one term per chain (n <= SHORT < LANES); chain 0 from acc, the others from 0
+        let (mut up_sum, mut down_sum) = (0.0, 0.0);
         for j in 0..n {
+            let (mut up, mut down) = if j == 0 { (acc[1], acc[0]) } else { (0.0, 0.0) };
             let k = if rev { n - 1 - j } else { j };
             let (a, b) = if neg {
                 (-x[2 * j + 1], x[2 * j])
@@ -211,8 +226,16 @@ mod wide {
                 up = up.max(fma_up(a, c, u));
                 down = down.max(fma_up(-b, c, w));
             }
+            (up_sum, down_sum) = if j == 0 {
+                (up, down)
+            } else {
+                (add_up(up_sum, up), add_up(down_sum, down))
+            };
         }
-        (up.is_finite() && down.is_finite()).then_some((up, down))
+        if n == 0 {
+            (up_sum, down_sum) = (acc[1], acc[0]);
+        }
+        (up_sum.is_finite() && down_sum.is_finite()).then_some((up_sum, down_sum))
     }
 
     /// Index vectors that read up to eight (-inf, sup) pairs backwards: for a block of `m`
@@ -266,6 +289,12 @@ mod wide {
         ))
     }
 
+    /// `RU(a + b)`: the sum rounded upward.
+    #[target_feature(enable = "avx512f")]
+    fn add_up(a: f64, b: f64) -> f64 {
+        _mm_cvtsd_f64(_mm_add_round_sd::<UP>(_mm_set_sd(a), _mm_set_sd(b)))
+    }
+
     /// The eight lanes of `v`.
     #[target_feature(enable = "avx512f")]
     fn store(v: __m512d) -> [f64; 8] {
@@ -275,19 +304,24 @@ mod wide {
         out
     }
 
-    /// `sup` and `-inf` of `acc ± sum x_j y_j`, from the (-inf, sup) pairs: inari's chain of
-    /// fused multiply-adds, term by term in the same order, so the same doubles.
+    /// `sup` and `-inf` of `acc ± sum x_j y_j`, from the (-inf, sup) pairs: the chains of
+    /// [`super::chain`] (term `j` in lane `j mod 8`, lane 0 from `acc`), eight terms at a time
+    /// in one vector fused multiply-add of each end product, then the lanes added in order;
+    /// so the same doubles.
     ///
-    /// The end product that bounds a term's range above (below) is chosen from the signs of
-    /// the ends, eight terms at a time, as in the case table of interval multiplication:
-    /// for `[a, b] [c, d]` the upper bound is `b d` when `a >= 0` and `c >= 0`, `a d` when
-    /// `a >= 0 >= d`, ..., and `max(a c, b d)` when both straddle 0 (then both are formed).
-    /// The two chains `U <- RU(e_up + U)` and `D <- RU(-e_down + D)` then run side by side.
+    /// A step `x y + z` of a lane forms the four end products of `x y` ([`fma`]) and keeps
+    /// the largest sum: since RU is monotone and the range of a product is the hull of its
+    /// end products, that is the tightest end, as inari's `mul_add`. Lanes past the last
+    /// term read 0 and keep their sums (`RU(0 0 + z) = z`).
     #[target_feature(enable = "avx512f,avx512dq")]
     fn lanes(acc: &[f64], neg: bool, x: &[f64], y: &[f64], rev: bool) -> Option<(f64, f64)> {
         let n = x.len() / 2;
-        let zero = _mm512_setzero_pd();
-        let (mut up, mut down) = (acc[1], acc[0]);
+        let first = _mm512_mask_blend_pd(1, _mm512_setzero_pd(), _mm512_set1_pd(acc[1]));
+        let first_down = _mm512_mask_blend_pd(1, _mm512_setzero_pd(), _mm512_set1_pd(acc[0]));
+        let mut sums = Lanes {
+            up: first,
+            down: first_down,
+        };
         let mut bad = 0u8;
         let mut j = 0;
         while j < n {
@@ -300,49 +334,26 @@ mod wide {
                 gather(y, j, None)
             };
             bad |= bx | by;
-            // x = [xl, xh] (negated when `neg`: [-xh, -xl]), y = [yl, yh]
-            let (nxl, xh) = if neg {
-                (xs.up, xs.down)
-            } else {
-                (xs.down, xs.up)
-            };
-            let (nyl, yh) = (ys.down, ys.up);
-            let xl = _mm512_sub_pd(zero, nxl);
-            let yl = _mm512_sub_pd(zero, nyl);
-            // signs: x >= 0, x <= 0 (and not >= 0), straddling; the same for y
-            let xp = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(xl, zero);
-            let xn = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(xh, zero) & !xp;
-            let xm = !xp & !xn;
-            let yp = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(yl, zero);
-            let yn = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(yh, zero) & !yp;
-            let ym = !yp & !yn;
-            // the upper bound's factors (b d, a d, b c or a c; for both straddling b d, and
-            // a c beside it), and the lower bound's (a c, b c, a d or b d; a d and b c)
-            let up_x = _mm512_mask_blend_pd((!xn & !yn) | (xn & yp), xl, xh);
-            let up_y = _mm512_mask_blend_pd(xp | (xm & !yn), yl, yh);
-            let down_x = _mm512_mask_blend_pd((xp & !yp) | (xn & yn) | (xm & yn), xl, xh);
-            let down_y = _mm512_mask_blend_pd(xn | (xm & !yn), yl, yh);
-            let both = xm & ym;
-            let (ux, uy) = (store(up_x), store(up_y));
-            let (dx, dy) = (store(_mm512_sub_pd(zero, down_x)), store(down_y));
-            // the second candidates, needed only where both factors straddle 0
-            let (al, ah, bl) = if both == 0 {
-                ([0.0; 8], [0.0; 8], [0.0; 8])
-            } else {
-                (store(xl), store(xh), store(yl))
-            };
-            for i in 0..m {
-                let (u, d) = (up, down);
-                up = fma_up(ux[i], uy[i], u);
-                down = fma_up(dx[i], dy[i], d);
-                if both & (1 << i) != 0 {
-                    up = up.max(fma_up(al[i], bl[i], u));
-                    down = down.max(fma_up(-ah[i], bl[i], d));
+            // -x = [-xh, -xl]: its sup is -xl, minus its inf is xh
+            let xs = if neg {
+                Lanes {
+                    up: xs.down,
+                    down: xs.up,
                 }
-            }
+            } else {
+                xs
+            };
+            sums = fma(xs, ys, sums);
             j += m;
         }
-        (bad == 0 && up.is_finite() && down.is_finite()).then_some((up, down))
+        let (up, down) = (store(sums.up), store(sums.down));
+        let used = n.clamp(1, 8);
+        let (mut u, mut d) = (up[0], down[0]);
+        for i in 1..used {
+            u = add_up(u, up[i]);
+            d = add_up(d, down[i]);
+        }
+        (bad == 0 && u.is_finite() && d.is_finite()).then_some((u, d))
     }
 
     /// Eight intervals in lanes: their sup ends, and minus their inf ends.
