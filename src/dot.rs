@@ -13,9 +13,8 @@
 use inari::Interval;
 
 /// `acc + sum_j x_j y_j` when `!neg`, `acc - sum_j x_j y_j` when `neg`; `y_j` is
-/// `y[y.len() - 1 - j]` when `rev`. `x` and `y` have the same length. Summed in [`LANES`]
-/// chains (term `j` in chain `j mod LANES`, chain 0 from `acc`), then the chains in order
-/// ([`chain`]).
+/// `y[y.len() - 1 - j]` when `rev`. `x` and `y` have the same length. Summed as [`chain`]
+/// sums: one chain up to [`LANES`] terms, [`LANES`] chains added pairwise above.
 ///
 /// # Containment
 /// Spec (1.4): the result contains the real value for every choice of reals in the
@@ -104,11 +103,14 @@ const ZERO: Interval = inari::const_interval!(0.0, 0.0);
 /// The chains of a dot product: eight, one per lane of an AVX-512 vector of doubles.
 pub(crate) const LANES: usize = 8;
 
-/// The portable path: one inari fused multiply-add per term, each outward rounded, into
-/// [`LANES`] chains (term `j` into chain `j mod LANES`; chain 0 starts from `acc`, the
-/// others from 0), then the chains added in order, each sum outward rounded. Independent
-/// chains let the vector path run eight terms at once (one chain through every term made
-/// the fuzz target `precision_step` wait on each term's rounding in turn).
+/// The portable path: one inari fused multiply-add per term, each outward rounded. Up to
+/// [`LANES`] terms in one chain from `acc`; more into [`LANES`] chains (term `j` into chain
+/// `j mod LANES`; chain 0 starts from `acc`, the others from 0), then the chains added
+/// pairwise, `((c0 + c1) + (c2 + c3)) + ((c4 + c5) + (c6 + c7))`, each sum outward rounded.
+/// Independent chains let the vector path run eight terms at once (one chain through every
+/// term made the fuzz target `precision_step` wait on each term's rounding in turn), and the
+/// pairwise sum waits on three roundings instead of seven; a short product keeps one chain,
+/// whose fewer roundings matter where the terms are points (a centre's series at 53 bits).
 pub(crate) fn chain(
     acc: Interval,
     neg: bool,
@@ -117,15 +119,34 @@ pub(crate) fn chain(
     rev: bool,
 ) -> Interval {
     let n = x.len().min(y.len());
+    let term = |j: usize| {
+        let yj = if rev { y[n - 1 - j] } else { y[j] };
+        let xj = if neg { -x[j] } else { x[j] };
+        (xj, yj)
+    };
+    if n <= LANES {
+        return (0..n).fold(acc, |s, j| {
+            let (xj, yj) = term(j);
+            xj.mul_add(yj, s)
+        });
+    }
     let mut lanes = [ZERO; LANES];
     lanes[0] = acc;
     for j in 0..n {
-        let yj = if rev { y[n - 1 - j] } else { y[j] };
-        let xj = if neg { -x[j] } else { x[j] };
+        let (xj, yj) = term(j);
         lanes[j % LANES] = xj.mul_add(yj, lanes[j % LANES]);
     }
-    let used = n.clamp(1, LANES);
-    lanes[1..used].iter().fold(lanes[0], |s, l| s + *l)
+    pairwise(&lanes, 0, LANES)
+}
+
+/// The pairwise sum of `lanes[k .. k + w]` (`w` a power of 2), as [`chain`] adds its chains.
+fn pairwise(lanes: &[Interval; LANES], k: usize, w: usize) -> Interval {
+    if w == 1 {
+        lanes[k]
+    } else {
+        let h = w / 2;
+        pairwise(lanes, k, h) + pairwise(lanes, k + h, h)
+    }
 }
 
 #[cfg(all(
@@ -182,6 +203,8 @@ mod wide {
         // SAFETY: this module is compiled only when the target has avx512f and avx512dq.
         let (hi, nlo) = if x.len() <= SHORT {
             unsafe { terms(raw(&[acc]), neg, raw(x), raw(y), rev) }?
+        } else if x.len() <= super::LANES {
+            unsafe { one_chain(raw(&[acc]), neg, raw(x), raw(y), rev) }?
         } else {
             unsafe { lanes(raw(&[acc]), neg, raw(x), raw(y), rev) }?
         };
@@ -190,14 +213,18 @@ mod wide {
 
     const SHORT: usize = 3;
 
-    /// [`lanes`] for a few terms, one at a time in scalars: the same choices, the same chains.
+    /// A dot product of at most [`SHORT`] terms (there the vector set-up costs more than it
+    /// saves) in one chain, in scalars: the end
+    /// product that bounds each term above (below) chosen from the signs of the ends, as in
+    /// the case table of interval multiplication (for `[a, b] [c, d]` the upper bound is
+    /// `b d` when `a >= 0` and `c >= 0`, `a d` when `a >= 0 >= d`, ..., and `max(a c, b d)`
+    /// when both straddle 0, then both are formed); the chains `U <- RU(e_up + U)` and
+    /// `D <- RU(-e_down + D)` side by side: inari's chain, the same doubles.
     #[target_feature(enable = "avx512f")]
     fn terms(acc: &[f64], neg: bool, x: &[f64], y: &[f64], rev: bool) -> Option<(f64, f64)> {
         let n = x.len() / 2;
-        // one term per chain (n <= SHORT < LANES); chain 0 from acc, the others from 0
-        let (mut up_sum, mut down_sum) = (0.0, 0.0);
+        let (mut up, mut down) = (acc[1], acc[0]);
         for j in 0..n {
-            let (mut up, mut down) = if j == 0 { (acc[1], acc[0]) } else { (0.0, 0.0) };
             let k = if rev { n - 1 - j } else { j };
             let (a, b) = if neg {
                 (-x[2 * j + 1], x[2 * j])
@@ -226,16 +253,8 @@ mod wide {
                 up = up.max(fma_up(a, c, u));
                 down = down.max(fma_up(-b, c, w));
             }
-            (up_sum, down_sum) = if j == 0 {
-                (up, down)
-            } else {
-                (add_up(up_sum, up), add_up(down_sum, down))
-            };
         }
-        if n == 0 {
-            (up_sum, down_sum) = (acc[1], acc[0]);
-        }
-        (up_sum.is_finite() && down_sum.is_finite()).then_some((up_sum, down_sum))
+        (up.is_finite() && down.is_finite()).then_some((up, down))
     }
 
     /// Index vectors that read up to eight (-inf, sup) pairs backwards: for a block of `m`
@@ -289,12 +308,6 @@ mod wide {
         ))
     }
 
-    /// `RU(a + b)`: the sum rounded upward.
-    #[target_feature(enable = "avx512f")]
-    fn add_up(a: f64, b: f64) -> f64 {
-        _mm_cvtsd_f64(_mm_add_round_sd::<UP>(_mm_set_sd(a), _mm_set_sd(b)))
-    }
-
     /// The eight lanes of `v`.
     #[target_feature(enable = "avx512f")]
     fn store(v: __m512d) -> [f64; 8] {
@@ -346,15 +359,104 @@ mod wide {
             sums = fma(xs, ys, sums);
             j += m;
         }
-        let (up, down) = (store(sums.up), store(sums.down));
-        let used = n.clamp(1, 8);
-        let (mut u, mut d) = (up[0], down[0]);
-        for i in 1..used {
-            u = add_up(u, up[i]);
-            d = add_up(d, down[i]);
+        // the lanes added pairwise, as `super::chain` adds its chains: lane i to lane i + 1,
+        // then i + 2, then i + 4 (lanes without terms hold 0, and adding 0 is exact)
+        let mut up = sums.up;
+        let mut down = sums.down;
+        for (odd, even) in PAIRS {
+            let (o, e) = (vector(odd), vector(even));
+            up = _mm512_add_round_pd::<UP>(
+                _mm512_permutexvar_pd(e, up),
+                _mm512_permutexvar_pd(o, up),
+            );
+            down = _mm512_add_round_pd::<UP>(
+                _mm512_permutexvar_pd(e, down),
+                _mm512_permutexvar_pd(o, down),
+            );
         }
+        let (u, d) = (store(up)[0], store(down)[0]);
         (bad == 0 && u.is_finite() && d.is_finite()).then_some((u, d))
     }
+
+    /// `sup` and `-inf` of `acc ± sum x_j y_j` for at most [`super::LANES`] terms, from the
+    /// (-inf, sup) pairs: inari's one chain of fused multiply-adds, term by term in the same
+    /// order, so the same doubles.
+    ///
+    /// The end product that bounds a term's range above (below) is chosen from the signs of
+    /// the ends, eight terms at a time, as in the case table of interval multiplication:
+    /// for `[a, b] [c, d]` the upper bound is `b d` when `a >= 0` and `c >= 0`, `a d` when
+    /// `a >= 0 >= d`, ..., and `max(a c, b d)` when both straddle 0 (then both are formed).
+    /// The two chains `U <- RU(e_up + U)` and `D <- RU(-e_down + D)` then run side by side.
+    #[target_feature(enable = "avx512f,avx512dq")]
+    fn one_chain(acc: &[f64], neg: bool, x: &[f64], y: &[f64], rev: bool) -> Option<(f64, f64)> {
+        let n = x.len() / 2;
+        let zero = _mm512_setzero_pd();
+        let (mut up, mut down) = (acc[1], acc[0]);
+        let mut bad = 0u8;
+        let mut j = 0;
+        while j < n {
+            let m = (n - j).min(8);
+            // x's terms j .. j + m; y's the same, or backwards the pairs n - j - m .. n - j
+            let (xs, bx) = gather(x, j, None);
+            let (ys, by) = if rev {
+                gather(y, n - j - m, Some(m))
+            } else {
+                gather(y, j, None)
+            };
+            bad |= bx | by;
+            // x = [xl, xh] (negated when `neg`: [-xh, -xl]), y = [yl, yh]
+            let (nxl, xh) = if neg {
+                (xs.up, xs.down)
+            } else {
+                (xs.down, xs.up)
+            };
+            let (nyl, yh) = (ys.down, ys.up);
+            let xl = _mm512_sub_pd(zero, nxl);
+            let yl = _mm512_sub_pd(zero, nyl);
+            // signs: x >= 0, x <= 0 (and not >= 0), straddling; the same for y
+            let xp = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(xl, zero);
+            let xn = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(xh, zero) & !xp;
+            let xm = !xp & !xn;
+            let yp = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(yl, zero);
+            let yn = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(yh, zero) & !yp;
+            let ym = !yp & !yn;
+            // the upper bound's factors (b d, a d, b c or a c; for both straddling b d, and
+            // a c beside it), and the lower bound's (a c, b c, a d or b d; a d and b c)
+            let up_x = _mm512_mask_blend_pd((!xn & !yn) | (xn & yp), xl, xh);
+            let up_y = _mm512_mask_blend_pd(xp | (xm & !yn), yl, yh);
+            let down_x = _mm512_mask_blend_pd((xp & !yp) | (xn & yn) | (xm & yn), xl, xh);
+            let down_y = _mm512_mask_blend_pd(xn | (xm & !yn), yl, yh);
+            let both = xm & ym;
+            let (ux, uy) = (store(up_x), store(up_y));
+            let (dx, dy) = (store(_mm512_sub_pd(zero, down_x)), store(down_y));
+            // the second candidates, needed only where both factors straddle 0
+            let (al, ah, bl) = if both == 0 {
+                ([0.0; 8], [0.0; 8], [0.0; 8])
+            } else {
+                (store(xl), store(xh), store(yl))
+            };
+            for i in 0..m {
+                let (u, d) = (up, down);
+                up = fma_up(ux[i], uy[i], u);
+                down = fma_up(dx[i], dy[i], d);
+                if both & (1 << i) != 0 {
+                    up = up.max(fma_up(al[i], bl[i], u));
+                    down = down.max(fma_up(-ah[i], bl[i], d));
+                }
+            }
+            j += m;
+        }
+        (bad == 0 && up.is_finite() && down.is_finite()).then_some((up, down))
+    }
+
+    /// The index vectors of the pairwise sum of eight lanes, three rounds: lane `i` of a
+    /// round is the sum of lanes `even[i]` and `odd[i]` of the one before (the first four
+    /// lanes carry the sums, the rest repeat them and are not read).
+    const PAIRS: [([i64; 8], [i64; 8]); 3] = [
+        ([1, 3, 5, 7, 1, 3, 5, 7], [0, 2, 4, 6, 0, 2, 4, 6]),
+        ([1, 3, 1, 3, 1, 3, 1, 3], [0, 2, 0, 2, 0, 2, 0, 2]),
+        ([1, 1, 1, 1, 1, 1, 1, 1], [0, 0, 0, 0, 0, 0, 0, 0]),
+    ];
 
     /// Eight intervals in lanes: their sup ends, and minus their inf ends.
     #[derive(Clone, Copy)]
