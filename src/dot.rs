@@ -338,26 +338,10 @@ mod wide {
         let mut bad = 0u8;
         let mut j = 0;
         while j < n {
-            let m = (n - j).min(8);
-            // x's terms j .. j + m; y's the same, or backwards the pairs n - j - m .. n - j
-            let (xs, bx) = gather(x, j, None);
-            let (ys, by) = if rev {
-                gather(y, n - j - m, Some(m))
-            } else {
-                gather(y, j, None)
-            };
-            bad |= bx | by;
-            // -x = [-xh, -xl]: its sup is -xl, minus its inf is xh
-            let xs = if neg {
-                Lanes {
-                    up: xs.down,
-                    down: xs.up,
-                }
-            } else {
-                xs
-            };
+            let (xs, ys, b) = terms_at(x, y, j, neg, rev);
+            bad |= b;
             sums = fma(xs, ys, sums);
-            j += m;
+            j += 8;
         }
         // the lanes added pairwise, as `super::chain` adds its chains: lane i to lane i + 1,
         // then i + 2, then i + 4 (lanes without terms hold 0, and adding 0 is exact)
@@ -390,63 +374,75 @@ mod wide {
     #[target_feature(enable = "avx512f,avx512dq")]
     fn one_chain(acc: &[f64], neg: bool, x: &[f64], y: &[f64], rev: bool) -> Option<(f64, f64)> {
         let n = x.len() / 2;
+        if n > 8 {
+            // one block only: a longer product goes elsewhere (the portable path)
+            return None;
+        }
         let zero = _mm512_setzero_pd();
         let (mut up, mut down) = (acc[1], acc[0]);
-        let mut bad = 0u8;
-        let mut j = 0;
-        while j < n {
-            let m = (n - j).min(8);
-            // x's terms j .. j + m; y's the same, or backwards the pairs n - j - m .. n - j
-            let (xs, bx) = gather(x, j, None);
-            let (ys, by) = if rev {
-                gather(y, n - j - m, Some(m))
-            } else {
-                gather(y, j, None)
-            };
-            bad |= bx | by;
-            // x = [xl, xh] (negated when `neg`: [-xh, -xl]), y = [yl, yh]
-            let (nxl, xh) = if neg {
-                (xs.up, xs.down)
-            } else {
-                (xs.down, xs.up)
-            };
-            let (nyl, yh) = (ys.down, ys.up);
-            let xl = _mm512_sub_pd(zero, nxl);
-            let yl = _mm512_sub_pd(zero, nyl);
-            // signs: x >= 0, x <= 0 (and not >= 0), straddling; the same for y
-            let xp = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(xl, zero);
-            let xn = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(xh, zero) & !xp;
-            let xm = !xp & !xn;
-            let yp = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(yl, zero);
-            let yn = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(yh, zero) & !yp;
-            let ym = !yp & !yn;
-            // the upper bound's factors (b d, a d, b c or a c; for both straddling b d, and
-            // a c beside it), and the lower bound's (a c, b c, a d or b d; a d and b c)
-            let up_x = _mm512_mask_blend_pd((!xn & !yn) | (xn & yp), xl, xh);
-            let up_y = _mm512_mask_blend_pd(xp | (xm & !yn), yl, yh);
-            let down_x = _mm512_mask_blend_pd((xp & !yp) | (xn & yn) | (xm & yn), xl, xh);
-            let down_y = _mm512_mask_blend_pd(xn | (xm & !yn), yl, yh);
-            let both = xm & ym;
-            let (ux, uy) = (store(up_x), store(up_y));
-            let (dx, dy) = (store(_mm512_sub_pd(zero, down_x)), store(down_y));
-            // the second candidates, needed only where both factors straddle 0
-            let (al, ah, bl) = if both == 0 {
-                ([0.0; 8], [0.0; 8], [0.0; 8])
-            } else {
-                (store(xl), store(xh), store(yl))
-            };
-            for i in 0..m {
-                let (u, d) = (up, down);
-                up = fma_up(ux[i], uy[i], u);
-                down = fma_up(dx[i], dy[i], d);
-                if both & (1 << i) != 0 {
-                    up = up.max(fma_up(al[i], bl[i], u));
-                    down = down.max(fma_up(-ah[i], bl[i], d));
-                }
+        let (xs, ys, bad) = terms_at(x, y, 0, neg, rev);
+        // x = [xl, xh] (already negated when `neg`), y = [yl, yh]
+        let (nxl, xh) = (xs.down, xs.up);
+        let (nyl, yh) = (ys.down, ys.up);
+        let xl = _mm512_sub_pd(zero, nxl);
+        let yl = _mm512_sub_pd(zero, nyl);
+        // signs: x >= 0, x <= 0 (and not >= 0), straddling; the same for y
+        let xp = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(xl, zero);
+        let xn = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(xh, zero) & !xp;
+        let xm = !xp & !xn;
+        let yp = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(yl, zero);
+        let yn = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(yh, zero) & !yp;
+        let ym = !yp & !yn;
+        // the upper bound's factors (b d, a d, b c or a c; for both straddling b d, and
+        // a c beside it), and the lower bound's (a c, b c, a d or b d; a d and b c)
+        let up_x = _mm512_mask_blend_pd((!xn & !yn) | (xn & yp), xl, xh);
+        let up_y = _mm512_mask_blend_pd(xp | (xm & !yn), yl, yh);
+        let down_x = _mm512_mask_blend_pd((xp & !yp) | (xn & yn) | (xm & yn), xl, xh);
+        let down_y = _mm512_mask_blend_pd(xn | (xm & !yn), yl, yh);
+        let both = xm & ym;
+        let (ux, uy) = (store(up_x), store(up_y));
+        let (dx, dy) = (store(_mm512_sub_pd(zero, down_x)), store(down_y));
+        // the second candidates, needed only where both factors straddle 0
+        let (al, ah, bl) = if both == 0 {
+            ([0.0; 8], [0.0; 8], [0.0; 8])
+        } else {
+            (store(xl), store(xh), store(yl))
+        };
+        for i in 0..n {
+            let (u, d) = (up, down);
+            up = fma_up(ux[i], uy[i], u);
+            down = fma_up(dx[i], dy[i], d);
+            if both & (1 << i) != 0 {
+                up = up.max(fma_up(al[i], bl[i], u));
+                down = down.max(fma_up(-ah[i], bl[i], d));
             }
-            j += m;
         }
         (bad == 0 && up.is_finite() && down.is_finite()).then_some((up, down))
+    }
+
+    /// Terms `j .. j + 8` of a dot product (fewer at the end) in lanes: `x`'s, negated when
+    /// `neg`; `y`'s, read backwards when `rev` (the pairs `n - j - m .. n - j`); 0 in the lanes
+    /// past the end; and the lanes that are infinite or NaN.
+    #[target_feature(enable = "avx512f,avx512dq")]
+    fn terms_at(x: &[f64], y: &[f64], j: usize, neg: bool, rev: bool) -> (Lanes, Lanes, u8) {
+        let n = x.len() / 2;
+        let m = (n - j).min(8);
+        let (xs, bx) = gather(x, j, None);
+        let (ys, by) = if rev {
+            gather(y, n - j - m, Some(m))
+        } else {
+            gather(y, j, None)
+        };
+        // -x = [-xh, -xl]: its sup is -xl, minus its inf is xh
+        let xs = if neg {
+            Lanes {
+                up: xs.down,
+                down: xs.up,
+            }
+        } else {
+            xs
+        };
+        (xs, ys, bx | by)
     }
 
     /// The index vectors of the pairwise sum of eight lanes, three rounds: lane `i` of a
