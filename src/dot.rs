@@ -319,7 +319,7 @@ mod wide {
 
     /// `sup` and `-inf` of `acc ± sum x_j y_j`, from the (-inf, sup) pairs: the chains of
     /// [`super::chain`] (term `j` in lane `j mod 8`, lane 0 from `acc`), eight terms at a time
-    /// in one vector fused multiply-add of each end product, then the lanes added in order;
+    /// in one vector fused multiply-add of each end product, then the lanes added pairwise;
     /// so the same doubles.
     ///
     /// A step `x y + z` of a lane forms the four end products of `x y` ([`fma`]) and keeps
