@@ -258,13 +258,14 @@ pub fn retract_box_in<I: Ival>(
             .collect();
         let at: Vec<I> = zt.iter().map(|x| I::pt(*x)).collect();
         let set = LohnerSet::with_subset(&centre, &x0_of(u), &x0_of(&at[..m]));
+        // the derivative held to the level the flow holds its state to (12.0.9), (12.0.10)
         let flown = if loose {
             crate::enclosure::flow_set_c1_loose(
                 &model.dynamics,
                 set,
                 h,
                 &capped,
-                if first { LOOSE_LEVEL } else { I::eps() },
+                capped.level::<I>(),
             )
         } else {
             flow_set_c1(&model.dynamics, set, h, &capped)
