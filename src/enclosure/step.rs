@@ -7,6 +7,7 @@ use super::options::{Basis, FlowOptions};
 use super::set::*;
 use super::system::System;
 use crate::tape::{Coef, Coeffs, Rows};
+use inari::Interval;
 use nalgebra::DMatrix;
 
 pub(super) enum StepFail {
@@ -193,67 +194,57 @@ pub(super) fn lohner_step<I: Ival>(
         C1::Loose(eps) => eps.max(level),
         _ => level,
     };
-    let jac = match c1_mode {
+    // [J] in f64 where (5.6''') passes; the linear part below then runs in f64 (5.10'''')
+    let jac64 = match c1_mode {
         C1::Cheap | C1::Precise => None,
         C1::No | C1::Loose(_) => step_jacobian_in_f64(sys, &xbox, h, p, scale, extent, eps, jac_order),
     };
-    let jac = jac.or_else(|| step_jacobian(sys, &xbox, h, p, scale, extent, eps, precise, high, jac_order));
+    let jac = match &jac64 {
+        Some(j) => Some(exact_in(j)),
+        None => step_jacobian(sys, &xbox, h, p, scale, extent, eps, precise, high, jac_order),
+    };
     let (rem, jac, ratio) = match jac {
         Some(jac) => (rem, jac, ratio),
         None => box_enclosure(sys, &xbox, h, p, scale, tol, c1)?,
     };
     let z: Vec<I> = phi.iter().zip(&rem).map(|(a, b)| *a + *b).collect();
-    let a = linalg::mul(&jac, &linalg::imat(&set.b));
-    let jc = linalg::mul(&jac, &linalg::imat(&set.c));
-    if !z.iter().all(|x| x.is_finite()) || !linalg::all_finite(&a) || !linalg::all_finite(&jc) {
+    let (m_new, zc, err) = recentre(&set.m, c, h, &rem, &z, finer.as_deref());
+    let parts = Parts {
+        zc,
+        r0: set.r0.clone(),
+        r: set.r.clone(),
+        dx: spread.clone(),
+        sub: set.sub.as_ref().map(|sb| {
+            let hull = set.hull_of(&sb.r0, &sb.r, &sb.boxed);
+            (sb.r0.clone(), sb.r.clone(), relative(&hull, &set.m))
+        }),
+    };
+    let lin = match &jac64 {
+        Some(j) => linear_part(j, &set.b, &set.c, opts.basis, &parts.map(rounded_to_f64)).map_exact(),
+        None => linear_part(&jac, &set.b, &set.c, opts.basis, &parts),
+    };
+    if !z.iter().all(|x| x.is_finite()) || !lin.finite {
         return Err(StepFail::Shrink);
     }
-    // (5.9)-(5.10) The propagated part: `C' = mid([J] C)`, its excess `[J] C - C'` joins the
-    // errors. The error part: new basis mid(A) itself or its orthogonal factor. Lohner's
-    // column sorting (by ||A_j|| wid(r_j)) was measured to be worse here: on the particle
-    // at t = 600 it gave widths 1.7e-7 against 5.2e-11 unsorted (spec section 5.5).
-    let (c_new, dc) = linalg::split(&jc);
-    let (m_new, zc, err) = recentre(&set.m, c, h, &rem, &z, finer.as_deref());
-    let (b_new, b_inv) = choose_basis(linalg::mid(&a), opts.basis);
-    let ba = linalg::mul(&b_inv, &a);
-    // r' = [B'^-1][J B] r + [B'^-1] ((z - m') + ([J] C - C') r0)
-    let image_r = |r0: &[I], r: &[I]| -> Vec<I> {
-        let y: Vec<I> = zc
-            .iter()
-            .zip(linalg::mul_vec(&dc, r0))
-            .map(|(a, b)| *a + b)
-            .collect();
-        let shift = linalg::mul_vec(&b_inv, &y);
-        let part = linalg::mul_vec(&ba, r);
-        part.iter().zip(&shift).map(|(x, y)| *x + *y).collect()
-    };
-    // The box method beside the parallelepiped: x(h) in z + [J] ([X] - m) (spec eq. (5.12)).
-    let image_box = |hull: &[I]| -> Vec<I> {
-        let dx: Vec<I> = hull
-            .iter()
-            .zip(&set.m)
-            .map(|(x, c)| *x - I::pt(*c))
-            .collect();
-        let jdx = linalg::mul_vec(&jac, &dx);
-        z.iter().zip(jdx).map(|(a, b)| *a + b).collect()
-    };
-    let r_new = image_r(&set.r0, &set.r);
-    let sub = set.sub.as_ref().map(|sb| SubSet {
-        r0: sb.r0.clone(),
-        r: image_r(&sb.r0, &sb.r),
-        boxed: image_box(&set.hull_of(&sb.r0, &sb.r, &sb.boxed)),
-    });
     let unbounded = |r: &[I]| !r.iter().all(|x| x.is_finite());
-    if unbounded(&r_new) || sub.as_ref().is_some_and(|sb| unbounded(&sb.r)) {
+    if unbounded(&lin.r) || lin.sub.as_ref().is_some_and(|(r, _)| unbounded(r)) {
         return Err(fatal("enclosure became unbounded"));
     }
+    // The box method beside the parallelepiped: x(h) in z + [J] ([X] - m) (spec eq. (5.12)).
+    let image_box = |jdx: &[I]| -> Vec<I> { z.iter().zip(jdx).map(|(a, b)| *a + *b).collect() };
+    let sub = set.sub.as_ref().zip(lin.sub.as_ref()).map(|(sb, (r, jdx))| SubSet {
+        r0: sb.r0.clone(),
+        r: r.clone(),
+        boxed: image_box(jdx),
+    });
+    let (b_inv, ba) = (lin.b_inv, lin.ba);
     let mut set = LohnerSet {
         m: m_new,
-        c: c_new,
+        c: lin.c_new,
         r0: set.r0.clone(),
-        b: b_new,
-        r: r_new,
-        boxed: image_box(&xbox),
+        b: lin.b_new,
+        r: lin.r,
+        boxed: image_box(&lin.jdx),
         sub,
     };
     // (5.10') once the errors outgrow the propagated part, they are folded into it
@@ -283,6 +274,115 @@ pub(super) fn lohner_step<I: Ival>(
         ratio,
         link,
     })
+}
+
+/// The vectors the linear part of a step reads ([spec eqs. (5.9)-(5.10), (5.12)](crate::spec::enclosure)):
+/// `[z - m']` joined with 0 (`zc`), the set's `[r0]`, `[r]` and `[X] - m`, and the marked
+/// subset's `[r0_S]`, `[r_S]` and hull minus `m`.
+struct Parts<L> {
+    zc: Vec<L>,
+    r0: Vec<L>,
+    r: Vec<L>,
+    dx: Vec<L>,
+    sub: Option<(Vec<L>, Vec<L>, Vec<L>)>,
+}
+
+impl<L: Copy> Parts<L> {
+    /// Every vector mapped by `f`.
+    fn map<M>(&self, f: impl Fn(&[L]) -> Vec<M>) -> Parts<M> {
+        Parts {
+            zc: f(&self.zc),
+            r0: f(&self.r0),
+            r: f(&self.r),
+            dx: f(&self.dx),
+            sub: self.sub.as_ref().map(|(a, b, c)| (f(a), f(b), f(c))),
+        }
+    }
+}
+
+/// What the linear part of a step gives: `C' = mid([J] C)`, the new basis `B'`, `[B'^-1]`,
+/// `[B'^-1][J B]`, the new `[r']` and `[J]([X] - m)` of the set and of its marked subset, and
+/// whether `[J] B` and `[J] C` are finite.
+struct Linear<L> {
+    finite: bool,
+    c_new: DMatrix<f64>,
+    b_new: DMatrix<f64>,
+    b_inv: IMat<L>,
+    ba: IMat<L>,
+    r: Vec<L>,
+    jdx: Vec<L>,
+    sub: Option<(Vec<L>, Vec<L>)>,
+}
+
+impl Linear<Interval> {
+    /// The same enclosures in the interval type `I` (each f64 end is a point of `I`: exact).
+    fn map_exact<I: Ival>(self) -> Linear<I> {
+        Linear {
+            finite: self.finite,
+            c_new: self.c_new,
+            b_new: self.b_new,
+            b_inv: exact_in(&self.b_inv),
+            ba: exact_in(&self.ba),
+            r: exact_in_vec(&self.r),
+            jdx: exact_in_vec(&self.jdx),
+            sub: self.sub.map(|(r, jdx)| (exact_in_vec(&r), exact_in_vec(&jdx))),
+        }
+    }
+}
+
+/// (5.9)-(5.10), (5.12) The linear part of a step in the interval type `L`, from the step's
+/// `[J]` and the set's bases `B`, `C`. The propagated part: `C' = mid([J] C)`, its excess
+/// `[J] C - C'` joins the errors. The error part: the new basis `mid([J] B)` itself or its
+/// orthogonal factor (`basis`), and
+/// `r' = [B'^-1][J B] r + [B'^-1] ((z - m') + ([J] C - C') r0)`. Lohner's column sorting (by
+/// `||A_j|| wid(r_j)`) was measured to be worse here: on the particle at t = 600 it gave widths
+/// 1.7e-7 against 5.2e-11 unsorted (spec section 5.5).
+fn linear_part<L: Ival>(
+    jac: &IMat<L>,
+    b: &DMatrix<f64>,
+    c: &DMatrix<f64>,
+    basis: Basis,
+    x: &Parts<L>,
+) -> Linear<L> {
+    let a = linalg::mul(jac, &linalg::imat(b));
+    let jc = linalg::mul(jac, &linalg::imat(c));
+    let finite = linalg::all_finite(&a) && linalg::all_finite(&jc);
+    let (c_new, dc) = linalg::split(&jc);
+    let (b_new, b_inv) = choose_basis(linalg::mid(&a), basis);
+    let ba = linalg::mul(&b_inv, &a);
+    let image_r = |r0: &[L], r: &[L]| -> Vec<L> {
+        let y: Vec<L> = x.zc.iter().zip(linalg::mul_vec(&dc, r0)).map(|(a, b)| *a + b).collect();
+        let shift = linalg::mul_vec(&b_inv, &y);
+        let part = linalg::mul_vec(&ba, r);
+        part.iter().zip(&shift).map(|(a, b)| *a + *b).collect()
+    };
+    Linear {
+        finite,
+        r: image_r(&x.r0, &x.r),
+        jdx: linalg::mul_vec(jac, &x.dx),
+        sub: x.sub.as_ref().map(|(r0, r, dx)| (image_r(r0, r), linalg::mul_vec(jac, dx))),
+        c_new,
+        b_new,
+        b_inv,
+        ba,
+    }
+}
+
+/// Each interval rounded outward to f64 ends (5.10'''').
+fn rounded_to_f64<I: Ival>(v: &[I]) -> Vec<Interval> {
+    v.iter().map(|x| crate::scalar::iv(x.inf(), x.sup())).collect()
+}
+
+/// f64 intervals as intervals of `I`: exact, an f64 end being a point of every precision.
+fn exact_in_vec<I: Ival>(v: &[Interval]) -> Vec<I> {
+    v.iter().map(|x| I::iv(x.inf(), x.sup())).collect()
+}
+
+/// [`exact_in_vec`] for a matrix.
+fn exact_in<I: Ival>(m: &IMat<Interval>) -> IMat<I> {
+    let rows = m.nrows();
+    let cols = m.entries().len().checked_div(rows).unwrap_or(0);
+    IMat::from_flat(rows, cols, exact_in_vec(m.entries()))
 }
 
 /// (5.10'') The share of the state's rounding level above which the field at the centre
@@ -731,7 +831,8 @@ pub(super) fn remainder_over<I: Ival>(
 /// times `d` at most `scale eps`. `None` at 53 bits,
 /// when the extent is too large for f64's rounding to pass, or when the test fails; the
 /// Jacobian is then computed at this precision. A choice of evaluation only: both enclose
-/// the same Jacobian (spec (5.6)), and f64 ends are points of every precision.
+/// the same Jacobian (spec (5.6)), and f64 ends are points of every precision (the caller
+/// takes it into `I` exactly, [`exact_in`]).
 #[allow(clippy::too_many_arguments)]
 fn step_jacobian_in_f64<I: Ival>(
     sys: &System,
@@ -742,7 +843,7 @@ fn step_jacobian_in_f64<I: Ival>(
     extent: f64,
     eps: f64,
     order: &mut usize,
-) -> Option<IMat<I>> {
+) -> Option<IMat<Interval>> {
     let d = xbox.len();
     // the test, NaN failing it
     let passes = |width: f64| width * extent * d as f64 <= scale * eps;
@@ -750,14 +851,8 @@ fn step_jacobian_in_f64<I: Ival>(
     if I::eps() >= f64::EPSILON || !passes(F64_JAC_ROUNDING) {
         return None;
     }
-    let iv = |x: &I| crate::scalar::iv(x.inf(), x.sup());
-    let x64: Vec<inari::Interval> = xbox.iter().map(iv).collect();
-    let jac = step_jacobian(sys, &x64, iv(&h), p, scale, extent, eps, false, false, order)?;
-    if !jac.entries().iter().all(|x| passes(x.wid())) {
-        return None;
-    }
-    let flat = jac.entries().iter().map(|x| I::iv(x.inf(), x.sup())).collect();
-    Some(IMat::from_flat(d, d, flat))
+    let jac = step_jacobian(sys, &rounded_to_f64(xbox), rounded_to_f64(&[h])[0], p, scale, extent, eps, false, false, order)?;
+    jac.entries().iter().all(|x| passes(x.wid())).then_some(jac)
 }
 
 /// (5.6''') The width f64's rounding gives an entry of a step's Jacobian, at the least:
@@ -1029,6 +1124,44 @@ mod tests {
         vec![x[1].clone(), -x[0].clone()]
     }
 
+    /// (5.10'''') A 106-bit flow of the rotation `x' = y, y' = -x` from a box 2^-70 wide takes
+    /// its steps' Jacobians in f64 (5.6''') and so its linear part in f64. The flow's box
+    /// at t = 1 must hold the exact image of every corner of the initial box (the closed
+    /// form at 256 bits, about 2^-250 wide) and be no wider than the exact image's hull
+    /// plus 8 ulps of double-double at the state's size.
+    #[test]
+    fn a_small_sets_linear_part_in_f64_keeps_the_exact_image_of_the_box() {
+        use crate::precision::dd::DdInterval;
+        let sys = System::record(2, 0, rotation, rotation);
+        let rad = 2f64.powi(-70);
+        let (x0, y0) = (0.5, -0.25);
+        let around = |c: f64| DdInterval::cst(c) + DdInterval::iv(-1.0, 1.0) * DdInterval::cst(rad);
+        let start = [around(x0), around(y0)];
+        let (set, stats) = crate::enclosure::flow_set(&sys, LohnerSet::from_box(&start), 1.0, &FlowOptions::default()).expect("a flow of the rotation");
+        assert!(stats.steps >= 1);
+        let hull = set.hull();
+        with_bits(256, || {
+            let w = |x: f64| WideInterval::cst(x);
+            let (c, s) = (w(1.0).cos(), w(1.0).sin());
+            let dd = |x: &DdInterval| WideInterval::from_mp(&MpInterval::from_dd(*x, 256));
+            let mut lo = [f64::INFINITY; 2];
+            let mut hi = [f64::NEG_INFINITY; 2];
+            for (a, b) in [(-rad, -rad), (-rad, rad), (rad, -rad), (rad, rad)] {
+                let (x, y) = (w(x0) + w(a), w(y0) + w(b));
+                let image = [x * c + y * s, y * c - x * s];
+                for i in 0..2 {
+                    assert!(image[i].subset(&dd(&hull[i])), "component {i}: the image of a corner, {:?}, is not in {:?}", image[i], hull[i]);
+                    lo[i] = lo[i].min(image[i].inf_f64());
+                    hi[i] = hi[i].max(image[i].sup_f64());
+                }
+            }
+            for i in 0..2 {
+                let exact = hi[i] - lo[i];
+                assert!(hull[i].wid() <= exact + 8.0 * 2f64.powi(-106), "component {i}: {:?} is wider than the image's {exact:e}", hull[i]);
+            }
+        });
+    }
+
     #[test]
     fn a_small_sets_step_jacobian_in_f64_encloses_the_rotation_and_a_large_sets_is_not_tried() {
         let sys = System::record(2, 0, rotation, rotation);
@@ -1040,8 +1173,9 @@ mod tests {
             let h = w(0.125);
             let mut order = 0;
             // the extent 2^-220: f64's rounding (2^-52) times it is below 2^-255
-            let jac = step_jacobian_in_f64(&sys, &xbox, h, 96, 1.0, 2f64.powi(-220), 2f64.powi(-255), &mut order)
-                .expect("the f64 Jacobian is taken for a set this small");
+            let jac: IMat<WideInterval> =
+                exact_in(&step_jacobian_in_f64(&sys, &xbox, h, 96, 1.0, 2f64.powi(-220), 2f64.powi(-255), &mut order)
+                    .expect("the f64 Jacobian is taken for a set this small"));
             // the closed form at 256 bits (about 2^-250 wide) lies inside each entry, whose
             // ends are f64 values, and each entry is as tight as f64 allows up to 2^-40
             let (c, s) = (h.cos(), h.sin());
