@@ -3,7 +3,7 @@
 //! step's order.
 
 use super::chain::{self, Link, Memo};
-use super::ival::Ival;
+use super::ival::{rounded_to_f64, Ival};
 use super::linalg::{self, IMat};
 use super::options::{FlowOptions, FlowStats};
 use super::set::*;
@@ -80,7 +80,7 @@ pub(super) fn flow_set_general<I: Ival>(
         let spent = (collapsed && budget).then_some(&fallback);
         let cause = explain
             .filter(|_| collapsed || !budget)
-            .and_then(|f| f(&hull_f64(&set.hull()), h, done.inf(), spent));
+            .and_then(|f| f(&rounded_to_f64(&set.hull()), h, done.inf(), spent));
         cause.unwrap_or(fallback).reached(done.inf())
     };
     // the last accepted step (0 before the first)
@@ -379,7 +379,7 @@ fn hopeless<I: Ival>(
     explain: Option<Explain<'_>>,
 ) -> Option<Error> {
     let explain = explain?;
-    let x = hull_f64(&set.hull());
+    let x = rounded_to_f64(&set.hull());
     if x.iter().all(|x| x.wid() <= WIDEST * (1.0 + x.mag())) {
         return None;
     }
@@ -387,10 +387,6 @@ fn hopeless<I: Ival>(
     explain(&x, h, done.inf(), Some(&e)).map(|e| e.reached(done.inf()))
 }
 
-/// A box of f64 intervals containing `x` (for [`Explain`], which only words a refusal).
-fn hull_f64<I: Ival>(x: &[I]) -> Vec<inari::Interval> {
-    x.iter().map(|v| crate::scalar::iv(v.inf(), v.sup())).collect()
-}
 
 /// (5.8) (d): in a rest of the span that takes at most this many steps, the steps are not
 /// sliced.

@@ -9,6 +9,13 @@ use crate::precision::wide::{self, Wide, WideInterval};
 use inari::Interval;
 use std::fmt::Debug;
 
+/// Each interval rounded outward to f64 ends (`Ival::inf`, `Ival::sup`; the whole line
+/// should those not form an interval): the f64 enclosures that the f64 evaluations of
+/// (5.5'''), (5.6''') and (5.10'''') start from, and the box a refusal is worded from.
+pub(super) fn rounded_to_f64<I: Ival>(v: &[I]) -> Vec<Interval> {
+    v.iter().map(|x| crate::scalar::iv(x.inf(), x.sup())).collect()
+}
+
 /// An interval type for the validated integrator: a coefficient type of the Taylor
 /// recurrences (the tape's `Coef`) with the set operations, the bounds and the points the
 /// method needs. Implemented by the crate's interval types (inari's `Interval`,

@@ -1,7 +1,7 @@
 //! One step of the method ([spec eqs. (5.3)-(5.6)](crate::spec::enclosure), (5.9)-(5.12)): the a priori enclosure, the
 //! Taylor polynomial and its remainder, the derivative factor and Lohner's update.
 
-use super::ival::Ival;
+use super::ival::{rounded_to_f64, Ival};
 use super::linalg::{self, IMat};
 use super::options::{Basis, FlowOptions};
 use super::set::*;
@@ -368,11 +368,6 @@ fn linear_part<L: Ival>(
     }
 }
 
-/// Each interval rounded outward to f64 ends (5.10'''').
-fn rounded_to_f64<I: Ival>(v: &[I]) -> Vec<Interval> {
-    v.iter().map(|x| crate::scalar::iv(x.inf(), x.sup())).collect()
-}
-
 /// f64 intervals as intervals of `I`: exact, an f64 end being a point of every precision.
 fn exact_in_vec<I: Ival>(v: &[Interval]) -> Vec<I> {
     v.iter().map(|x| I::iv(x.inf(), x.sup())).collect()
@@ -615,7 +610,7 @@ pub(super) fn box_taylor<I: Ival>(
     floor: f64,
 ) -> Option<Coeffs<I>> {
     if I::box_series_in_f64() || boxes64 {
-        let y64: Vec<inari::Interval> = y.iter().map(|x| crate::scalar::iv(x.inf(), x.sup())).collect();
+        let y64 = rounded_to_f64(y);
         // a box nearly a point in every component (a very short step's): its f64 series
         // would be f64's rounding rather than the box's width, and is not tried
         if y64.iter().any(|x| x.wid() > F64_SHARE * x.mag()) {
