@@ -3,9 +3,8 @@
 
 use super::control::*;
 use super::options::FlowOptions;
-use super::orders::{DEFAULT_ORDER, SHORT_ORDER};
+use super::orders::{DEFAULT_ORDER, LOW_ORDERS, SHORT_ORDER};
 use super::system::System;
-use crate::tape::Rows;
 use nalgebra::DMatrix;
 
 /// A float Taylor integration of `x' = F(x)` and of its variational equation over time `t`,
@@ -61,17 +60,39 @@ pub(super) fn float_flow_var(
             let w = DMatrix::from_fn(d, cols, |i, j| xw[d + i * cols + j]);
             return Some((xw[..d].to_vec(), w, steps));
         }
+        let rest = t - done;
         let more = if choose_order { SHORT_ORDER } else { p };
-        let short = |c: Rows<'_, f64>| short_span(t - done, t - done, step_size(c, p, &xw, f64::EPSILON));
-        let c = tape.ode_taylor_until::<f64>(&xw, p, more, |c| !short(c))?;
-        if choose_order {
-            choose_order = false;
-            p = c.len() - 1;
-        }
+        let mut series = tape.ode_series::<f64>(&xw, more);
+        // (5.8') as in the validated flows: a step that a lower order also takes to the end
+        // takes the lowest such order, the series grown through them and no further
+        let low = match opts.given_order() {
+            Some(_) => None,
+            None => LOW_ORDERS.iter().copied().filter(|&q| q < p).find(|&q| {
+                series.grow(q) && step_size(series.rows(), q, &xw, f64::EPSILON) >= rest
+            }),
+        };
+        let q = match low {
+            Some(q) => q,
+            None => {
+                if !series.grow(p) {
+                    return None;
+                }
+                // (5.8) (e) the order of a short span; past p a failure leaves the series at p
+                if choose_order && more > p && short_span(rest, rest, step_size(series.rows(), p, &xw, f64::EPSILON)) {
+                    series.grow(more);
+                }
+                if choose_order {
+                    choose_order = false;
+                    p = series.order();
+                }
+                p
+            }
+        };
+        let c = series.coeffs();
         // The step rule (5.8) on the state AND the variational series: the Jacobian's series
         // can have a smaller radius of convergence than the state's (e.g. the particle with
         // u1 = 0: x(t) stays 0 while D x / D u1 = asinh(u2 t) / u2 is singular at t = i/u2).
-        let h = step_size(c.rows(), p, &xw, f64::EPSILON).min(t - done);
+        let h = step_size(c.rows(), q, &xw, f64::EPSILON).min(rest);
         xw = (0..xw.len())
             .map(|i| c.iter().rev().fold(0.0, |acc, ck| acc * h + ck[i]))
             .collect();

@@ -941,6 +941,56 @@ fn float_jacobian_when_only_the_variational_series_limits_the_step() {
     }
 }
 
+/// Spec (6.3) with (5.8'): over a short span the Newton guesses' float flow takes its one step
+/// at a low order. The work it charges is a fraction of the same step at order 22, and the
+/// state and the derivatives in u1 (the particle's x and z are linear in u1, so both have
+/// closed forms: `particle_q` with q0 = (0, y0, 0) and u = (1, u2)) stay within a few ulps of
+/// the closed form.
+#[test]
+fn the_float_flow_over_a_short_span_takes_a_low_order_and_stays_accurate() {
+    use dalembert::enclosure::float_flow_tail_counted;
+    let m = model("particle", &[]);
+    let x0 = [0.1, -0.3, 0.2, 0.7, 0.4];
+    let near = |a: f64, b: I| {
+        let ulps = 16.0 * f64::EPSILON * b.mag().max(1e-6);
+        assert!(b.wid() < ulps, "reference {b:?} too wide");
+        gap(pt(a), b) <= ulps
+    };
+    for h in [2f64.powi(-10), 2f64.powi(-6), 0.05] {
+        let before = dalembert::work_done();
+        let (x, jac, steps) = float_flow_tail_counted(m.dynamics(), &x0, h, &opts()).unwrap();
+        let work = dalembert::work_done() - before;
+        let before = dalembert::work_done();
+        let at_22 = opts().with_order(22);
+        float_flow_tail_counted(m.dynamics(), &x0, h, &at_22).unwrap();
+        let work_22 = dalembert::work_done() - before;
+        assert_eq!(steps, 1, "h = {h}");
+        assert!(
+            3 * work < work_22,
+            "h = {h}: work {work} against {work_22} at order 22"
+        );
+        let q = particle_q(&pts(&x0[..3]), &pts(&x0[3..]), h);
+        let dq = particle_q(&pts(&[0.0, x0[1], 0.0]), &pts(&[1.0, x0[4]]), h);
+        for i in 0..3 {
+            assert!(
+                near(x[i], q[i]),
+                "h = {h}, q{i}: {} against {:?}",
+                x[i],
+                q[i]
+            );
+        }
+        // the derivatives of x and z in u1 (column 0 of the tail (u1, u2))
+        for i in [0, 2] {
+            assert!(
+                near(jac[(i, 0)], dq[i]),
+                "h = {h}, D q{i}/D u1: {} against {:?}",
+                jac[(i, 0)],
+                dq[i]
+            );
+        }
+    }
+}
+
 /// Spec (6.3), the inflation. On knife-eps with eps = 0.99, at phi = 0 the blade is
 /// e1 = (c, 0, 0), c = 1 - eps (exact in f64), and the flow from (x, 0, 0) with u = (u1, 0)
 /// stays on the x axis: x' = c u1, u1' = 1 / (2c) (tests/it/knife_eps.rs's reduced
