@@ -46,7 +46,6 @@ pub(super) fn flow_set_general<I: Ival>(
     let t = total.sup();
     let precise = c1_mode == C1::Precise;
     let mut total_jac: Option<JacobianSet<I>> = None;
-    let d = set.m.len();
     let level = opts.level::<I>();
     let short_order = opts.order_at_level::<I>(I::short_order());
     let mut p = opts.given_order().unwrap_or(opts.order_at_level::<I>(I::order()));
@@ -220,8 +219,10 @@ pub(super) fn flow_set_general<I: Ival>(
             match step {
                 Ok(out) => {
                     if let Some((j, ba, b_inv)) = &out.jac {
-                        let acc = total_jac.take().unwrap_or_else(|| JacobianSet::identity(d));
-                        let mut next = acc.step(j, ba, b_inv);
+                        let mut next = match total_jac.take() {
+                            Some(acc) => acc.step(j, ba, b_inv),
+                            None => JacobianSet::first(j, b_inv),
+                        };
                         if let Some(b) = &out.rebased {
                             next = next.rebase(b);
                         }

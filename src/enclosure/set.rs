@@ -252,18 +252,21 @@ pub(super) struct JacobianSet<I> {
 }
 
 impl<I: Ival> JacobianSet<I> {
-    pub(super) fn identity(d: usize) -> Self {
-        JacobianSet {
-            c: DMatrix::identity(d, d),
-            r: IMat::from_fn(d, d, |_, _| I::zero()),
-        }
-    }
     /// (5.15) One step: `[J]` the step's derivative factor, `ba = [B'^{-1}][J B]` and
     /// `b_inv = [B'^{-1}]` from the state's update (5.10).
     pub(super) fn step(&self, jac: &IMat<I>, ba: &IMat<I>, b_inv: &IMat<I>) -> Self {
         let (c, off) = linalg::split(&linalg::mul(jac, &linalg::imat(&self.c)));
         let r = linalg::add(&linalg::mul(ba, &self.r), &linalg::mul(b_inv, &off));
         JacobianSet { c, r }
+    }
+    /// (5.15) The first step, from the identity (`C = I`, `[R] = 0`): `[J] I` is `[J]` and
+    /// `ba 0` is 0, so only `[B'^{-1}]` times the split's interval part is computed.
+    pub(super) fn first(jac: &IMat<I>, b_inv: &IMat<I>) -> Self {
+        let (c, off) = linalg::split(jac);
+        JacobianSet {
+            c,
+            r: linalg::mul(b_inv, &off),
+        }
     }
     /// The same derivative after the state's reorganisation ([spec (5.10')](crate::spec::enclosure)) replaced the
     /// basis `B` by `I`: `C + B [R] ⊂ C + I ([B] [R])`.
