@@ -77,14 +77,13 @@ pub(super) fn float_flow_var(
                 if !series.grow(p) {
                     return None;
                 }
-                // (5.8) (e) the order of a short span; past p a failure leaves the series at p
-                if choose_order && more > p && short_span(rest, rest, step_size(series.rows(), p, &xw, f64::EPSILON)) {
+                // (5.8) (e) the order of a short span (`more > p` only at the first step); past
+                // p a failure leaves the series at p
+                if more > p && short_span(rest, rest, step_size(series.rows(), p, &xw, f64::EPSILON)) {
                     series.grow(more);
                 }
-                if choose_order {
-                    choose_order = false;
-                    p = series.order();
-                }
+                choose_order = false;
+                p = series.order();
                 p
             }
         };
